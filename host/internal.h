@@ -1,0 +1,47 @@
+/* Host-side internals shared across host/ and bvh/ (never seen by kernels). */
+#ifndef LC_HOST_INTERNAL_H
+#define LC_HOST_INTERNAL_H
+
+#include <stdarg.h>
+#include <stddef.h>
+#include "lanecast/lanecast.h"
+#include "../kernels/shared/ktable.h"
+
+#define LCI_MSG_MAX 1024
+
+typedef struct lci_pool lci_pool;
+
+struct lc_device {
+    lc_target target;
+    const lc_ktable *kt;
+    int threads;
+    lc_log_fn log;
+    void *log_user;
+    lci_pool *pool;
+    char last_error[LCI_MSG_MAX];
+};
+
+/* Records an error (device may be NULL), logs it and returns status. */
+lc_status lci_error(lc_device *device, lc_status status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+void lci_log(lc_device *device, lc_log_level level, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* CPU features (host/cpu.c) */
+int lci_cpu_supports(lc_target target);
+const char *lci_cpu_missing(lc_target target); /* what the CPU/OS lacks, or "" */
+const lc_ktable *lci_ktable(lc_target target); /* NULL if not compiled */
+
+/* Threads (host/pool.c): runs fn(ctx, task, worker) for task in [0, ntasks)
+ * on the pool's threads plus the caller; FTZ/DAZ are set in every worker. */
+typedef void (*lci_task_fn)(void *ctx, int task, int worker);
+lci_pool *lci_pool_create(int threads);
+void lci_pool_destroy(lci_pool *pool);
+void lci_pool_run(lci_pool *pool, int ntasks, lci_task_fn fn, void *ctx);
+int lci_pool_threads(const lci_pool *pool);
+void lci_flush_denormals(void);
+
+double lci_now(void);
+void *lci_aligned_alloc(size_t align, size_t bytes); /* zeroed; free with lci_aligned_free */
+void lci_aligned_free(void *p);
+
+#endif

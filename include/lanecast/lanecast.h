@@ -1,0 +1,270 @@
+/* lanecast: CPU volume ray casting of particle data, structured grids and
+ * RBF-encoded volumes with SIMD kernels compiled per instruction set.
+ *
+ * Conventions (see docs/API.md):
+ * - Opaque handles with create/destroy pairs; destroy accepts NULL.
+ * - Descriptor structs in which zero means default: use designated
+ *   initialisers and set only what you need.
+ * - Every fallible call returns lc_status (LC_OK = 0, errors negative); the
+ *   message of the last error is kept per device (lc_device_last_error) and
+ *   per thread (lc_last_error), and goes to the device's log callback.
+ * - The library never aborts or exits on bad input.
+ * - Thread safety: one device may be used from one thread at a time; distinct
+ *   devices are independent. Scene objects are read-only while rendering and
+ *   may be shared by several renders in sequence. */
+#ifndef LANECAST_H
+#define LANECAST_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LC_VERSION_MAJOR 0
+#define LC_VERSION_MINOR 1
+#define LC_VERSION_PATCH 0
+#define LC_VERSION_STRING "0.1.0"
+#define LC_VERSION_NUMBER (LC_VERSION_MAJOR * 10000 + LC_VERSION_MINOR * 100 + LC_VERSION_PATCH)
+
+#if defined(_WIN32)
+#define LC_API
+#else
+#define LC_API __attribute__((visibility("default")))
+#endif
+
+/* ---------------------------------------------------------------- status */
+
+typedef enum lc_status {
+    LC_OK = 0,
+    LC_ERROR_INVALID_ARGUMENT = -1, /* a NULL handle, an out-of-range value, a bad name */
+    LC_ERROR_UNSUPPORTED = -2,      /* the CPU or this build lacks what was asked for */
+    LC_ERROR_OUT_OF_MEMORY = -3,
+    LC_ERROR_IO = -4,               /* a file could not be opened, read or written */
+    LC_ERROR_FORMAT = -5,           /* a file's content is malformed */
+    LC_ERROR_INTERNAL = -6          /* a bug: please report it with the message */
+} lc_status;
+
+/* A static string naming the status ("invalid argument", ...). Never NULL. */
+LC_API const char *lc_status_string(lc_status status);
+
+/* The message of the last error raised on the calling thread by any lanecast
+ * call, or "" if none. Valid until the next failing call on this thread. */
+LC_API const char *lc_last_error(void);
+
+/* ---------------------------------------------------------------- version */
+
+/* The library's version, which may differ from LC_VERSION_* of the header
+ * the caller compiled against. Any pointer may be NULL. */
+LC_API void lc_version(int *major, int *minor, int *patch);
+LC_API const char *lc_version_string(void);
+
+/* ---------------------------------------------------------------- targets */
+
+/* SIMD targets. Every kernel is compiled once per target; a device runs on
+ * exactly one. AUTO picks the widest target this CPU (and OS) supports. */
+typedef enum lc_target {
+    LC_TARGET_AUTO = 0,
+    LC_TARGET_SCALAR = 1, /* 1 lane, any x86-64 */
+    LC_TARGET_SSE4 = 2,   /* 4 lanes, SSE4.2 */
+    LC_TARGET_AVX2 = 3,   /* 8 lanes, AVX2 + FMA */
+    LC_TARGET_AVX512 = 4, /* 16 lanes, AVX-512 F/DQ/BW/VL */
+    LC_TARGET_COUNT = 5
+} lc_target;
+
+/* "auto", "scalar", "sse4", "avx2", "avx512"; NULL for a value out of range. */
+LC_API const char *lc_target_name(lc_target target);
+/* Parses a target name (case-sensitive, as above). Unknown names fail with
+ * LC_ERROR_INVALID_ARGUMENT and a message listing the known ones. */
+LC_API lc_status lc_target_from_name(const char *name, lc_target *out);
+/* 1 if kernels for the target are compiled into this library, else 0. */
+LC_API int lc_target_compiled(lc_target target);
+/* 1 if this CPU and OS can run the target (instruction set and register state
+ * enabled by the OS), else 0. AUTO is always supported. */
+LC_API int lc_target_supported(lc_target target);
+/* Lanes per vector of a target (1, 4, 8, 16); 0 for AUTO or an invalid value. */
+LC_API int lc_target_lanes(lc_target target);
+
+/* ---------------------------------------------------------------- device */
+
+typedef struct lc_device lc_device;
+
+typedef enum lc_log_level { LC_LOG_DEBUG = 0, LC_LOG_INFO = 1, LC_LOG_WARNING = 2, LC_LOG_ERROR = 3 } lc_log_level;
+typedef void (*lc_log_fn)(void *user, lc_log_level level, const char *message);
+
+typedef struct lc_device_desc {
+    /* LC_TARGET_AUTO (0) reads the LANECAST_TARGET environment variable
+     * ("scalar", "sse4", "avx2", "avx512", "auto") and otherwise picks the
+     * widest supported target. An explicit target overrides the variable. */
+    lc_target target;
+    /* Worker threads for rendering; 0 = LANECAST_THREADS or the number of
+     * online CPUs. At most 1024. */
+    int threads;
+    /* Receives every error message and some information; NULL = silent. */
+    lc_log_fn log;
+    void *log_user;
+} lc_device_desc;
+
+/* Creates a device. desc may be NULL (all defaults). Fails with
+ * LC_ERROR_UNSUPPORTED if the requested target is not compiled in or the CPU
+ * cannot run it, LC_ERROR_INVALID_ARGUMENT for a bad thread count or an
+ * unknown LANECAST_TARGET. *out is set to NULL on failure. */
+LC_API lc_status lc_device_create(const lc_device_desc *desc, lc_device **out);
+/* Destroys a device; NULL is ignored. Objects created on it must be destroyed
+ * first. */
+LC_API void lc_device_destroy(lc_device *device);
+/* The target the device runs on (never AUTO). */
+LC_API lc_status lc_device_target(const lc_device *device, lc_target *out);
+LC_API lc_status lc_device_threads(const lc_device *device, int *out);
+/* The message of the last error on this device, or "". Never NULL. */
+LC_API const char *lc_device_last_error(const lc_device *device);
+
+/* ---------------------------------------------------------------- math */
+
+typedef struct lc_vec3 {
+    float x, y, z;
+} lc_vec3;
+
+typedef struct lc_box3 {
+    lc_vec3 lo, hi;
+} lc_box3;
+
+/* ---------------------------------------------------------------- camera */
+
+typedef enum lc_projection { LC_PERSPECTIVE = 0, LC_ORTHOGRAPHIC = 1 } lc_projection;
+
+/* SPEC.md "Camera and rays". A camera with eye == at (e.g. all zero) is
+ * replaced by a default view framing the data's bounds. */
+typedef struct lc_camera {
+    lc_projection projection;
+    lc_vec3 eye, at;
+    lc_vec3 up;   /* zero = +y */
+    float fovy;   /* perspective: vertical field of view in degrees; 0 = 40 */
+    float height; /* orthographic: image-plane height in world units; 0 = frames the data */
+} lc_camera;
+
+/* ---------------------------------------------------------------- transfer function */
+
+#define LC_MAX_FIELDS 8
+
+/* One field's transfer function: piecewise linear colour and extinction over
+ * the normalised value v in [0, 1], clamped at both ends (SPEC.md). */
+typedef struct lc_tf_field {
+    const float *color;   /* ncolor points of [v, r, g, b] */
+    int ncolor;
+    const float *opacity; /* nopacity points of [v, tau], tau = extinction per world unit */
+    int nopacity;
+    int has_range;        /* 1: range below is this field's [lo, hi] */
+    float range[2];
+} lc_tf_field;
+
+typedef struct lc_tf lc_tf;
+
+/* Creates a transfer function for nfields (1..LC_MAX_FIELDS) fields. Points
+ * are copied. Fails if a list is empty, v is outside [0, 1] or decreasing, a
+ * colour is not finite, tau is negative, or a range is empty. */
+LC_API lc_status lc_tf_create(lc_device *device, const lc_tf_field *fields, int nfields, lc_tf **out);
+/* Parses SPEC.md's JSON transfer function (a single TF or {"fields": [...]}).
+ * The message names the file and what is wrong. */
+LC_API lc_status lc_tf_load(lc_device *device, const char *path, lc_tf **out);
+LC_API lc_status lc_tf_parse(lc_device *device, const char *json, const char *name_for_messages, lc_tf **out);
+/* A built-in colour map by name ("heat", "cool", "gray", "demo"); nfields
+ * copies of it. Opacity ramps from 0 at v = 0.1 to max_tau at v = 1. */
+LC_API lc_status lc_tf_preset(lc_device *device, const char *name, int nfields, float max_tau, lc_tf **out);
+LC_API void lc_tf_destroy(lc_tf *tf);
+LC_API int lc_tf_field_count(const lc_tf *tf);
+
+/* ---------------------------------------------------------------- scene objects */
+
+typedef struct lc_particles lc_particles; /* particle data, see "particles" below */
+typedef struct lc_grid lc_grid;           /* structured volume, see "grids" below */
+
+/* ---------------------------------------------------------------- rendering */
+
+typedef enum lc_shading { LC_SHADE_NONE = 0, LC_SHADE_DIFFUSE = 1, LC_SHADE_PHONG = 2 } lc_shading;
+
+typedef enum lc_method {
+    LC_METHOD_DEFAULT = 0,  /* coherent for particles, bvh for grids */
+    LC_METHOD_COHERENT = 1, /* particles: coherent packet traversal with sample buffers (Knoll 2014) */
+    LC_METHOD_DIRECT = 2,   /* particles: per-sample gather through the BVH (the paper's baseline) */
+    LC_METHOD_BVH = 3,      /* grids: implicit min-max BVH traversal (Knoll 2011) */
+    LC_METHOD_BRUTE = 4     /* grids: every sample, no BVH */
+} lc_method;
+
+/* Phong parameters; all zero means SPEC.md's defaults ka 0.2, kd 0.8, ks 0.4, p 16. */
+typedef struct lc_lighting {
+    float ka, kd, ks;
+    int phong_exp; /* integer exponent, 1..256 */
+} lc_lighting;
+
+typedef struct lc_particle_params {
+    float sigma;        /* truncation radius in units of r_i; 0 = 2 */
+    float kappa;        /* global density scale; 0 = 1 */
+    int buffer_samples; /* samples per ray in the coherent buffer; 0 = 32 (64/M for M > 1 fields) */
+    float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
+} lc_particle_params;
+
+typedef struct lc_grid_params {
+    int preintegrated;  /* 1: classify with the pre-integrated table */
+    float rda;          /* differential sampling: step grows by rda*dt per sample; 0 = off */
+    float delta_c;      /* empty-space culling threshold (Knoll 2011 eq. 5); 0 = 1e-3, < 0 = off */
+    float delta_p;      /* pruning threshold (eq. 6); 0 = 1.5, < 0 = off */
+    float delta_sv;     /* constant-subvolume threshold (eq. 7); 0 = 1e-4, < 0 = off */
+} lc_grid_params;
+
+typedef struct lc_render_desc {
+    int width, height;         /* pixels, 1..32768 each */
+    lc_camera camera;
+    const lc_tf *tf;           /* NULL = a default ("heat") TF */
+    float range[2];            /* value range [lo, hi]; both 0 = the TF's range or the data's */
+    /* exactly one scene object */
+    const lc_particles *particles;
+    const lc_grid *grid;
+    float dt;                  /* sampling step in world units; 0 = a default from the data */
+    float alpha_stop;          /* early termination; 0 = 0.97, 1 = never */
+    lc_shading shading;
+    lc_lighting lighting;
+    lc_method method;
+    int packet;                /* packet side in rays (8 = 8x8 groups); 0 = 8, 1 = lane-width packets */
+    int tile;                  /* tile side in pixels for threads; 0 = 32 */
+    lc_particle_params particle;
+    lc_grid_params grid_params;
+} lc_render_desc;
+
+typedef struct lc_render_stats {
+    double seconds;       /* wall time of the render */
+    uint64_t rays;
+    uint64_t samples;
+    uint64_t kernel_evals; /* Gaussian evaluations (particles) or voxel reconstructions (grids) */
+    uint64_t nodes;        /* BVH nodes visited */
+    uint64_t leaves;
+    uint64_t passes;       /* coherent buffer passes */
+    lc_target target;
+    int threads;
+} lc_render_stats;
+
+/* Renders into rgba: width * height * 4 floats, row 0 at the top, holding
+ * premultiplied colour C and opacity A (the background is not applied; see
+ * lc_image_write). stats may be NULL. The scene object and TF are only read. */
+LC_API lc_status lc_render(lc_device *device, const lc_render_desc *desc, float *rgba, lc_render_stats *stats);
+
+/* ---------------------------------------------------------------- images */
+
+typedef struct lc_image_desc {
+    int width, height;
+    const float *rgba;    /* premultiplied C, A as lc_render writes them */
+    lc_vec3 background;   /* composited where alpha is off: C + (1 - A) * background */
+    int alpha;            /* 1: write RGBA (premultiplied in EXR, straight in PNG/TIFF) */
+} lc_image_desc;
+
+/* Writes an image through OpenImageIO, the format chosen by the file's
+ * extension (.png, .exr, .tif, .jpg, .ppm, ...). The file appears complete or
+ * not at all: it is written to a temporary name and renamed. */
+LC_API lc_status lc_image_write(lc_device *device, const char *path, const lc_image_desc *desc);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

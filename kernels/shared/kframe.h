@@ -1,0 +1,86 @@
+/* Plain structs every ray-casting kernel reads: camera, transfer functions,
+ * shading, sampling parameters, tiles, counters. Built by host/frame.c from
+ * the public descriptors (one implementation for every data kind). Fixed-width
+ * types only; sizes are asserted so every target re-checks the layout. */
+#ifndef LC_KFRAME_H
+#define LC_KFRAME_H
+
+#include <stdint.h>
+
+#define LC_MAX_FIELDS 8
+#define LC_TF_TABLE_SIZE 1024
+
+/* Ray for pixel (px, py), SPEC.md "Camera and rays":
+ *   u = 2 (px + 0.5) / W - 1,  v = 1 - 2 (py + 0.5) / H
+ *   perspective:  org = eye,                 dir = normalize(forward + u*right + v*up)
+ *   orthographic: org = eye + u*right + v*up, dir = forward
+ * where right/up are pre-scaled by tan(fovy/2)*W/H and tan(fovy/2)
+ * (perspective) or by height/2*W/H and height/2 (orthographic). */
+typedef struct lc_kcamera {
+    float eye[4];
+    float forward[4];
+    float right[4];
+    float up[4];
+    int32_t width, height;
+    int32_t ortho;
+    int32_t pad;
+} lc_kcamera;
+_Static_assert(sizeof(lc_kcamera) == 80, "lc_kcamera layout");
+
+/* A transfer function sampled into LC_TF_TABLE_SIZE entries of (r, g, b, tau)
+ * over the normalised value v = (phi - lo) / (hi - lo) in [0, 1]; lookups
+ * interpolate linearly between entries (SPEC.md allows >= 1024 entries). */
+typedef struct lc_ktf {
+    const float *rgbt; /* LC_TF_TABLE_SIZE * 4 floats */
+    float lo;
+    float inv_range; /* 1 / (hi - lo) */
+    float max_tau;   /* largest extinction in the table (0: transparent) */
+    float pad;
+} lc_ktf;
+_Static_assert(sizeof(lc_ktf) == 24, "lc_ktf layout");
+
+enum { LC_KSHADE_NONE = 0, LC_KSHADE_DIFFUSE = 1, LC_KSHADE_PHONG = 2 };
+
+typedef struct lc_kframe {
+    lc_kcamera cam;
+    lc_ktf tf[LC_MAX_FIELDS];
+    int32_t nfields;
+    int32_t shade;       /* LC_KSHADE_* */
+    float ka, kd, ks;
+    int32_t phong_exp;   /* integer Phong exponent p */
+    float dt;
+    float alpha_stop;    /* stop a ray once A >= alpha_stop; 1 = never */
+    float grad_eps;      /* no shading where |grad| < grad_eps (SPEC.md) */
+    int32_t packet;      /* rays per packet group side (e.g. 8 for 8x8); 0 = lane width */
+    int32_t pad[2];
+} lc_kframe;
+_Static_assert(sizeof(lc_kframe) == 80 + 24 * LC_MAX_FIELDS + 48, "lc_kframe layout");
+
+/* A rectangle of pixels [x0, x1) x [y0, y1) and where its result goes: the
+ * kernel writes premultiplied (C, A) into rgba[(y * stride + x) * 4 ...]. */
+typedef struct lc_ktile {
+    int32_t x0, y0, x1, y1;
+    int32_t stride;
+    int32_t pad;
+    float *rgba;
+} lc_ktile;
+_Static_assert(sizeof(lc_ktile) == 32, "lc_ktile layout");
+
+/* Per-tile counters, summed by the host for --stats. */
+typedef struct lc_kstats {
+    uint64_t rays;
+    uint64_t samples;       /* samples integrated */
+    uint64_t kernel_evals;  /* Gaussian (or voxel) evaluations */
+    uint64_t nodes;         /* BVH nodes visited */
+    uint64_t leaves;        /* BVH leaves visited */
+    uint64_t passes;        /* buffer passes (coherent particle path) */
+} lc_kstats;
+
+/* Per-thread scratch memory the host allocates once per worker, so kernels
+ * never allocate. */
+typedef struct lc_kscratch {
+    void *mem;
+    uint64_t bytes;
+} lc_kscratch;
+
+#endif

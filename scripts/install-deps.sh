@@ -1,0 +1,20 @@
+#!/bin/sh
+# Installs lanecast's build and test dependencies from Debian's packages.
+# Idempotent: when everything is present it only runs dpkg-query and exits.
+set -eu
+PKGS="meson ninja-build pkg-config cmake gcc g++ libembree-dev libopenimageio-dev libcglm-dev libjson-c-dev zlib1g-dev"
+missing=""
+for p in $PKGS; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+        missing="$missing $p"
+    fi
+done
+if [ -z "$missing" ]; then
+    exit 0
+fi
+echo "lanecast: installing$missing" >&2
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq || echo "lanecast: apt-get update failed; trying the cached package lists" >&2
+$SUDO apt-get install -y -qq --no-install-recommends $missing >/dev/null

@@ -1,0 +1,13 @@
+#ifndef LC_CLI_H
+#define LC_CLI_H
+
+#include "lanecast/lanecast.h"
+
+#define CLI_EXIT_FAIL 1
+#define CLI_EXIT_USAGE 2
+
+int cli_targets(int argc, char **argv);
+int cli_render(int argc, char **argv);
+int cli_demo(int argc, char **argv);
+
+#endif

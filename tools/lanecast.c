@@ -1,0 +1,48 @@
+/* lanecast: the command-line tool. Subcommands live in cmd_*.c. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli.h"
+
+static const char usage[] =
+    "lanecast " LC_VERSION_STRING " - CPU volume ray casting of particles and volumes\n"
+    "\n"
+    "usage: lanecast COMMAND [options]\n"
+    "\n"
+    "commands:\n"
+    "  render INPUT -o OUT   render particle data or a volume to an image\n"
+    "                        (lanecast render --help for every option)\n"
+    "  demo -o OUT           render the built-in demo scene (procedural, two fields)\n"
+    "  targets               list SIMD targets: compiled, supported by this CPU, active\n"
+    "\n"
+    "options:\n"
+    "  --help, -h            this text\n"
+    "  --version             print the version\n"
+    "\n"
+    "environment:\n"
+    "  LANECAST_TARGET       force a target: scalar, sse4, avx2, avx512 or auto\n"
+    "  LANECAST_THREADS      worker threads (default: all online CPUs)\n"
+    "\n"
+    "exit status: 0 ok, 1 bad input or failed work, 2 bad usage\n";
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fputs(usage, stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
+        fputs(usage, stdout);
+        return 0;
+    }
+    if (!strcmp(cmd, "--version")) {
+        printf("lanecast %s\n", lc_version_string());
+        return 0;
+    }
+    if (!strcmp(cmd, "targets")) return cli_targets(argc - 1, argv + 1);
+    if (!strcmp(cmd, "render")) return cli_render(argc - 1, argv + 1);
+    if (!strcmp(cmd, "demo")) return cli_demo(argc - 1, argv + 1);
+    fprintf(stderr, "lanecast: unknown command '%s' (try lanecast --help)\n", cmd);
+    return 2;
+}
