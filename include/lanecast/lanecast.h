@@ -262,6 +262,9 @@ typedef struct lc_image_desc {
  * extension (.png, .exr, .tif, .jpg, .ppm, ...). The file appears complete or
  * not at all: it is written to a temporary name and renamed. */
 LC_API lc_status lc_image_write(lc_device *device, const char *path, const lc_image_desc *desc);
+/* Checks, before any long work, that path has an extension OpenImageIO can
+ * write and that its folder is writable. device may be NULL. */
+LC_API lc_status lc_image_check(lc_device *device, const char *path);
 
 #ifdef __cplusplus
 }

@@ -35,7 +35,7 @@ typedef struct lc_ktf {
     float lo;
     float inv_range; /* 1 / (hi - lo) */
     float max_tau;   /* largest extinction in the table (0: transparent) */
-    float pad;
+    float grad_eps;  /* no shading where |grad| < 1e-6 (hi - lo) / dt (SPEC.md) */
 } lc_ktf;
 _Static_assert(sizeof(lc_ktf) == 24, "lc_ktf layout");
 
@@ -50,7 +50,7 @@ typedef struct lc_kframe {
     int32_t phong_exp;   /* integer Phong exponent p */
     float dt;
     float alpha_stop;    /* stop a ray once A >= alpha_stop; 1 = never */
-    float grad_eps;      /* no shading where |grad| < grad_eps (SPEC.md) */
+    float pad0;
     int32_t packet;      /* rays per packet group side (e.g. 8 for 8x8); 0 = lane width */
     int32_t pad[2];
 } lc_kframe;

@@ -1,0 +1,70 @@
+/* The one camera implementation (SPEC.md "Camera and rays"), with cglm for the
+ * basis. cglm types stay in this file. */
+#include <math.h>
+#include <cglm/cglm.h>
+#include "scene.h"
+
+static int finite3(lc_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+
+lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int height, const lc_box3 *bounds,
+                           lc_kcamera *out)
+{
+    if (cam->projection != LC_PERSPECTIVE && cam->projection != LC_ORTHOGRAPHIC)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "camera: projection %d is not perspective or orthographic",
+                         (int)cam->projection);
+    if (!finite3(cam->eye) || !finite3(cam->at) || !finite3(cam->up))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "camera: eye, at and up must be finite");
+    float fovy = cam->fovy == 0.0f ? 40.0f : cam->fovy;
+    if (!(fovy > 0.0f && fovy < 179.0f))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "camera: fovy = %g degrees, expected (0, 179)", (double)fovy);
+    if (cam->projection == LC_ORTHOGRAPHIC && !(cam->height >= 0.0f && isfinite(cam->height)))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "camera: orthographic height = %g, expected > 0",
+                         (double)cam->height);
+    vec3 eye = {cam->eye.x, cam->eye.y, cam->eye.z}, at = {cam->at.x, cam->at.y, cam->at.z};
+    vec3 up = {cam->up.x, cam->up.y, cam->up.z};
+    if (glm_vec3_norm(up) == 0.0f) glm_vec3_copy((vec3){0.0f, 1.0f, 0.0f}, up);
+    vec3 lo = {bounds->lo.x, bounds->lo.y, bounds->lo.z}, hi = {bounds->hi.x, bounds->hi.y, bounds->hi.z};
+    vec3 centre, diag;
+    glm_vec3_center(lo, hi, centre);
+    glm_vec3_sub(hi, lo, diag);
+    float radius = 0.5f * glm_vec3_norm(diag);
+    if (!(radius > 0.0f) || !isfinite(radius)) radius = 1.0f;
+    float ortho_h = cam->height;
+    if (glm_vec3_distance(eye, at) == 0.0f) {
+        /* default view: look down -z at the centre, the bounding sphere filling the frame */
+        glm_vec3_copy(centre, at);
+        float dist = radius / sinf(glm_rad(fovy) * 0.5f) * 1.05f;
+        glm_vec3_copy((vec3){centre[0], centre[1], centre[2] + dist}, eye);
+        glm_vec3_copy((vec3){0.0f, 1.0f, 0.0f}, up);
+    }
+    if (cam->projection == LC_ORTHOGRAPHIC && ortho_h == 0.0f) ortho_h = 2.1f * radius;
+    vec3 fwd, right, upv;
+    glm_vec3_sub(at, eye, fwd);
+    glm_vec3_normalize(fwd);
+    glm_vec3_cross(fwd, up, right);
+    if (glm_vec3_norm(right) < 1e-6f * glm_vec3_norm(up))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "camera: up (%g, %g, %g) is parallel to the view direction",
+                         (double)up[0], (double)up[1], (double)up[2]);
+    glm_vec3_normalize(right);
+    glm_vec3_cross(right, fwd, upv);
+    float aspect = (float)width / (float)height;
+    float sx, sy;
+    if (cam->projection == LC_ORTHOGRAPHIC) {
+        sy = 0.5f * ortho_h;
+    } else {
+        sy = tanf(glm_rad(fovy) * 0.5f);
+    }
+    sx = sy * aspect;
+    for (int k = 0; k < 3; k++) {
+        out->eye[k] = eye[k];
+        out->forward[k] = fwd[k];
+        out->right[k] = right[k] * sx;
+        out->up[k] = upv[k] * sy;
+    }
+    out->eye[3] = out->forward[3] = out->right[3] = out->up[3] = 0.0f;
+    out->width = width;
+    out->height = height;
+    out->ortho = cam->projection == LC_ORTHOGRAPHIC;
+    out->pad = 0;
+    return LC_OK;
+}

@@ -1,0 +1,165 @@
+/* lc_render: validation, the frame (camera, TFs, shading), tiles over the
+ * device's threads, stats. One implementation for every data kind. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "scene.h"
+
+#define MAX_SIDE 32768
+
+lc_status lci_frame_build(lc_device *dev, const lc_render_desc *d, const lci_scene_info *info, const lc_tf *tf,
+                          float *tables, lc_kframe *f)
+{
+    memset(f, 0, sizeof *f);
+    lc_status s = lci_camera_build(dev, &d->camera, d->width, d->height, &info->bounds, &f->cam);
+    if (s != LC_OK) return s;
+    f->dt = d->dt == 0.0f ? info->default_dt : d->dt;
+    if (!(f->dt > 0.0f) || !isfinite(f->dt))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "dt = %g, expected a finite step > 0", (double)f->dt);
+    f->alpha_stop = d->alpha_stop == 0.0f ? 0.97f : d->alpha_stop;
+    if (!(f->alpha_stop > 0.0f && f->alpha_stop <= 1.0f))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "alpha_stop = %g, expected (0, 1]", (double)d->alpha_stop);
+    if ((int)d->shading < LC_SHADE_NONE || (int)d->shading > LC_SHADE_PHONG)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "shading = %d is not none, diffuse or phong", (int)d->shading);
+    f->shade = (int32_t)d->shading;
+    const lc_lighting *l = &d->lighting;
+    int custom = l->ka != 0.0f || l->kd != 0.0f || l->ks != 0.0f || l->phong_exp != 0;
+    f->ka = custom ? l->ka : 0.2f;
+    f->kd = custom ? l->kd : 0.8f;
+    f->ks = custom ? l->ks : 0.4f;
+    f->phong_exp = custom ? l->phong_exp : 16;
+    if (!(isfinite(f->ka) && isfinite(f->kd) && isfinite(f->ks)) || f->ka < 0 || f->kd < 0 || f->ks < 0)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lighting: ka, kd, ks must be finite and >= 0");
+    if (f->phong_exp < 1 || f->phong_exp > 256)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lighting: phong exponent %d, expected 1 to 256",
+                         f->phong_exp);
+    f->packet = d->packet == 0 ? 8 : d->packet;
+    if (f->packet < 1 || f->packet > 64)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "packet = %d rays per side, expected 1 (lane-width) to 64",
+                         d->packet);
+    int nf = info->nfields;
+    if (tf->nfields != 1 && tf->nfields < nf)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "the transfer function has %d fields but the data has %d (give 1 to share it, or one per field)",
+                         tf->nfields, nf);
+    int have_range = d->range[0] != 0.0f || d->range[1] != 0.0f;
+    if (have_range && !(isfinite(d->range[0]) && isfinite(d->range[1]) && d->range[1] > d->range[0]))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "range [%g, %g]: expected finite lo < hi",
+                         (double)d->range[0], (double)d->range[1]);
+    f->nfields = nf;
+    for (int k = 0; k < nf; k++) {
+        int src = tf->nfields == 1 ? 0 : k;
+        float lo = info->default_range[0], hi = info->default_range[1];
+        if (have_range) lo = d->range[0], hi = d->range[1];
+        else if (tf->field[src].has_range) lo = tf->field[src].range[0], hi = tf->field[src].range[1];
+        if (!(hi > lo)) hi = lo + 1.0f;
+        lci_tf_fill(tf, src, lo, hi, tables + (size_t)k * LC_TF_TABLE_SIZE * 4, &f->tf[k]);
+        f->tf[k].grad_eps = 1e-6f * (hi - lo) / f->dt;
+    }
+    return LC_OK;
+}
+
+typedef struct job {
+    const lci_prepared *prep;
+    const lc_kframe *frame;
+    float *rgba;
+    int width, height, tile, ntx;
+    unsigned char *scratch;
+    uint64_t scratch_bytes;
+    lc_kstats *stats; /* one per worker */
+} job;
+
+static void run_tile(void *ctx, int task, int worker)
+{
+    job *j = ctx;
+    lc_ktile t;
+    t.x0 = (task % j->ntx) * j->tile;
+    t.y0 = (task / j->ntx) * j->tile;
+    t.x1 = t.x0 + j->tile < j->width ? t.x0 + j->tile : j->width;
+    t.y1 = t.y0 + j->tile < j->height ? t.y0 + j->tile : j->height;
+    t.stride = j->width;
+    t.pad = 0;
+    t.rgba = j->rgba;
+    lc_kscratch sc = {j->scratch + (size_t)worker * j->scratch_bytes, j->scratch_bytes};
+    if (j->prep->particles_fn) j->prep->particles_fn(j->prep->particles, j->frame, &t, &sc, &j->stats[worker]);
+    else j->prep->grid_fn(j->prep->grid, j->frame, &t, &sc, &j->stats[worker]);
+}
+
+lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_render_stats *stats)
+{
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_render: device is NULL");
+    if (!d) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: desc is NULL");
+    if (!rgba) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: rgba is NULL");
+    if (d->width < 1 || d->height < 1 || d->width > MAX_SIDE || d->height > MAX_SIDE)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: image size %dx%d, expected 1 to %d per side",
+                         d->width, d->height, MAX_SIDE);
+    if (!!d->particles + !!d->grid != 1)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "lc_render: give exactly one scene object (particles or grid), got %d",
+                         !!d->particles + !!d->grid);
+    int tile = d->tile == 0 ? 32 : d->tile;
+    if (tile < 1 || tile > 4096)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: tile = %d pixels, expected 1 to 4096", d->tile);
+    double t0 = lci_now();
+    lci_scene_info info;
+    memset(&info, 0, sizeof info);
+    lc_status s = d->particles ? lci_particles_info(dev, d->particles, d, &info) : lci_grid_info(dev, d->grid, d, &info);
+    if (s != LC_OK) return s;
+    lc_tf *own_tf = NULL;
+    const lc_tf *tf = d->tf;
+    if (!tf) {
+        s = lc_tf_preset(dev, "heat", 1, 1.0f, &own_tf);
+        if (s != LC_OK) return s;
+        tf = own_tf;
+    }
+    float *tables = lci_aligned_alloc(64, sizeof(float) * LC_MAX_FIELDS * LC_TF_TABLE_SIZE * 4);
+    lc_kframe *frame = lci_aligned_alloc(64, sizeof *frame);
+    lci_prepared prep;
+    memset(&prep, 0, sizeof prep);
+    unsigned char *scratch = NULL;
+    lc_kstats *ws = NULL;
+    if (!tables || !frame) {
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
+        goto done;
+    }
+    s = lci_frame_build(dev, d, &info, tf, tables, frame);
+    if (s != LC_OK) goto done;
+    s = d->particles ? lci_particles_prepare(dev, d->particles, d, frame, &prep)
+                     : lci_grid_prepare(dev, d->grid, d, frame, &prep);
+    if (s != LC_OK) goto done;
+    int nthreads = lci_pool_threads(dev->pool);
+    uint64_t sb = (prep.scratch_bytes + 63) & ~(uint64_t)63;
+    scratch = lci_aligned_alloc(64, (size_t)sb * (size_t)nthreads);
+    ws = calloc((size_t)nthreads, sizeof *ws);
+    if (!scratch || !ws) {
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for %d x %llu bytes of scratch", nthreads,
+                      (unsigned long long)sb);
+        goto done;
+    }
+    memset(rgba, 0, sizeof(float) * 4 * (size_t)d->width * (size_t)d->height);
+    job j = {&prep, frame, rgba, d->width, d->height, tile, (d->width + tile - 1) / tile, scratch, sb, ws};
+    int ntasks = j.ntx * ((d->height + tile - 1) / tile);
+    lci_pool_run(dev->pool, ntasks, run_tile, &j);
+    if (stats) {
+        memset(stats, 0, sizeof *stats);
+        for (int w = 0; w < nthreads; w++) {
+            stats->rays += ws[w].rays;
+            stats->samples += ws[w].samples;
+            stats->kernel_evals += ws[w].kernel_evals;
+            stats->nodes += ws[w].nodes;
+            stats->leaves += ws[w].leaves;
+            stats->passes += ws[w].passes;
+        }
+        stats->target = dev->target;
+        stats->threads = nthreads;
+        stats->seconds = lci_now() - t0;
+    }
+done:
+    free(ws);
+    lci_aligned_free(scratch);
+    free(prep.owned);
+    lci_aligned_free(frame);
+    lci_aligned_free(tables);
+    lc_tf_destroy(own_tf);
+    return s;
+}

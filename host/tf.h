@@ -1,0 +1,28 @@
+/* Transfer functions (host/tf.c): one implementation for every data kind. */
+#ifndef LC_HOST_TF_H
+#define LC_HOST_TF_H
+
+#include "internal.h"
+
+typedef struct lci_tf_points {
+    float *color; /* [v, r, g, b] */
+    int ncolor;
+    float *opacity; /* [v, tau] */
+    int nopacity;
+    int has_range;
+    float range[2];
+} lci_tf_points;
+
+struct lc_tf {
+    int nfields;
+    lci_tf_points field[LC_MAX_FIELDS];
+};
+
+/* Piecewise-linear evaluation at normalised v (clamped), in double: the
+ * reference renderer and the table builder both use it. */
+void lci_tf_eval(const lc_tf *tf, int field, double v, double rgb[3], double *tau);
+/* Fills a kernel TF (LC_TF_TABLE_SIZE x rgbt table into `table`) for field f
+ * with the value range [lo, hi]. */
+void lci_tf_fill(const lc_tf *tf, int field, float lo, float hi, float *table, lc_ktf *out);
+
+#endif

@@ -1,0 +1,172 @@
+/* Ray generation, classification, shading and front-to-back blending shared
+ * by every ray-casting kernel (particles, grids, RBF sets), straight from
+ * SPEC.md. Include after lane/lane.h in a kernel translation unit. */
+#ifndef LC_DVR_H
+#define LC_DVR_H
+
+#include "lane/lane.h"
+#include "shared/kframe.h"
+
+typedef struct vray {
+    vfloat ox, oy, oz;
+    vfloat dx, dy, dz;
+} vray;
+
+/* The rays of pixels (px, py), SPEC.md "Camera and rays". */
+static inline vray dvr_camera_rays(const lc_kcamera *c, vint px, vint py)
+{
+    vfloat u = vf_fms(vf_add(vi_to_vf(px), vf_set1(0.5f)), vf_set1(2.0f / (float)c->width), vf_set1(1.0f));
+    vfloat v = vf_fnma(vf_add(vi_to_vf(py), vf_set1(0.5f)), vf_set1(2.0f / (float)c->height), vf_set1(1.0f));
+    vray r;
+    if (c->ortho) {
+        r.ox = vf_fma(u, vf_set1(c->right[0]), vf_fma(v, vf_set1(c->up[0]), vf_set1(c->eye[0])));
+        r.oy = vf_fma(u, vf_set1(c->right[1]), vf_fma(v, vf_set1(c->up[1]), vf_set1(c->eye[1])));
+        r.oz = vf_fma(u, vf_set1(c->right[2]), vf_fma(v, vf_set1(c->up[2]), vf_set1(c->eye[2])));
+        r.dx = vf_set1(c->forward[0]);
+        r.dy = vf_set1(c->forward[1]);
+        r.dz = vf_set1(c->forward[2]);
+    } else {
+        vfloat dx = vf_fma(u, vf_set1(c->right[0]), vf_fma(v, vf_set1(c->up[0]), vf_set1(c->forward[0])));
+        vfloat dy = vf_fma(u, vf_set1(c->right[1]), vf_fma(v, vf_set1(c->up[1]), vf_set1(c->forward[1])));
+        vfloat dz = vf_fma(u, vf_set1(c->right[2]), vf_fma(v, vf_set1(c->up[2]), vf_set1(c->forward[2])));
+        /* exact division rather than rsqrt: directions must agree across targets */
+        vfloat inv = vf_div(vf_set1(1.0f), vf_sqrt(vf_fma(dx, dx, vf_fma(dy, dy, vf_mul(dz, dz)))));
+        r.ox = vf_set1(c->eye[0]);
+        r.oy = vf_set1(c->eye[1]);
+        r.oz = vf_set1(c->eye[2]);
+        r.dx = vf_mul(dx, inv);
+        r.dy = vf_mul(dy, inv);
+        r.dz = vf_mul(dz, inv);
+    }
+    return r;
+}
+
+/* Slab test of rays against a box; t clipped to [0, inf). Lanes that miss
+ * get t0 > t1. */
+static inline void dvr_clip_box(const vray *r, const float lo[3], const float hi[3], vfloat *t0, vfloat *t1)
+{
+    vfloat ix = vf_div(vf_set1(1.0f), r->dx), iy = vf_div(vf_set1(1.0f), r->dy), iz = vf_div(vf_set1(1.0f), r->dz);
+    vfloat ax = vf_mul(vf_sub(vf_set1(lo[0]), r->ox), ix), bx = vf_mul(vf_sub(vf_set1(hi[0]), r->ox), ix);
+    vfloat ay = vf_mul(vf_sub(vf_set1(lo[1]), r->oy), iy), by = vf_mul(vf_sub(vf_set1(hi[1]), r->oy), iy);
+    vfloat az = vf_mul(vf_sub(vf_set1(lo[2]), r->oz), iz), bz = vf_mul(vf_sub(vf_set1(hi[2]), r->oz), iz);
+    vfloat n = vf_max(vf_max(vf_min(ax, bx), vf_min(ay, by)), vf_max(vf_min(az, bz), vf_zero()));
+    vfloat f = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
+    /* NaN (0 * inf on a slab boundary) must not open the interval */
+    vmask ok = vm_and(vf_eq(n, n), vf_eq(f, f));
+    *t0 = vf_select(ok, n, vf_set1(1.0f));
+    *t1 = vf_select(ok, f, vf_set1(-1.0f));
+}
+
+/* First and last lattice index k (t_k = k dt) inside [t0, t1]; empty if kf > kl.
+ * Division (not a reciprocal) so every target picks the same k. */
+static inline void dvr_lattice(vfloat t0, vfloat t1, float dt, vint *kf, vint *kl)
+{
+    vmask hit = vf_le(t0, t1);
+    vfloat a = vf_floor(vf_div(t0, vf_set1(dt)));
+    a = vf_select(vf_lt(vf_mul(a, vf_set1(dt)), t0), vf_add(a, vf_set1(1.0f)), a); /* ceil */
+    vfloat b = vf_floor(vf_div(t1, vf_set1(dt)));
+    a = vf_min(a, vf_set1(1.6e7f));
+    b = vf_min(b, vf_set1(1.6e7f));
+    *kf = vi_select(hit, vf_to_vi(a), vi_set1(1));
+    *kl = vi_select(hit, vf_to_vi(b), vi_set1(0));
+}
+
+/* Transfer function lookup: rgb and extinction tau at value phi. */
+static inline void dvr_classify(const lc_ktf *tf, vfloat phi, vfloat *r, vfloat *g, vfloat *b, vfloat *tau)
+{
+    vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
+    v = vf_clamp(v, vf_zero(), vf_set1(1.0f));
+    vfloat x = vf_mul(v, vf_set1((float)(LC_TF_TABLE_SIZE - 1)));
+    vfloat xf = vf_min(vf_floor(x), vf_set1((float)(LC_TF_TABLE_SIZE - 2)));
+    vfloat w = vf_sub(x, xf);
+    vint i = vi_sll(vf_to_vi(xf), 2);
+    const float *t = tf->rgbt;
+    vfloat r0 = vf_gather(t, i), g0 = vf_gather(t + 1, i), b0 = vf_gather(t + 2, i), a0 = vf_gather(t + 3, i);
+    vfloat r1 = vf_gather(t + 4, i), g1 = vf_gather(t + 5, i), b1 = vf_gather(t + 6, i), a1 = vf_gather(t + 7, i);
+    *r = vf_lerp(r0, r1, w);
+    *g = vf_lerp(g0, g1, w);
+    *b = vf_lerp(b0, b1, w);
+    *tau = vf_lerp(a0, a1, w);
+}
+
+/* SPEC.md "Shading": headlight, n = -grad/|grad|, l = -dir, h = normalize(l - dir).
+ * With a headlight h = l, so |n.h| = |n.l|. Unshaded where |grad| < grad_eps. */
+static inline void dvr_shade(const lc_kframe *f, float grad_eps, const vray *ray, vfloat gx, vfloat gy, vfloat gz, vfloat *r,
+                             vfloat *g, vfloat *b)
+{
+    if (f->shade == LC_KSHADE_NONE) return;
+    vfloat g2 = vf_fma(gx, gx, vf_fma(gy, gy, vf_mul(gz, gz)));
+    vfloat glen = vf_sqrt(g2);
+    vmask lit = vf_ge(glen, vf_set1(grad_eps));
+    if (vm_none(lit)) return;
+    /* n.l = (-grad/|grad|) . (-dir) = grad.dir / |grad| */
+    vfloat ndl = vf_abs(vf_div(vf_fma(gx, ray->dx, vf_fma(gy, ray->dy, vf_mul(gz, ray->dz))), vf_max(glen, vf_set1(1e-30f))));
+    vfloat k = vf_fma(vf_set1(f->kd), ndl, vf_set1(f->ka));
+    vfloat spec = vf_zero();
+    if (f->shade == LC_KSHADE_PHONG) spec = vf_mul(vf_set1(f->ks), vf_powi(ndl, f->phong_exp));
+    *r = vf_select(lit, vf_fma(*r, k, spec), *r);
+    *g = vf_select(lit, vf_fma(*g, k, spec), *g);
+    *b = vf_select(lit, vf_fma(*b, k, spec), *b);
+}
+
+typedef struct vcolor {
+    vfloat r, g, b, a;
+} vcolor;
+
+/* SPEC.md: a = 1 - exp(-tau dt); C += (1 - A) a rgb; A += (1 - A) a, for the
+ * lanes in m. */
+static inline void dvr_blend(vcolor *c, vmask m, vfloat r, vfloat g, vfloat b, vfloat tau, float dt)
+{
+    vfloat a = vf_sub(vf_set1(1.0f), vf_exp(vf_mul(tau, vf_set1(-dt))));
+    vfloat w = vf_mul(vf_sub(vf_set1(1.0f), c->a), a);
+    w = vf_select(m, w, vf_zero());
+    c->r = vf_fma(w, r, c->r);
+    c->g = vf_fma(w, g, c->g);
+    c->b = vf_fma(w, b, c->b);
+    c->a = vf_add(c->a, w);
+}
+
+/* Pixel coordinates of lane-width packets: lanes laid out as a small 2D block
+ * (1x1, 2x2, 4x2, 4x4) so a packet's rays stay coherent. */
+#if LC_W == 1
+#define DVR_PW 1
+#define DVR_PH 1
+#elif LC_W == 4
+#define DVR_PW 2
+#define DVR_PH 2
+#elif LC_W == 8
+#define DVR_PW 4
+#define DVR_PH 2
+#else
+#define DVR_PW 4
+#define DVR_PH 4
+#endif
+
+static inline void dvr_packet_pixels(int x, int y, vint *px, vint *py)
+{
+    vint lane = vi_iota();
+    *px = vi_add(vi_set1(x), vi_and(lane, vi_set1(DVR_PW - 1)));
+#if DVR_PW == 1
+    *py = vi_set1(y);
+#elif DVR_PW == 2
+    *py = vi_add(vi_set1(y), vi_srl(lane, 1));
+#else
+    *py = vi_add(vi_set1(y), vi_srl(lane, 2));
+#endif
+}
+
+/* Writes premultiplied (C, A) of the lanes inside the tile. */
+static inline void dvr_store(const lc_ktile *t, vint px, vint py, const vcolor *c)
+{
+    for (int l = 0; l < LC_W; l++) {
+        int x = vi_lane(px, l), y = vi_lane(py, l);
+        if (x >= t->x1 || y >= t->y1) continue;
+        float *o = t->rgba + ((size_t)y * (size_t)t->stride + (size_t)x) * 4;
+        o[0] = vf_lane(c->r, l);
+        o[1] = vf_lane(c->g, l);
+        o[2] = vf_lane(c->b, l);
+        o[3] = vf_lane(c->a, l);
+    }
+}
+
+#endif
