@@ -1,15 +1,294 @@
-/* Structured grids: not built yet (issue 4). */
-#include "scene.h"
+/* Structured grids (Knoll et al. 2011): the lc_grid object (voxels in the
+ * caller's linear array or our 4^3-bricked copy behind offset tables, §6.1),
+ * its implicit min-max BVH (bvh/grid_bvh.c), and the hooks lc_render calls. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "grid.h"
+
+/* kernels index voxels with int32 element offsets */
+#define MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
+#define GATHER_PAD 64
+
+int lci_value_size(lc_value_type t)
+{
+    switch (t) {
+    case LC_VALUE_UINT8: return 1;
+    case LC_VALUE_UINT16:
+    case LC_VALUE_INT16: return 2;
+    case LC_VALUE_FLOAT32: return 4;
+    default: return 0;
+    }
+}
+
+static const char *type_name(lc_value_type t)
+{
+    switch (t) {
+    case LC_VALUE_UINT8: return "uint8";
+    case LC_VALUE_UINT16: return "uint16";
+    case LC_VALUE_INT16: return "int16";
+    case LC_VALUE_FLOAT32: return "float32";
+    default: return "unknown";
+    }
+}
+
+static int kval(lc_value_type t)
+{
+    return t == LC_VALUE_UINT8 ? LC_KVAL_U8 : t == LC_VALUE_UINT16 ? LC_KVAL_U16 : t == LC_VALUE_INT16 ? LC_KVAL_I16 : LC_KVAL_F32;
+}
+
+/* 4^3 bricks: element (i, j, k) at brick (i/4, j/4, k/4) * 64 + (k%4)*16 + (j%4)*4 + i%4 */
+static void brick_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t *zo, int64_t *elements)
+{
+    int32_t nb[3];
+    for (int a = 0; a < 3; a++) nb[a] = (n[a] + 3) / 4;
+    for (int32_t i = 0; i < n[0]; i++) xo[i] = (i >> 2) * 64 + (i & 3);
+    for (int32_t j = 0; j < n[1]; j++) yo[j] = (j >> 2) * 64 * nb[0] + (j & 3) * 4;
+    for (int32_t k = 0; k < n[2]; k++) zo[k] = (k >> 2) * 64 * nb[0] * nb[1] + (k & 3) * 16;
+    *elements = (int64_t)nb[0] * nb[1] * nb[2] * 64;
+}
+
+static void linear_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t *zo)
+{
+    for (int32_t i = 0; i < n[0]; i++) xo[i] = i;
+    for (int32_t j = 0; j < n[1]; j++) yo[j] = j * n[0];
+    for (int32_t k = 0; k < n[2]; k++) zo[k] = k * n[0] * n[1];
+}
+
+lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, const char *name, lc_grid **out)
+{
+    lc_status s = LC_OK;
+    lc_grid *g = NULL;
+    if (out) *out = NULL;
+    if (!dev) {
+        free(take);
+        return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_grid_create: device is NULL");
+    }
+    if (!d || !out || (!d->data && !take)) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_grid_create: desc, data and out must not be NULL");
+        goto fail;
+    }
+    const void *src = take ? take : d->data;
+    int es = lci_value_size(d->type);
+    if (!es) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: value type %d is not uint8, uint16, int16 or float32", name,
+                      (int)d->type);
+        goto fail;
+    }
+    int64_t count = 1;
+    for (int a = 0; a < 3; a++) {
+        if (d->size[a] < 2) {
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: size %d x %d x %d: every size must be at least 2 nodes",
+                          name, d->size[0], d->size[1], d->size[2]);
+            goto fail;
+        }
+        if (count > MAX_ELEMENTS / d->size[a]) {
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                          "%s: size %d x %d x %d has more than 2^31 values (the kernels index voxels with 32 bits)",
+                          name, d->size[0], d->size[1], d->size[2]);
+            goto fail;
+        }
+        count *= d->size[a];
+    }
+    lc_vec3 sp = d->spacing;
+    if (sp.x == 0.0f && sp.y == 0.0f && sp.z == 0.0f) sp = (lc_vec3){1.0f, 1.0f, 1.0f};
+    if (!(sp.x > 0.0f && sp.y > 0.0f && sp.z > 0.0f && isfinite(sp.x) && isfinite(sp.y) && isfinite(sp.z))) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: spacing (%g, %g, %g): each must be finite and > 0", name,
+                      (double)sp.x, (double)sp.y, (double)sp.z);
+        goto fail;
+    }
+    if (!(isfinite(d->origin.x) && isfinite(d->origin.y) && isfinite(d->origin.z))) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: origin must be finite", name);
+        goto fail;
+    }
+    int L = d->brick;
+    int32_t n[3] = {d->size[0], d->size[1], d->size[2]};
+    if (L == 0) L = lci_grid_bvh_default_brick(n);
+    if (L != 1 && L != 2 && L != 4 && L != 8 && L != 16) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: brick %d, expected 1, 2, 4, 8 or 16", name, d->brick);
+        goto fail;
+    }
+    lc_grid_layout layout = d->layout;
+    int borrow = d->borrow && !take;
+    if (layout == LC_LAYOUT_DEFAULT) layout = borrow ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED;
+    if (layout != LC_LAYOUT_LINEAR && layout != LC_LAYOUT_BRICKED) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: layout %d is not linear or bricked", name, (int)layout);
+        goto fail;
+    }
+    if (borrow && layout == LC_LAYOUT_BRICKED) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: a borrowed array is used in place, so it cannot be bricked",
+                      name);
+        goto fail;
+    }
+    if (d->type == LC_VALUE_FLOAT32) {
+        const float *f = src;
+        for (int64_t i = 0; i < count; i++)
+            if (!isfinite(f[i])) {
+                s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: value %lld is not finite", name, (long long)i);
+                goto fail;
+            }
+    }
+    g = calloc(1, sizeof *g);
+    if (!g) goto oom;
+    g->dev = dev;
+    g->offsets = malloc(sizeof(int32_t) * ((size_t)n[0] + (size_t)n[1] + (size_t)n[2]));
+    if (!g->offsets) goto oom;
+    int32_t *xo = g->offsets, *yo = xo + n[0], *zo = yo + n[1];
+    int64_t elements = count;
+    if (layout == LC_LAYOUT_BRICKED) brick_tables(n, xo, yo, zo, &elements);
+    else linear_tables(n, xo, yo, zo);
+    if (elements > MAX_ELEMENTS) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the bricked copy would exceed 2^31 values; use a linear layout",
+                      name);
+        goto fail;
+    }
+    const void *data = src;
+    if (!borrow) {
+        g->owned = lci_aligned_alloc(64, (size_t)elements * (size_t)es + GATHER_PAD);
+        if (!g->owned) goto oom;
+        if (layout == LC_LAYOUT_LINEAR) {
+            memcpy(g->owned, src, (size_t)count * (size_t)es);
+        } else {
+            const unsigned char *s8 = src;
+            unsigned char *d8 = g->owned;
+            for (int32_t k = 0; k < n[2]; k++)
+                for (int32_t j = 0; j < n[1]; j++) {
+                    const unsigned char *row = s8 + ((size_t)k * (size_t)n[1] + (size_t)j) * (size_t)n[0] * (size_t)es;
+                    int64_t base = (int64_t)yo[j] + zo[k];
+                    for (int32_t i = 0; i < n[0]; i++)
+                        memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, (size_t)es);
+                }
+        }
+        data = g->owned;
+    }
+    float origin[3] = {d->origin.x, d->origin.y, d->origin.z}, spacing[3] = {sp.x, sp.y, sp.z};
+    if (lci_grid_bvh_build(src, kval(d->type), n, origin, spacing, L, &g->bvh) != 0) goto oom;
+    lc_kgrid *k = &g->kg;
+    k->data = data;
+    k->xoff = xo, k->yoff = yo, k->zoff = zo;
+    for (int a = 0; a < 3; a++) {
+        k->size[a] = n[a];
+        k->origin[a] = origin[a];
+        k->spacing[a] = spacing[a];
+        k->inv_spacing[a] = 1.0f / spacing[a];
+        k->lo[a] = origin[a];
+        k->hi[a] = origin[a] + (float)(n[a] - 1) * spacing[a];
+    }
+    k->type = kval(d->type);
+    k->wide_safe = borrow ? (d->type == LC_VALUE_UINT8 ? count - 3 : count - 1) : INT64_MAX;
+    k->nodes = g->bvh.nodes;
+    k->nnodes = g->bvh.nnodes;
+    k->depth = g->bvh.depth;
+    float dx = k->hi[0] - k->lo[0], dy = k->hi[1] - k->lo[1], dz = k->hi[2] - k->lo[2];
+    k->diag_volume = sqrtf(dx * dx + dy * dy + dz * dz);
+    lc_grid_info *in = &g->info;
+    for (int a = 0; a < 3; a++) in->size[a] = n[a];
+    in->type = d->type;
+    in->spacing = sp;
+    in->origin = d->origin;
+    in->bounds.lo = (lc_vec3){k->lo[0], k->lo[1], k->lo[2]};
+    in->bounds.hi = (lc_vec3){k->hi[0], k->hi[1], k->hi[2]};
+    in->value_min = g->bvh.nodes[0].vmin;
+    in->value_max = g->bvh.nodes[0].vmax;
+    in->layout = layout;
+    in->borrowed = borrow;
+    in->data_bytes = (uint64_t)count * (uint64_t)es;
+    uint64_t tables = sizeof(int32_t) * ((uint64_t)n[0] + (uint64_t)n[1] + (uint64_t)n[2]);
+    in->layout_bytes = (borrow ? 0 : (uint64_t)elements * (uint64_t)es + GATHER_PAD) + tables;
+    in->layout_overhead_bytes = borrow ? tables : in->layout_bytes - in->data_bytes;
+    in->brick = L;
+    in->bvh_nodes = (uint64_t)g->bvh.nnodes;
+    in->bvh_leaves = (uint64_t)g->bvh.nleaves;
+    in->bvh_bytes = g->bvh.bytes;
+    in->bvh_depth = g->bvh.depth;
+    in->bvh_build_seconds = g->bvh.seconds;
+    if (g->bvh.depth > LC_KGRID_MAX_DEPTH) {
+        s = lci_error(dev, LC_ERROR_INTERNAL, "%s: BVH depth %d exceeds the traversal stack", name, g->bvh.depth);
+        goto fail;
+    }
+    free(take);
+    lci_log(dev, LC_LOG_INFO, "%s: %dx%dx%d %s, %s layout (+%llu bytes), BVH L=%d: %d nodes, %llu bytes, depth %d, %.3f s",
+            name, n[0], n[1], n[2], type_name(d->type), layout == LC_LAYOUT_BRICKED ? "bricked" : "linear",
+            (unsigned long long)in->layout_overhead_bytes, L, g->bvh.nnodes, (unsigned long long)g->bvh.bytes,
+            g->bvh.depth, g->bvh.seconds);
+    *out = g;
+    return LC_OK;
+oom:
+    s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d x %d grid", name, d->size[0], d->size[1],
+                  d->size[2]);
+fail:
+    free(take);
+    lc_grid_destroy(g);
+    return s;
+}
+
+lc_status lc_grid_create(lc_device *dev, const lc_grid_desc *desc, lc_grid **out)
+{
+    return lci_grid_create(dev, desc, NULL, "lc_grid_create", out);
+}
+
+void lc_grid_destroy(lc_grid *g)
+{
+    if (!g) return;
+    lci_grid_bvh_free(&g->bvh);
+    lci_aligned_free(g->owned);
+    free(g->offsets);
+    free(g);
+}
+
+lc_status lc_grid_get_info(const lc_grid *g, lc_grid_info *out)
+{
+    if (!g || !out) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_grid_get_info: grid and out must not be NULL");
+    *out = g->info;
+    return LC_OK;
+}
 
 lc_status lci_grid_info(lc_device *dev, const lc_grid *g, const lc_render_desc *desc, lci_scene_info *out)
 {
-    (void)g, (void)desc, (void)out;
-    return lci_error(dev, LC_ERROR_UNSUPPORTED, "structured grids are not implemented yet");
+    (void)dev, (void)desc;
+    out->bounds = g->info.bounds;
+    float sp = fminf(g->info.spacing.x, fminf(g->info.spacing.y, g->info.spacing.z));
+    out->default_dt = 0.5f * sp;
+    out->default_range[0] = g->info.value_min;
+    out->default_range[1] = g->info.value_max > g->info.value_min ? g->info.value_max : g->info.value_min + 1.0f;
+    out->nfields = 1;
+    return LC_OK;
 }
+
+static float param(float v, float def) { return v == 0.0f ? def : v; }
 
 lc_status lci_grid_prepare(lc_device *dev, const lc_grid *g, const lc_render_desc *desc, const lc_kframe *frame,
                            lci_prepared *out)
 {
-    (void)g, (void)desc, (void)frame, (void)out;
-    return lci_error(dev, LC_ERROR_UNSUPPORTED, "structured grids are not implemented yet");
+    const lc_grid_params *p = &desc->grid_params;
+    lc_method m = desc->method;
+    if (m != LC_METHOD_DEFAULT && m != LC_METHOD_BVH && m != LC_METHOD_BRUTE)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grids render with method bvh or brute, not %d", (int)m);
+    if (!(isfinite(p->rda) && p->rda >= 0.0f && p->rda <= 1.0f))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "rda = %g, expected 0 (off) to 1", (double)p->rda);
+    if (!isfinite(p->delta_c) || !isfinite(p->delta_p) || !isfinite(p->delta_sv))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grid heuristics: delta_c, delta_p, delta_sv must be finite");
+    const lc_ktable *kt = dev->kt;
+    if (!kt->grid_bvh || !kt->grid_brute || !kt->grid_scratch_bytes)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "target %s has no grid kernels", kt->name);
+    size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * LC_PREINT_N * LC_PREINT_N * 4;
+    unsigned char *mem = malloc(bytes);
+    if (!mem) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the pre-integrated table");
+    lc_kgrid *k = (lc_kgrid *)mem;
+    *k = g->kg;
+    float *table = (float *)(mem + ((sizeof(lc_kgrid) + 63) & ~(size_t)63));
+    lci_grid_preint(frame->tf[0].rgbt, table);
+    k->preint = table;
+    k->use_preint = p->preintegrated != 0;
+    k->rda = p->rda;
+    k->delta_c = param(p->delta_c, 1e-3f);
+    k->delta_p = param(p->delta_p, 1.5f);
+    k->delta_sv = param(p->delta_sv, 1e-4f);
+    k->bvh_flags = (k->delta_c >= 0.0f ? LC_KGRID_CULL : 0) | (k->delta_p >= 0.0f ? LC_KGRID_PRUNE : 0) |
+                   (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
+    out->grid_fn = m == LC_METHOD_BRUTE ? kt->grid_brute : kt->grid_bvh;
+    out->grid = k;
+    out->scratch_bytes = kt->grid_scratch_bytes(k, frame);
+    out->owned = mem;
+    return LC_OK;
 }

@@ -180,6 +180,81 @@ LC_API int lc_tf_field_count(const lc_tf *tf);
 typedef struct lc_particles lc_particles; /* particle data, see "particles" below */
 typedef struct lc_grid lc_grid;           /* structured volume, see "grids" below */
 
+/* ---- grids (structured volumes, Knoll et al. 2011) */
+
+typedef enum lc_value_type {
+    LC_VALUE_DEFAULT = 0, /* in load options: the file's type; required in lc_grid_desc */
+    LC_VALUE_UINT8 = 1,
+    LC_VALUE_UINT16 = 2,
+    LC_VALUE_INT16 = 3,
+    LC_VALUE_FLOAT32 = 4
+} lc_value_type;
+
+typedef enum lc_grid_layout {
+    LC_LAYOUT_DEFAULT = 0, /* bricked when the grid owns its voxels, linear when borrowed */
+    LC_LAYOUT_LINEAR = 1,  /* x fastest, then y, then z (a borrowed buffer is used in place) */
+    LC_LAYOUT_BRICKED = 2  /* 4^3-voxel bricks behind per-axis offset tables (paper §6.1) */
+} lc_grid_layout;
+
+/* A grid of size[0] x size[1] x size[2] nodes (each >= 2); node (i, j, k) at
+ * origin + (i sx, j sy, k sz); values x fastest. */
+typedef struct lc_grid_desc {
+    int size[3];
+    lc_value_type type;   /* required */
+    const void *data;     /* size[0] * size[1] * size[2] values, native endianness */
+    lc_vec3 spacing;      /* all zero = (1, 1, 1); each > 0 otherwise */
+    lc_vec3 origin;
+    int borrow;           /* 1: keep `data` (caller keeps it alive and unchanged until destroy);
+                             0: copy it */
+    lc_grid_layout layout;
+    int brick;            /* BVH leaf side L in voxels: 1, 2, 4, 8 or 16; 0 = by size */
+} lc_grid_desc;
+
+/* Options for lc_grid_load; zero means "from the file". For raw files (no
+ * header) size and type are required. */
+typedef struct lc_grid_load_options {
+    int size[3];
+    lc_value_type type;
+    lc_vec3 spacing;      /* zero = the header's spacing, else (1, 1, 1) */
+    lc_vec3 origin;
+    int big_endian;       /* raw files only: 1 = big-endian values */
+    lc_grid_layout layout;
+    int brick;
+} lc_grid_load_options;
+
+typedef struct lc_grid_info {
+    int size[3];
+    lc_value_type type;
+    lc_vec3 spacing, origin;
+    lc_box3 bounds;          /* first to last node */
+    float value_min, value_max;
+    lc_grid_layout layout;
+    int borrowed;
+    uint64_t data_bytes;     /* voxel bytes as the caller's linear array */
+    uint64_t layout_bytes;   /* bytes the grid holds for voxels and offset tables */
+    uint64_t layout_overhead_bytes; /* layout_bytes - data_bytes when owned (brick padding, tables) */
+    int brick;               /* BVH leaf side L */
+    uint64_t bvh_nodes, bvh_leaves, bvh_bytes;
+    int bvh_depth;
+    double bvh_build_seconds;
+} lc_grid_info;
+
+/* Creates a grid from caller memory, builds its implicit min-max BVH.
+ * Fails with LC_ERROR_INVALID_ARGUMENT for sizes < 2, sizes whose product
+ * overflows (or exceeds 2^31 values), an unknown type, a bad spacing or brick,
+ * borrow with LC_LAYOUT_BRICKED, or non-finite float values. *out = NULL on
+ * failure. Thread safety: as the device. */
+LC_API lc_status lc_grid_create(lc_device *device, const lc_grid_desc *desc, lc_grid **out);
+/* Loads a volume: NRRD (.nrrd, .nhdr with a detached data file; raw or gzip
+ * encoding; little or big endian), MetaImage (.mhd/.mha) or a raw file (any
+ * other extension; options give size and type). options may be NULL. Errors
+ * (LC_ERROR_IO, LC_ERROR_FORMAT, LC_ERROR_INVALID_ARGUMENT) name the file and,
+ * for headers, the line. */
+LC_API lc_status lc_grid_load(lc_device *device, const char *path, const lc_grid_load_options *options, lc_grid **out);
+/* NULL is ignored. */
+LC_API void lc_grid_destroy(lc_grid *grid);
+LC_API lc_status lc_grid_get_info(const lc_grid *grid, lc_grid_info *out);
+
 /* ---------------------------------------------------------------- rendering */
 
 typedef enum lc_shading { LC_SHADE_NONE = 0, LC_SHADE_DIFFUSE = 1, LC_SHADE_PHONG = 2 } lc_shading;

@@ -128,4 +128,16 @@ static inline float vf_reduce_max(vfloat a)
     return _mm_cvtss_f32(s);
 }
 
+/* Zero-extended narrow gathers (voxels): a 32-bit gather at byte scale 1 or 2
+ * and a mask, so each lane reads up to 3 (u8) or 2 (u16) bytes past its
+ * element: callers keep that much readable memory after the last one. */
+static inline vint vi_gather_u8(const uint8_t *base, vint idx)
+{
+    return _mm256_and_si256(_mm256_i32gather_epi32((const int *)(const void *)base, idx, 1), _mm256_set1_epi32(0xff));
+}
+static inline vint vi_gather_u16(const uint16_t *base, vint idx)
+{
+    return _mm256_and_si256(_mm256_i32gather_epi32((const int *)(const void *)base, idx, 2), _mm256_set1_epi32(0xffff));
+}
+
 #endif

@@ -96,4 +96,16 @@ static inline float vf_reduce_add(vfloat a) { return _mm512_reduce_add_ps(a); }
 static inline float vf_reduce_min(vfloat a) { return _mm512_reduce_min_ps(a); }
 static inline float vf_reduce_max(vfloat a) { return _mm512_reduce_max_ps(a); }
 
+/* Zero-extended narrow gathers (voxels): a 32-bit gather at byte scale 1 or 2
+ * and a mask, so each lane reads up to 3 (u8) or 2 (u16) bytes past its
+ * element: callers keep that much readable memory after the last one. */
+static inline vint vi_gather_u8(const uint8_t *base, vint idx)
+{
+    return _mm512_and_si512(_mm512_i32gather_epi32(idx, (const void *)base, 1), _mm512_set1_epi32(0xff));
+}
+static inline vint vi_gather_u16(const uint16_t *base, vint idx)
+{
+    return _mm512_and_si512(_mm512_i32gather_epi32(idx, (const void *)base, 2), _mm512_set1_epi32(0xffff));
+}
+
 #endif

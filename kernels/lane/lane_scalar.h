@@ -102,4 +102,7 @@ static inline float vf_reduce_add(vfloat a) { return a; }
 static inline float vf_reduce_min(vfloat a) { return a; }
 static inline float vf_reduce_max(vfloat a) { return a; }
 
+static inline vint vi_gather_u8(const uint8_t *base, vint idx) { return base[idx]; }
+static inline vint vi_gather_u16(const uint16_t *base, vint idx) { return base[idx]; }
+
 #endif

@@ -155,4 +155,16 @@ static inline float vf_reduce_max(vfloat a)
     return _mm_cvtss_f32(s);
 }
 
+/* Zero-extended narrow gathers (voxels); per-lane loads of exactly one element. */
+static inline vint vi_gather_u8(const uint8_t *base, vint idx)
+{
+    return _mm_setr_epi32(base[_mm_extract_epi32(idx, 0)], base[_mm_extract_epi32(idx, 1)],
+                          base[_mm_extract_epi32(idx, 2)], base[_mm_extract_epi32(idx, 3)]);
+}
+static inline vint vi_gather_u16(const uint16_t *base, vint idx)
+{
+    return _mm_setr_epi32(base[_mm_extract_epi32(idx, 0)], base[_mm_extract_epi32(idx, 1)],
+                          base[_mm_extract_epi32(idx, 2)], base[_mm_extract_epi32(idx, 3)]);
+}
+
 #endif

@@ -1,0 +1,25 @@
+/* The implicit min-max BVH of a structured grid (Knoll et al. 2011 §5.1),
+ * built once per grid with baseline flags; kernels read the flat node array. */
+#ifndef LC_BVH_GRID_BVH_H
+#define LC_BVH_GRID_BVH_H
+
+#include <stdint.h>
+#include "../kernels/shared/kgrid.h"
+
+typedef struct lci_grid_bvh {
+    lc_kgrid_node *nodes; /* nnodes, root at 0, children adjacent */
+    int32_t nnodes, nleaves, depth, brick;
+    double seconds;
+    uint64_t bytes;
+} lci_grid_bvh;
+
+/* Builds from linear voxels (x fastest) of LC_KVAL_* type. L: leaf side.
+ * Returns 0, or -1 when out of memory (out is then empty). */
+int lci_grid_bvh_build(const void *data, int type, const int32_t size[3], const float origin[3], const float spacing[3],
+                       int L, lci_grid_bvh *out);
+void lci_grid_bvh_free(lci_grid_bvh *bvh);
+/* The default leaf side for a grid size: 4 up to 256^3-ish, 8 up to 1024^3,
+ * 16 beyond (keeps the node array near 1/10 of the voxel bytes or less). */
+int lci_grid_bvh_default_brick(const int32_t size[3]);
+
+#endif

@@ -1,0 +1,257 @@
+/* Coherent packet traversal of the implicit min-max BVH (Knoll et al. 2011
+ * §5.2, Listing 1, Fig. 3): packets of P x P rays made of lane-width
+ * packlets, a uniform node index and stack with the first-active packlet per
+ * stack entry, speculative first-active test, interval-arithmetic frustum
+ * culling, front-to-back child order, and the transfer-function heuristics
+ * decided per packet from the pre-integrated table: empty-space skipping
+ * (eq. 5), pruning to larger leaves (eq. 6) and constant subvolumes (eq. 7).
+ * Leaves are integrated per ray on the SPEC.md lattice (grid_common.h). */
+#include <math.h>
+#include "grid_common.h"
+
+void LC_KFN(lc_grid_bvh)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
+                         lc_kstats *st);
+
+/* Interval bounds of a packet's rays for the frustum test: origins in
+ * [olo, ohi], inverse directions in [ilo, ihi] per axis; ok[a] = 0 when the
+ * directions' signs differ along a (the axis then bounds nothing). */
+typedef struct frustum {
+    float olo[3], ohi[3], ilo[3], ihi[3];
+    int ok[3];
+} frustum;
+
+static inline float min4(float a, float b, float c, float d) { return fminf(fminf(a, b), fminf(c, d)); }
+static inline float max4(float a, float b, float c, float d) { return fmaxf(fmaxf(a, b), fmaxf(c, d)); }
+
+static void frustum_build(const gpk *pk, int npk, frustum *fr)
+{
+    for (int a = 0; a < 3; a++) {
+        fr->olo[a] = fr->ilo[a] = INFINITY;
+        fr->ohi[a] = fr->ihi[a] = -INFINITY;
+    }
+    float dlo[3] = {INFINITY, INFINITY, INFINITY}, dhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int p = 0; p < npk; p++) {
+        vmask m = pk[p].live;
+        if (vm_none(m)) continue;
+        const vfloat *o[3] = {&pk[p].ray.ox, &pk[p].ray.oy, &pk[p].ray.oz};
+        const vfloat *d[3] = {&pk[p].ray.dx, &pk[p].ray.dy, &pk[p].ray.dz};
+        const vfloat *iv[3] = {&pk[p].ix, &pk[p].iy, &pk[p].iz};
+        for (int a = 0; a < 3; a++) {
+            fr->olo[a] = fminf(fr->olo[a], vf_reduce_min_masked(m, *o[a]));
+            fr->ohi[a] = fmaxf(fr->ohi[a], vf_reduce_max_masked(m, *o[a]));
+            fr->ilo[a] = fminf(fr->ilo[a], vf_reduce_min_masked(m, *iv[a]));
+            fr->ihi[a] = fmaxf(fr->ihi[a], vf_reduce_max_masked(m, *iv[a]));
+            dlo[a] = fminf(dlo[a], vf_reduce_min_masked(m, *d[a]));
+            dhi[a] = fmaxf(dhi[a], vf_reduce_max_masked(m, *d[a]));
+        }
+    }
+    for (int a = 0; a < 3; a++)
+        fr->ok[a] = (dlo[a] > 0.0f || dhi[a] < 0.0f) && isfinite(fr->ilo[a]) && isfinite(fr->ihi[a]);
+}
+
+/* Interval arithmetic: bounds of every ray's entry and exit along each axis;
+ * if the largest lower bound of the entries exceeds the smallest upper bound
+ * of the exits (or that is behind the eye), no ray of the packet hits. */
+static int frustum_misses(const frustum *fr, const lc_kgrid_node *n)
+{
+    float nlo = 0.0f, fhi = INFINITY;
+    for (int a = 0; a < 3; a++) {
+        if (!fr->ok[a]) continue;
+        float l0 = n->lo[a] - fr->ohi[a], l1 = n->lo[a] - fr->olo[a]; /* lo - o */
+        float h0 = n->hi[a] - fr->ohi[a], h1 = n->hi[a] - fr->olo[a]; /* hi - o */
+        float i0 = fr->ilo[a], i1 = fr->ihi[a];
+        float lmin = min4(l0 * i0, l0 * i1, l1 * i0, l1 * i1), lmax = max4(l0 * i0, l0 * i1, l1 * i0, l1 * i1);
+        float hmin = min4(h0 * i0, h0 * i1, h1 * i0, h1 * i1), hmax = max4(h0 * i0, h0 * i1, h1 * i0, h1 * i1);
+        /* positive directions enter at lo, negative at hi */
+        float near_lb = i0 > 0.0f ? lmin : hmin, far_ub = i0 > 0.0f ? hmax : lmax;
+        nlo = fmaxf(nlo, near_lb);
+        fhi = fminf(fhi, far_ub);
+    }
+    /* slack for the per-ray round-off of the exact test */
+    return nlo > fhi * 1.0001f + 1e-6f;
+}
+
+static inline int packlet_hits(const gpk *p, const lc_kgrid_node *n)
+{
+    if (vm_none(p->live)) return 0;
+    vfloat t0, t1;
+    grid_box_t(p, n->lo, n->hi, &t0, &t1);
+    return vm_any(vm_and(p->live, vf_le(t0, t1)));
+}
+
+/* Fig. 3: speculative test of the first active packlet, then the frustum,
+ * then the remaining packlets in order. Returns npk when none hits. */
+static inline int first_hit(const gpk *pk, int fa, int npk, const frustum *fr, const lc_kgrid_node *n)
+{
+    if (packlet_hits(&pk[fa], n)) return fa;
+    if (fa + 1 >= npk || frustum_misses(fr, n)) return npk;
+    for (int p = fa + 1; p < npk; p++)
+        if (packlet_hits(&pk[p], n)) return p;
+    return npk;
+}
+
+/* Transfer-function view of a node's value range [vmin, vmax] through the
+ * pre-integrated table: quantised bounds (widened by one level so the table
+ * covers every value the trilinear interpolant can take) and opacities. */
+typedef struct node_tf {
+    int qlo, qhi;
+} node_tf;
+
+static inline node_tf node_quant(const lc_ktf *tf, const lc_kgrid_node *n)
+{
+    float s = (float)(LC_PREINT_N - 1);
+    float a = (n->vmin - tf->lo) * tf->inv_range * s, b = (n->vmax - tf->lo) * tf->inv_range * s;
+    a = fminf(fmaxf(floorf(a - 1e-3f), 0.0f), s);
+    b = fminf(fmaxf(ceilf(b + 1e-3f), 0.0f), s);
+    node_tf q = {(int)a, (int)b};
+    return q;
+}
+
+static inline float preint_tau(const lc_kgrid *g, int a, int b) { return g->preint[((size_t)a * LC_PREINT_N + (size_t)b) * 4 + 3]; }
+static inline float rho(const lc_kgrid *g, float dt, int a, int b) { return 1.0f - expf(-preint_tau(g, a, b) * dt); }
+
+/* eq. 5: a node is empty when the pre-integrated opacity over its range is at
+ * most delta_c. The mean extinction being exactly zero is always used: it
+ * means zero opacity at every sample, so skipping is exact. */
+static inline int node_empty(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
+{
+    node_tf q = node_quant(&f->tf[0], n);
+    float tm = preint_tau(g, q.qlo, q.qhi);
+    if (tm == 0.0f) return 1;
+    return (g->bvh_flags & LC_KGRID_CULL) && rho(g, f->dt, q.qlo, q.qhi) <= g->delta_c;
+}
+
+/* eq. 6: treat an inner node as a leaf when its opacity relative to its size
+ * exceeds delta_p. Exact: a larger leaf takes the same lattice samples. */
+static inline int node_prune(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
+{
+    if (!(g->bvh_flags & LC_KGRID_PRUNE)) return 0;
+    node_tf q = node_quant(&f->tf[0], n);
+    float dx = n->hi[0] - n->lo[0], dy = n->hi[1] - n->lo[1], dz = n->hi[2] - n->lo[2];
+    float dbox = sqrtf(dx * dx + dy * dy + dz * dz);
+    return rho(g, f->dt, q.qlo, q.qhi) * g->diag_volume > g->delta_p * dbox;
+}
+
+/* eq. 7: constant subvolume when the opacity over [min, max] differs from
+ * that of either end by less than delta_sv. We also require the colour at the
+ * ends to agree within delta_sv (weighted by opacity), since the paper's test
+ * alone would flatten a TF with constant opacity and varying colour; and,
+ * because the closed form is unshaded, lit frames use it only where the data
+ * is truly constant (zero gradient: unshaded by SPEC.md anyway). */
+static inline int node_constant(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
+{
+    if (!(g->bvh_flags & LC_KGRID_CONST)) return 0;
+    if (f->shade != LC_KSHADE_NONE && n->vmin != n->vmax) return 0;
+    if (n->vmin == n->vmax) return 1;
+    node_tf q = node_quant(&f->tf[0], n);
+    float r = rho(g, f->dt, q.qlo, q.qhi), rl = rho(g, f->dt, q.qlo, q.qlo), rh = rho(g, f->dt, q.qhi, q.qhi);
+    if (!(fmaxf(fabsf(r - rl), fabsf(r - rh)) < g->delta_sv)) return 0;
+    const float *cl = g->preint + ((size_t)q.qlo * LC_PREINT_N + (size_t)q.qlo) * 4;
+    const float *ch = g->preint + ((size_t)q.qhi * LC_PREINT_N + (size_t)q.qhi) * 4;
+    float dc = fmaxf(fmaxf(fabsf(cl[0] - ch[0]), fabsf(cl[1] - ch[1])), fabsf(cl[2] - ch[2]));
+    return dc * r < g->delta_sv;
+}
+
+static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int fa, int npk, const lc_kgrid_node *n,
+                           int csv, lc_kstats *st)
+{
+    float phi = 0.5f * (n->vmin + n->vmax);
+    for (int p = fa; p < npk; p++) {
+        gpk *q = &pk[p];
+        if (vm_none(q->live)) continue;
+        vfloat t0, t1;
+        grid_box_t(q, n->lo, n->hi, &t0, &t1);
+        vint kf, kl;
+        grid_lattice(g, f->dt, t0, t1, &kf, &kl);
+        vint ka = vi_max(q->knext, kf), kb = vi_min(q->klast, kl);
+        if (vm_none(vm_and(q->live, vm_not(vi_gt(ka, kb))))) continue;
+        if (csv) grid_integrate_const(g, f, q, ka, kb, phi, st);
+        else grid_integrate(g, f, q, ka, kb, st);
+    }
+}
+
+static int any_live(const gpk *pk, int npk)
+{
+    for (int p = 0; p < npk; p++)
+        if (vm_any(pk[p].live)) return 1;
+    return 0;
+}
+
+/* Listing 1, with the node index, stack and first-active index uniform. */
+static void traverse(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int npk, lc_kstats *st)
+{
+    const lc_kgrid_node *nodes = g->nodes;
+    int stack[LC_KGRID_MAX_DEPTH], fa_stack[LC_KGRID_MAX_DEPTH];
+    int d = 0, id = 0, fa = 0;
+    frustum fr;
+    frustum_build(pk, npk, &fr);
+    const int ortho = f->cam.ortho;
+    if (node_empty(g, f, &nodes[0])) return;
+    for (;;) {
+        const lc_kgrid_node *n = &nodes[id];
+        /* speculative min-max descent: go straight into the only non-empty child */
+        int dead = 0;
+        while (n->child) {
+            int e0 = node_empty(g, f, &nodes[n->child]), e1 = node_empty(g, f, &nodes[n->child + 1]);
+            if (e0 && e1) {
+                dead = 1;
+                break;
+            }
+            if (e0) id = n->child + 1;
+            else if (e1) id = n->child;
+            else break;
+            n = &nodes[id];
+        }
+        if (!dead) {
+            st->nodes++;
+            int hit = first_hit(pk, fa, npk, &fr, n);
+            if (hit < npk) {
+                fa = hit;
+                int csv = node_constant(g, f, n);
+                if (n->child && !csv && !node_prune(g, f, n)) {
+                    /* front child: the eye's side of the split plane (all
+                     * perspective rays start there); orthographic: by direction */
+                    const lc_kgrid_node *c0 = &nodes[n->child];
+                    int ax = n->axis;
+                    int front = ortho ? (f->cam.forward[ax] < 0.0f) : (f->cam.eye[ax] > c0->hi[ax]);
+                    if (d < LC_KGRID_MAX_DEPTH) {
+                        stack[d] = n->child + 1 - front;
+                        fa_stack[d] = fa;
+                        d++;
+                        id = n->child + front;
+                        continue;
+                    }
+                }
+                st->leaves++;
+                integrate_node(g, f, pk, fa, npk, n, csv, st);
+                if (!any_live(pk, npk)) return;
+            }
+        }
+        if (d == 0) return;
+        d--;
+        id = stack[d];
+        fa = fa_stack[d];
+    }
+}
+
+void LC_KFN(lc_grid_bvh)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
+                         lc_kstats *st)
+{
+    int pw, ph;
+    grid_packet_dims(f, &pw, &ph);
+    int nx = pw / DVR_PW, ny = ph / DVR_PH, npk = nx * ny;
+    uintptr_t base = ((uintptr_t)scratch->mem + 63) & ~(uintptr_t)63;
+    gpk *pk = (gpk *)base;
+    for (int y = t->y0; y < t->y1; y += ph) {
+        for (int x = t->x0; x < t->x1; x += pw) {
+            for (int j = 0; j < ny; j++)
+                for (int i = 0; i < nx; i++) {
+                    gpk *p = &pk[j * nx + i];
+                    grid_packlet_init(g, f, t, x + i * DVR_PW, y + j * DVR_PH, p);
+                    st->rays += (uint64_t)vm_popcnt(vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1))));
+                }
+            if (any_live(pk, npk)) traverse(g, f, pk, npk, st);
+            for (int p = 0; p < npk; p++) dvr_store(t, pk[p].px, pk[p].py, &pk[p].c);
+        }
+    }
+}

@@ -1,0 +1,276 @@
+/* Structured-grid integration shared by the BVH and brute-force kernels
+ * (Knoll et al. 2011 §6): packlets of lane-width rays, samples on SPEC.md's
+ * lattice t_k = k dt (independent of BVH and bricks, so both methods take the
+ * same samples), trilinear reconstruction (eq. 8) with the analytic gradient
+ * from the same weights (eq. 9), classification through the frame's TF table
+ * or the pre-integrated table (eq. 4), dvr_shade and dvr_blend. */
+#ifndef LC_GRID_COMMON_H
+#define LC_GRID_COMMON_H
+
+#include "dvr.h"
+#include "shared/kgrid.h"
+#include "shared/ktable.h"
+
+/* One packlet: LC_W rays in SOA form, their colour and lattice progress.
+ * knext: next lattice index still to integrate (the BVH visits leaves front
+ * to back, so a sample on a face shared by two leaves is taken once);
+ * klast: last index inside the grid's domain. */
+typedef struct gpk {
+    vray ray;
+    vfloat ix, iy, iz; /* 1 / direction, zero components replaced by 1e-30 */
+    vcolor c;
+    vint knext, klast;
+    vint px, py;
+    vfloat prev;  /* pre-integration: normalised value of sample kprev */
+    vint kprev;
+    vmask live;   /* lanes with samples left and A < alpha_stop */
+} gpk;
+
+static inline vfloat grid_safe_inv(vfloat d)
+{
+    vfloat tiny = vf_set1(1e-30f);
+    d = vf_select(vf_lt(vf_abs(d), tiny), tiny, d);
+    return vf_div(vf_set1(1.0f), d);
+}
+
+/* Lattice parameter of index k: dt (k + rda k (k - 1) / 2) (differential
+ * sampling: the step from k to k+1 is dt (1 + rda k)). */
+static inline vfloat grid_t_of_k(const lc_kgrid *g, float dt, vint k)
+{
+    vfloat kf = vi_to_vf(k);
+    if (g->rda == 0.0f) return vf_mul(kf, vf_set1(dt));
+    vfloat q = vf_mul(vf_mul(kf, vf_sub(kf, vf_set1(1.0f))), vf_set1(0.5f * g->rda));
+    return vf_mul(vf_add(kf, q), vf_set1(dt));
+}
+
+/* First and last lattice index in [t0, t1] (empty: kf > kl). */
+static inline void grid_lattice(const lc_kgrid *g, float dt, vfloat t0, vfloat t1, vint *kf, vint *kl)
+{
+    if (g->rda == 0.0f) {
+        dvr_lattice(t0, t1, dt, kf, kl);
+        return;
+    }
+    /* invert t = dt (k + a k (k-1)/2) for k >= 0: a/2 k^2 + (1 - a/2) k - t/dt = 0 */
+    vmask hit = vf_le(t0, t1);
+    float a = g->rda, b = 1.0f - 0.5f * a;
+    vfloat x0 = vf_div(t0, vf_set1(dt)), x1 = vf_div(t1, vf_set1(dt));
+    vfloat r0 = vf_div(vf_sub(vf_sqrt(vf_fma(x0, vf_set1(2.0f * a), vf_set1(b * b))), vf_set1(b)), vf_set1(a));
+    vfloat r1 = vf_div(vf_sub(vf_sqrt(vf_fma(x1, vf_set1(2.0f * a), vf_set1(b * b))), vf_set1(b)), vf_set1(a));
+    vint k0 = vf_to_vi(vf_min(vf_max(vf_floor(r0), vf_zero()), vf_set1(1.6e7f)));
+    vint k1 = vf_to_vi(vf_min(vf_max(vf_floor(r1), vf_zero()), vf_set1(1.6e7f)));
+    /* fix round-off exactly against grid_t_of_k, the definition */
+    for (int it = 0; it < 2; it++) {
+        k0 = vi_select(vf_lt(grid_t_of_k(g, dt, k0), t0), vi_add(k0, vi_set1(1)), k0);
+        vint km = vi_max(vi_sub(k0, vi_set1(1)), vi_set1(0));
+        k0 = vi_select(vm_and(vi_gt(k0, vi_set1(0)), vf_ge(grid_t_of_k(g, dt, km), t0)), km, k0);
+        k1 = vi_select(vf_gt(grid_t_of_k(g, dt, k1), t1), vi_sub(k1, vi_set1(1)), k1);
+        vint kp = vi_add(k1, vi_set1(1));
+        k1 = vi_select(vf_le(grid_t_of_k(g, dt, kp), t1), kp, k1);
+    }
+    *kf = vi_select(hit, k0, vi_set1(1));
+    *kl = vi_select(hit, k1, vi_set1(0));
+}
+
+/* Slab test against a box with the packlet's inverse directions, t >= 0. */
+static inline void grid_box_t(const gpk *p, const float lo[3], const float hi[3], vfloat *t0, vfloat *t1)
+{
+    vfloat ax = vf_mul(vf_sub(vf_set1(lo[0]), p->ray.ox), p->ix), bx = vf_mul(vf_sub(vf_set1(hi[0]), p->ray.ox), p->ix);
+    vfloat ay = vf_mul(vf_sub(vf_set1(lo[1]), p->ray.oy), p->iy), by = vf_mul(vf_sub(vf_set1(hi[1]), p->ray.oy), p->iy);
+    vfloat az = vf_mul(vf_sub(vf_set1(lo[2]), p->ray.oz), p->iz), bz = vf_mul(vf_sub(vf_set1(hi[2]), p->ray.oz), p->iz);
+    *t0 = vf_max(vf_max(vf_min(ax, bx), vf_min(ay, by)), vf_max(vf_min(az, bz), vf_zero()));
+    *t1 = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
+}
+
+/* Rays of a packlet at pixel block (x, y); lanes outside the tile are dead. */
+static inline void grid_packlet_init(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, int x, int y, gpk *p)
+{
+    dvr_packet_pixels(x, y, &p->px, &p->py);
+    p->ray = dvr_camera_rays(&f->cam, p->px, p->py);
+    p->ix = grid_safe_inv(p->ray.dx);
+    p->iy = grid_safe_inv(p->ray.dy);
+    p->iz = grid_safe_inv(p->ray.dz);
+    vfloat t0, t1;
+    dvr_clip_box(&p->ray, g->lo, g->hi, &t0, &t1);
+    grid_lattice(g, f->dt, t0, t1, &p->knext, &p->klast);
+    vmask in = vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1)));
+    p->live = vm_and(in, vm_not(vi_gt(p->knext, p->klast)));
+    p->c.r = p->c.g = p->c.b = p->c.a = vf_zero();
+    p->prev = vf_zero();
+    p->kprev = vi_set1(-2);
+}
+
+/* Per-lane element loads for narrow gathers near the end of borrowed data. */
+static inline vint grid_load_lanes(const lc_kgrid *g, vint idx)
+{
+    int32_t ix[LC_W], v[LC_W];
+    vi_store(ix, idx);
+    for (int l = 0; l < LC_W; l++)
+        v[l] = g->type == LC_KVAL_U8 ? ((const uint8_t *)g->data)[ix[l]] : ((const uint16_t *)g->data)[ix[l]];
+    return vi_load(v);
+}
+
+/* Voxel values at element indices idx (any lane value must be valid). */
+static inline vfloat grid_fetch(const lc_kgrid *g, vint idx)
+{
+    switch (g->type) {
+    case LC_KVAL_F32:
+        return vf_gather((const float *)g->data, idx);
+    case LC_KVAL_U8:
+    case LC_KVAL_U16:
+    case LC_KVAL_I16: {
+        vint v;
+        if (vm_any(vi_gt(idx, vi_set1((int32_t)(g->wide_safe - 1))))) v = grid_load_lanes(g, idx);
+        else if (g->type == LC_KVAL_U8) v = vi_gather_u8((const uint8_t *)g->data, idx);
+        else v = vi_gather_u16((const uint16_t *)g->data, idx);
+        if (g->type == LC_KVAL_I16) /* sign-extend: offset binary, then subtract the offset */
+            v = vi_sub(vi_and(vi_add(v, vi_set1(0x8000)), vi_set1(0xffff)), vi_set1(0x8000));
+        return vi_to_vf(v);
+    }
+    default:
+        return vf_zero();
+    }
+}
+
+/* Trilinear value (eq. 8) at world positions, and if want_grad the analytic
+ * gradient of the same interpolant (eq. 9) in world units. */
+static inline vfloat grid_sample(const lc_kgrid *g, vfloat x, vfloat y, vfloat z, int want_grad, vfloat *gx, vfloat *gy,
+                                 vfloat *gz)
+{
+    vfloat ux = vf_mul(vf_sub(x, vf_set1(g->origin[0])), vf_set1(g->inv_spacing[0]));
+    vfloat uy = vf_mul(vf_sub(y, vf_set1(g->origin[1])), vf_set1(g->inv_spacing[1]));
+    vfloat uz = vf_mul(vf_sub(z, vf_set1(g->origin[2])), vf_set1(g->inv_spacing[2]));
+    vfloat fx0 = vf_clamp(vf_floor(ux), vf_zero(), vf_set1((float)(g->size[0] - 2)));
+    vfloat fy0 = vf_clamp(vf_floor(uy), vf_zero(), vf_set1((float)(g->size[1] - 2)));
+    vfloat fz0 = vf_clamp(vf_floor(uz), vf_zero(), vf_set1((float)(g->size[2] - 2)));
+    vfloat wx = vf_clamp(vf_sub(ux, fx0), vf_zero(), vf_set1(1.0f));
+    vfloat wy = vf_clamp(vf_sub(uy, fy0), vf_zero(), vf_set1(1.0f));
+    vfloat wz = vf_clamp(vf_sub(uz, fz0), vf_zero(), vf_set1(1.0f));
+    vint i = vf_to_vi(fx0), j = vf_to_vi(fy0), k = vf_to_vi(fz0);
+    vint one = vi_set1(1);
+    /* offset tables (§6.1): the same code reads linear and bricked layouts */
+    vint x0 = vi_gather(g->xoff, i), x1 = vi_gather(g->xoff, vi_add(i, one));
+    vint y0 = vi_gather(g->yoff, j), y1 = vi_gather(g->yoff, vi_add(j, one));
+    vint z0 = vi_gather(g->zoff, k), z1 = vi_gather(g->zoff, vi_add(k, one));
+    vint yz00 = vi_add(y0, z0), yz10 = vi_add(y1, z0), yz01 = vi_add(y0, z1), yz11 = vi_add(y1, z1);
+    vfloat v000 = grid_fetch(g, vi_add(x0, yz00)), v100 = grid_fetch(g, vi_add(x1, yz00));
+    vfloat v010 = grid_fetch(g, vi_add(x0, yz10)), v110 = grid_fetch(g, vi_add(x1, yz10));
+    vfloat v001 = grid_fetch(g, vi_add(x0, yz01)), v101 = grid_fetch(g, vi_add(x1, yz01));
+    vfloat v011 = grid_fetch(g, vi_add(x0, yz11)), v111 = grid_fetch(g, vi_add(x1, yz11));
+    vfloat c00 = vf_lerp(v000, v100, wx), c10 = vf_lerp(v010, v110, wx);
+    vfloat c01 = vf_lerp(v001, v101, wx), c11 = vf_lerp(v011, v111, wx);
+    vfloat c0 = vf_lerp(c00, c10, wy), c1 = vf_lerp(c01, c11, wy);
+    if (want_grad) {
+        /* eq. 9: each partial derivative is the bilinear interpolant of the
+         * differences along its axis, with the other two weights */
+        vfloat dx00 = vf_sub(v100, v000), dx10 = vf_sub(v110, v010), dx01 = vf_sub(v101, v001), dx11 = vf_sub(v111, v011);
+        vfloat ddx = vf_lerp(vf_lerp(dx00, dx10, wy), vf_lerp(dx01, dx11, wy), wz);
+        vfloat ddy = vf_lerp(vf_sub(c10, c00), vf_sub(c11, c01), wz);
+        vfloat ddz = vf_sub(c1, c0);
+        *gx = vf_mul(ddx, vf_set1(g->inv_spacing[0]));
+        *gy = vf_mul(ddy, vf_set1(g->inv_spacing[1]));
+        *gz = vf_mul(ddz, vf_set1(g->inv_spacing[2]));
+    }
+    return vf_lerp(c0, c1, wz);
+}
+
+/* Pre-integrated classification (eq. 4) of the segment from the previous
+ * sample's normalised value to this one: emission-weighted colour and the
+ * mean extinction over the segment. */
+static inline void grid_classify_preint(const lc_kgrid *g, vfloat va, vfloat vb, vfloat *r, vfloat *gg, vfloat *b,
+                                        vfloat *tau)
+{
+    float s = (float)(LC_PREINT_N - 1);
+    vint qa = vf_to_vi(vf_add(vf_mul(vf_clamp(va, vf_zero(), vf_set1(1.0f)), vf_set1(s)), vf_set1(0.5f)));
+    vint qb = vf_to_vi(vf_add(vf_mul(vf_clamp(vb, vf_zero(), vf_set1(1.0f)), vf_set1(s)), vf_set1(0.5f)));
+    vint i = vi_sll(vi_add(vi_mul(qa, vi_set1(LC_PREINT_N)), qb), 2);
+    *r = vf_gather(g->preint, i);
+    *gg = vf_gather(g->preint + 1, i);
+    *b = vf_gather(g->preint + 2, i);
+    *tau = vf_gather(g->preint + 3, i);
+}
+
+/* Integrates lattice samples ka..kb (per lane) of the live lanes of p, front
+ * to back, stopping lanes at alpha_stop. Both methods go through here. */
+static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p, vint ka, vint kb, lc_kstats *st)
+{
+    const lc_ktf *tf = &f->tf[0];
+    const float dt = f->dt;
+    const int shade = f->shade != LC_KSHADE_NONE;
+    vfloat astop = vf_set1(f->alpha_stop);
+    vmask start = vm_and(p->live, vm_not(vi_gt(ka, kb)));
+    vmask m = start;
+    vint k = ka;
+    uint64_t n = 0;
+    while (vm_any(m)) {
+        vfloat t = grid_t_of_k(g, dt, k);
+        vfloat x = vf_fma(t, p->ray.dx, p->ray.ox);
+        vfloat y = vf_fma(t, p->ray.dy, p->ray.oy);
+        vfloat z = vf_fma(t, p->ray.dz, p->ray.oz);
+        vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
+        vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
+        vfloat r, gg, b, tau;
+        if (g->use_preint) {
+            vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
+            vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
+            grid_classify_preint(g, va, v, &r, &gg, &b, &tau);
+            p->prev = vf_select(m, v, p->prev);
+            p->kprev = vi_select(m, k, p->kprev);
+        } else {
+            dvr_classify(tf, phi, &r, &gg, &b, &tau);
+        }
+        if (shade) dvr_shade(f, tf->grad_eps, &p->ray, gx, gy, gz, &r, &gg, &b);
+        if (g->rda != 0.0f) /* this sample's step is dt (1 + rda k) */
+            tau = vf_mul(tau, vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f)));
+        dvr_blend(&p->c, m, r, gg, b, tau, dt);
+        n += (uint64_t)vm_popcnt(m);
+        k = vi_add(k, vi_set1(1));
+        m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), vf_lt(p->c.a, astop)));
+    }
+    st->samples += n;
+    st->kernel_evals += n;
+    p->knext = vi_select(start, vi_max(p->knext, vi_add(kb, vi_set1(1))), p->knext);
+    p->live = vm_and(p->live, vm_and(vm_not(vi_gt(p->knext, p->klast)), vf_lt(p->c.a, astop)));
+}
+
+/* Constant subvolume (eq. 7): samples ka..kb all take the value phi, unshaded,
+ * blended in closed form: n samples of opacity a give 1 - (1 - a)^n, i.e.
+ * 1 - exp(-tau * (t_{kb+1} - t_ka)). */
+static inline void grid_integrate_const(const lc_kgrid *g, const lc_kframe *f, gpk *p, vint ka, vint kb, float phi,
+                                        lc_kstats *st)
+{
+    vmask m = vm_and(p->live, vm_not(vi_gt(ka, kb)));
+    if (vm_none(m)) return;
+    vfloat r, gg, b, tau;
+    dvr_classify(&f->tf[0], vf_set1(phi), &r, &gg, &b, &tau);
+    vint kend = vi_add(kb, vi_set1(1));
+    vfloat len = vf_sub(grid_t_of_k(g, f->dt, kend), grid_t_of_k(g, f->dt, ka));
+    /* dvr_blend's a = 1 - exp(-tau' dt) with tau' = tau len / dt */
+    dvr_blend(&p->c, m, r, gg, b, vf_mul(tau, vf_div(len, vf_set1(f->dt))), f->dt);
+    st->samples += (uint64_t)vm_popcnt(m);
+    p->knext = vi_select(m, vi_max(p->knext, kend), p->knext);
+    p->kprev = vi_select(m, vi_set1(-2), p->kprev);
+    p->live = vm_and(p->live, vm_and(vm_not(vi_gt(p->knext, p->klast)), vf_lt(p->c.a, vf_set1(f->alpha_stop))));
+}
+
+/* Side of the ray packets (in rays) for this target and frame: packet 1 means
+ * one lane-width packlet; otherwise a multiple of the packlet's block. */
+static inline void grid_packet_dims(const lc_kframe *f, int *pw, int *ph)
+{
+    int p = f->packet <= 1 ? 0 : f->packet;
+    if (p == 0) {
+        *pw = DVR_PW;
+        *ph = DVR_PH;
+        return;
+    }
+    *pw = (p + DVR_PW - 1) / DVR_PW * DVR_PW;
+    *ph = (p + DVR_PH - 1) / DVR_PH * DVR_PH;
+}
+
+static inline uint64_t grid_scratch(const lc_kframe *f)
+{
+    int pw, ph;
+    grid_packet_dims(f, &pw, &ph);
+    return (uint64_t)(pw / DVR_PW) * (uint64_t)(ph / DVR_PH) * sizeof(gpk) + 64;
+}
+
+#endif

@@ -1,0 +1,67 @@
+/* Plain structs the structured-grid kernels read (Knoll et al. 2011): the
+ * voxels behind per-axis offset tables (§6.1), the implicit min-max BVH
+ * (§5.1) and the pre-integrated transfer function (eq. 4). Built by
+ * host/grid.c and bvh/grid_bvh.c; fixed-width types, sizes asserted. */
+#ifndef LC_KGRID_H
+#define LC_KGRID_H
+
+#include <stdint.h>
+
+enum { LC_KVAL_U8 = 1, LC_KVAL_U16 = 2, LC_KVAL_I16 = 3, LC_KVAL_F32 = 4 };
+
+/* Side of the pre-integrated table: PREINT_N x PREINT_N entries over pairs of
+ * quantised normalised values (256 levels: exact for 8-bit data over [0, 255]). */
+#define LC_PREINT_N 256
+
+/* A node of the implicit min-max BVH. Children of an inner node are
+ * child and child + 1 (child == 0: leaf brick). Boxes are world boxes between
+ * grid nodes; vmin/vmax cover every voxel of the trilinear stencil of any
+ * point in the box (the +1 neighbours of §5.1). */
+typedef struct lc_kgrid_node {
+    float lo[3];
+    float hi[3];
+    float vmin, vmax;
+    int32_t child;
+    int32_t axis; /* split axis of an inner node (child boxes meet on it) */
+} lc_kgrid_node;
+_Static_assert(sizeof(lc_kgrid_node) == 40, "lc_kgrid_node layout");
+
+typedef struct lc_kgrid {
+    /* voxels: value at node (i, j, k) is data[xoff[i] + yoff[j] + zoff[k]]
+     * (element index). The tables express either the linear layout or 4^3
+     * bricks (§6.1) without the kernels knowing which. */
+    const void *data;
+    const int32_t *xoff, *yoff, *zoff;
+    int32_t size[3];
+    int32_t type;     /* LC_KVAL_* */
+    float origin[4];
+    float spacing[4];
+    float inv_spacing[4];
+    float lo[4], hi[4]; /* domain: first to last node */
+    /* element index below which an SIMD narrow gather (vi_gather_u8/u16,
+     * reads up to 3 bytes past) stays inside the allocation; at or above it
+     * the kernels load lane by lane. */
+    int64_t wide_safe;
+    /* BVH */
+    const lc_kgrid_node *nodes;
+    int32_t nnodes;
+    int32_t depth;   /* longest root-to-leaf path in nodes */
+    /* pre-integrated TF of field 0 (LC_PREINT_N^2 x (r, g, b, tau_mean)) */
+    const float *preint;
+    /* per-frame options */
+    int32_t use_preint; /* classify with the pre-integrated table */
+    int32_t bvh_flags;  /* LC_KGRID_CULL / PRUNE / CONST bits */
+    float delta_c, delta_p, delta_sv;
+    float rda;          /* differential sampling: step k -> k+1 is dt (1 + rda k) */
+    float diag_volume;  /* |D_volume| of eq. 6 */
+    float pad;
+} lc_kgrid;
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12, "lc_kgrid layout");
+
+enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
+
+/* Traversal stack bound: the median split halves the brick count per level,
+ * so depth <= 3 * log2(max bricks per axis) + 1 < 64 for sizes below 2^20. */
+#define LC_KGRID_MAX_DEPTH 64
+
+#endif
