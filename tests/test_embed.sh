@@ -20,7 +20,10 @@ prefix=$(meson introspect --buildoptions "$build" | json '[o["value"] for o in j
 pcflags="--define-variable=prefix=$tmp/root$prefix"
 flags=$(pkg-config $pcflags --cflags --libs lanecast)
 echo "ok   pkg-config flags: $flags"
-cc -std=c11 -Wall -Werror -o "$tmp/embed" "$src/examples/embed.c" $flags
+# a sanitized library needs its runtime in the program too (b_sanitize builds)
+san=$(meson introspect --buildoptions "$build" | json '[o["value"] for o in json.load(sys.stdin) if o["name"] == "b_sanitize"][0]')
+[ "$san" = none ] && san="" || san="-fsanitize=$san"
+cc -std=c11 -Wall -Werror $san -o "$tmp/embed" "$src/examples/embed.c" $flags
 libdir=$(pkg-config $pcflags --variable=libdir lanecast)
 out=$(LD_LIBRARY_PATH="$libdir" LANECAST_TARGET=scalar "$tmp/embed")
 echo "     embed printed: $out"

@@ -25,7 +25,7 @@ for lib in "$build"/liblc_kernels_*.a; do
     fi
 done
 [ "$nlibs" -gt 0 ] || { echo "FAIL no kernel libraries under $build"; exit 1; }
-so=$(ls "$build"/liblanecast.so.*.*.* | head -n 1)
+so=$(find "$build" -maxdepth 1 -type f -name "liblanecast.so.*" | head -n 1)
 dyn=$(nm -D --defined-only "$so") || { echo "FAIL nm -D $so"; exit 1; }
 bad=$(echo "$dyn" | awk '{print $NF}' | grep -v '^lc_' || true)
 n=$(echo "$dyn" | grep -c ' lc_' || true)
