@@ -251,22 +251,9 @@ lc_status lci_particles_prepare(lc_device *dev, const lc_particles *p, const lc_
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "buffer samples = %d, expected 1 to 4096",
                          d->particle.buffer_samples);
     }
-    k->nodes = p->bvh.nodes;
-    k->node_rmax = p->bvh.rmax;
-    k->px = p->px, k->py = p->py, k->pz = p->pz;
-    k->r = p->r;
-    k->neg_inv_2r2 = p->nir;
-    k->k = p->k;
-    k->field = p->field;
-    k->count = (int64_t)p->info.count;
-    k->nnodes = p->bvh.nnodes;
-    k->depth = p->bvh.depth;
-    k->nfields = nf;
+    lci_particles_kscene(p, sigma, kappa, k);
     k->buffer_k = bk;
-    k->sigma = sigma;
-    k->kappa = kappa;
     k->sphere_scale = d->particle.sphere_scale;
-    k->max_radius = p->info.max_radius;
     float g = fmaxf(sigma, k->sphere_scale) * p->info.max_radius;
     const lc_box3 *b = &p->info.bounds;
     k->lo[0] = b->lo.x - g, k->lo[1] = b->lo.y - g, k->lo[2] = b->lo.z - g, k->lo[3] = 0.0f;
@@ -281,5 +268,51 @@ lc_status lci_particles_prepare(lc_device *dev, const lc_particles *p, const lc_
     out->particles = k;
     out->scratch_bytes = dev->kt->particles_scratch_bytes(k, frame);
     out->owned = k; /* freed with free(): posix_memalign memory */
+    return LC_OK;
+}
+
+void lci_particles_kscene(const lc_particles *p, float sigma, float kappa, lc_kparticles *k)
+{
+    memset(k, 0, sizeof *k);
+    k->nodes = p->bvh.nodes;
+    k->node_rmax = p->bvh.rmax;
+    k->px = p->px, k->py = p->py, k->pz = p->pz;
+    k->r = p->r;
+    k->neg_inv_2r2 = p->nir;
+    k->k = p->k;
+    k->field = p->field;
+    k->count = (int64_t)p->info.count;
+    k->nnodes = p->bvh.nnodes;
+    k->depth = p->bvh.depth;
+    k->nfields = p->info.nfields;
+    k->sigma = sigma;
+    k->kappa = kappa;
+    k->max_radius = p->info.max_radius;
+}
+
+lc_status lc_particles_sample(lc_device *dev, const lc_particles *p, const lc_particle_params *params, size_t n,
+                              const float *points, float *values, float *gradients)
+{
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_particles_sample: device is NULL");
+    if (!p) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_sample: particles is NULL");
+    if (n > 0 && (!points || !values))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_sample: points or values is NULL");
+    lc_render_desc d;
+    memset(&d, 0, sizeof d);
+    if (params) d.particle = *params;
+    float sigma, kappa;
+    pparams(&d, &sigma, &kappa);
+    if (!(sigma > 0.0f && sigma <= 100.0f) || !isfinite(kappa))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_sample: sigma %g or kappa %g out of range",
+                         (double)sigma, (double)kappa);
+    lc_kparticles k;
+    lci_particles_kscene(p, sigma, kappa, &k);
+    int32_t *stack = malloc(sizeof(int32_t) * (size_t)(k.depth + 4));
+    if (!stack) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_sample: out of memory");
+    unsigned int csr = __builtin_ia32_stmxcsr();
+    lci_flush_denormals();
+    dev->kt->particles_sample(&k, points, (int64_t)n, values, gradients, stack);
+    __builtin_ia32_ldmxcsr(csr);
+    free(stack);
     return LC_OK;
 }

@@ -13,5 +13,7 @@ void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *
 void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f, const lc_ktile *t,
                               lc_kscratch *scratch, lc_kstats *st);
 uint64_t LC_KFN(particles_scratch_bytes)(const struct lc_kparticles *s, const lc_kframe *f);
+void LC_KFN(particles_sample)(const struct lc_kparticles *s, const float *xyz, int64_t n, float *phi, float *grad,
+                              int32_t *stack);
 
 #endif

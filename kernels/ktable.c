@@ -8,4 +8,5 @@ const lc_ktable LC_KFN(lc_ktable) = {
     .particles_coherent = LC_KFN(particles_coherent),
     .particles_direct = LC_KFN(particles_direct),
     .particles_scratch_bytes = LC_KFN(particles_scratch_bytes),
+    .particles_sample = LC_KFN(particles_sample),
 };

@@ -497,3 +497,67 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
         }
     }
 }
+
+/* ---------------------------------------------------------------- point sampling */
+
+/* Every field and its gradient at n points (xyz interleaved) through the BVH:
+ * phi[i * nfields + f], grad[(i * nfields + f) * 3 + c]. grad may be NULL. */
+void LC_KFN(particles_sample)(const struct lc_kparticles *s, const float *xyz, int64_t n, float *phi, float *grad,
+                              int32_t *stack)
+{
+    const int nf = s->nfields;
+    for (int64_t base = 0; base < n; base += LC_W) {
+        int cnt = n - base < LC_W ? (int)(n - base) : LC_W;
+        float tx[LC_W], ty[LC_W], tz[LC_W];
+        for (int l = 0; l < LC_W; l++) {
+            int q = l < cnt ? l : 0;
+            tx[l] = xyz[3 * (base + q)], ty[l] = xyz[3 * (base + q) + 1], tz[l] = xyz[3 * (base + q) + 2];
+        }
+        vfloat px = vf_load(tx), py = vf_load(ty), pz = vf_load(tz);
+        vmask m = vm_first_n(cnt);
+        vfloat acc[LC_MAX_FIELDS], gx[LC_MAX_FIELDS], gy[LC_MAX_FIELDS], gz[LC_MAX_FIELDS];
+        for (int fi = 0; fi < nf; fi++) acc[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
+        int sp = 0;
+        if (s->nnodes > 0) stack[sp++] = 0;
+        while (sp > 0) {
+            int32_t nd = stack[--sp];
+            const lc_kpnode *node = &s->nodes[nd];
+            float g = grow(s->sigma * s->node_rmax[nd]);
+            vmask in = vm_and(m, vm_and(vm_and(vf_ge(px, vf_set1(node->lo[0] - g)), vf_le(px, vf_set1(node->hi[0] + g))),
+                                        vm_and(vm_and(vf_ge(py, vf_set1(node->lo[1] - g)), vf_le(py, vf_set1(node->hi[1] + g))),
+                                               vm_and(vf_ge(pz, vf_set1(node->lo[2] - g)), vf_le(pz, vf_set1(node->hi[2] + g))))));
+            if (vm_none(in)) continue;
+            if (node->count == 0) {
+                stack[sp++] = node->first + 1;
+                stack[sp++] = node->first;
+                continue;
+            }
+            for (int32_t i = node->first; i < node->first + node->count; i++) {
+                float rs = s->sigma * s->r[i];
+                vmask inside;
+                vfloat ex, ey, ez;
+                vfloat p = sample_phi(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, s->neg_inv_2r2[i],
+                                      s->kappa * s->k[i], in, &inside, &ex, &ey, &ez);
+                if (vm_none(inside)) continue;
+                p = vf_select(inside, p, vf_zero());
+                int fi = s->field[i];
+                acc[fi] = vf_add(acc[fi], p);
+                vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i]));
+                gx[fi] = vf_fma(ex, gp, gx[fi]);
+                gy[fi] = vf_fma(ey, gp, gy[fi]);
+                gz[fi] = vf_fma(ez, gp, gz[fi]);
+            }
+        }
+        for (int fi = 0; fi < nf; fi++) {
+            for (int l = 0; l < cnt; l++) {
+                int64_t o = (base + l) * nf + fi;
+                phi[o] = vf_lane(acc[fi], l);
+                if (grad) {
+                    grad[3 * o] = vf_lane(gx[fi], l);
+                    grad[3 * o + 1] = vf_lane(gy[fi], l);
+                    grad[3 * o + 2] = vf_lane(gz[fi], l);
+                }
+            }
+        }
+    }
+}

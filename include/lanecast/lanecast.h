@@ -182,6 +182,13 @@ typedef struct lc_grid lc_grid;           /* structured volume, see "grids" belo
 
 /* ---------------------------------------------------------------- particles */
 
+typedef struct lc_particle_params {
+    float sigma;        /* truncation radius in units of r_i; 0 = 2 */
+    float kappa;        /* global density scale; 0 = 1 */
+    int buffer_samples; /* samples per ray in the coherent buffer; 0 = 32 (64/M for M > 1 fields) */
+    float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
+} lc_particle_params;
+
 /* Particle data (Knoll 2014): a sum of truncated Gaussians per field,
  * Phi_f(x) = sum kappa k_i exp(-|x - x_i|^2 / (2 r_i^2)) over |x - x_i| < sigma r_i. */
 typedef struct lc_particles_desc {
@@ -217,6 +224,13 @@ typedef struct lc_particles_info {
 LC_API lc_status lc_particles_create(lc_device *device, const lc_particles_desc *desc, lc_particles **out);
 LC_API void lc_particles_destroy(lc_particles *particles);
 LC_API lc_status lc_particles_get_info(const lc_particles *particles, lc_particles_info *out);
+
+/* Evaluates every field (and optionally its gradient) at n points (xyz
+ * interleaved) with the given sigma and kappa (0 = defaults):
+ * values[i * nfields + f], gradients[3 * (i * nfields + f) + c]. gradients
+ * may be NULL. Uses the device's target and the BVH. */
+LC_API lc_status lc_particles_sample(lc_device *device, const lc_particles *particles, const lc_particle_params *params,
+                                     size_t n, const float *points, float *values, float *gradients);
 
 typedef enum lc_particle_format {
     LC_PFORMAT_AUTO = 0, /* by extension: .xyz, .pdb/.ent, .raw/.f32 */
@@ -258,12 +272,6 @@ typedef struct lc_lighting {
     int phong_exp; /* integer exponent, 1..256 */
 } lc_lighting;
 
-typedef struct lc_particle_params {
-    float sigma;        /* truncation radius in units of r_i; 0 = 2 */
-    float kappa;        /* global density scale; 0 = 1 */
-    int buffer_samples; /* samples per ray in the coherent buffer; 0 = 32 (64/M for M > 1 fields) */
-    float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
-} lc_particle_params;
 
 typedef struct lc_grid_params {
     int preintegrated;  /* 1: classify with the pre-integrated table */
@@ -290,6 +298,10 @@ typedef struct lc_render_desc {
     int tile;                  /* tile side in pixels for threads; 0 = 32 */
     lc_particle_params particle;
     lc_grid_params grid_params;
+    /* Called on the calling thread as tiles complete, with the fraction done
+     * in [0, 1]; NULL = none. */
+    void (*progress)(void *user, float fraction);
+    void *progress_user;
 } lc_render_desc;
 
 typedef struct lc_render_stats {
