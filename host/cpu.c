@@ -66,7 +66,7 @@ const char *lci_cpu_missing(lc_target target)
 {
     cpu_caps c = detect();
     if (target != LC_TARGET_AUTO && target != LC_TARGET_SCALAR && masked_out(target))
-        return "masked by LANECAST_CPU_MASK";
+        return "the instructions (masked by LANECAST_CPU_MASK)";
     switch (target) {
     case LC_TARGET_AUTO:
     case LC_TARGET_SCALAR: return "";

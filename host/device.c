@@ -100,6 +100,7 @@ lc_status lc_device_create(const lc_device_desc *desc, lc_device **out)
 void lc_device_destroy(lc_device *device)
 {
     if (!device) return;
+    lci_embree_release(device);
     lci_pool_destroy(device->pool);
     free(device);
 }

@@ -18,6 +18,7 @@ struct lc_device {
     lc_log_fn log;
     void *log_user;
     lci_pool *pool;
+    void *embree; /* RTCDevice, created on first use (host/particles.c) */
     char last_error[LCI_MSG_MAX];
 };
 
@@ -39,6 +40,9 @@ void lci_pool_destroy(lci_pool *pool);
 void lci_pool_run(lci_pool *pool, int ntasks, lci_task_fn fn, void *ctx);
 int lci_pool_threads(const lci_pool *pool);
 void lci_flush_denormals(void);
+
+void *lci_embree_device(lc_device *device); /* NULL + error recorded on failure */
+void lci_embree_release(lc_device *device);
 
 double lci_now(void);
 void *lci_aligned_alloc(size_t align, size_t bytes); /* zeroed; free with lci_aligned_free */

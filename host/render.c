@@ -1,6 +1,7 @@
 /* lc_render: validation, the frame (camera, TFs, shading), tiles over the
  * device's threads, stats. One implementation for every data kind. */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include "scene.h"
@@ -67,6 +68,10 @@ typedef struct job {
     unsigned char *scratch;
     uint64_t scratch_bytes;
     lc_kstats *stats; /* one per worker */
+    atomic_int done;
+    int ntasks;
+    void (*progress)(void *user, float fraction);
+    void *progress_user;
 } job;
 
 static void run_tile(void *ctx, int task, int worker)
@@ -83,6 +88,8 @@ static void run_tile(void *ctx, int task, int worker)
     lc_kscratch sc = {j->scratch + (size_t)worker * j->scratch_bytes, j->scratch_bytes};
     if (j->prep->particles_fn) j->prep->particles_fn(j->prep->particles, j->frame, &t, &sc, &j->stats[worker]);
     else j->prep->grid_fn(j->prep->grid, j->frame, &t, &sc, &j->stats[worker]);
+    int done = atomic_fetch_add_explicit(&j->done, 1, memory_order_relaxed) + 1;
+    if (j->progress && worker == 0) j->progress(j->progress_user, (float)done / (float)j->ntasks);
 }
 
 lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_render_stats *stats)
@@ -137,9 +144,11 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
         goto done;
     }
     memset(rgba, 0, sizeof(float) * 4 * (size_t)d->width * (size_t)d->height);
-    job j = {&prep, frame, rgba, d->width, d->height, tile, (d->width + tile - 1) / tile, scratch, sb, ws};
-    int ntasks = j.ntx * ((d->height + tile - 1) / tile);
-    lci_pool_run(dev->pool, ntasks, run_tile, &j);
+    job j = {&prep, frame, rgba, d->width, d->height, tile, (d->width + tile - 1) / tile, scratch, sb, ws,
+             0, 0, d->progress, d->progress_user};
+    j.ntasks = j.ntx * ((d->height + tile - 1) / tile);
+    lci_pool_run(dev->pool, j.ntasks, run_tile, &j);
+    if (d->progress) d->progress(d->progress_user, 1.0f);
     if (stats) {
         memset(stats, 0, sizeof *stats);
         for (int w = 0; w < nthreads; w++) {

@@ -6,6 +6,7 @@
 
 #include "internal.h"
 #include "tf.h"
+#include "../kernels/shared/kparticles.h"
 
 typedef struct lci_scene_info {
     lc_box3 bounds;         /* where samples may be non-zero (SPEC.md lattice clip box) */
@@ -27,6 +28,9 @@ typedef struct lci_prepared {
 lc_status lci_particles_info(lc_device *dev, const lc_particles *p, const lc_render_desc *desc, lci_scene_info *out);
 lc_status lci_particles_prepare(lc_device *dev, const lc_particles *p, const lc_render_desc *desc,
                                 const lc_kframe *frame, lci_prepared *out);
+/* The kernel view of particles (no frame-specific fields), for tests and sampling. */
+void lci_particles_kscene(const lc_particles *p, float sigma, float kappa, struct lc_kparticles *out);
+
 lc_status lci_grid_info(lc_device *dev, const lc_grid *g, const lc_render_desc *desc, lci_scene_info *out);
 lc_status lci_grid_prepare(lc_device *dev, const lc_grid *g, const lc_render_desc *desc, const lc_kframe *frame,
                            lci_prepared *out);

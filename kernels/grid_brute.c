@@ -2,19 +2,15 @@
  * inside the domain, no BVH (the baseline of Knoll et al. 2011, and the
  * method the BVH path must match). */
 #include "grid_common.h"
+#include "kernels.h"
 
-void LC_KFN(lc_grid_brute)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
-                           lc_kstats *st);
-uint64_t LC_KFN(lc_grid_scratch_bytes)(const lc_kgrid *g, const lc_kframe *f);
-
-uint64_t LC_KFN(lc_grid_scratch_bytes)(const lc_kgrid *g, const lc_kframe *f)
+uint64_t LC_KFN(grid_scratch_bytes)(const lc_kgrid *g, const lc_kframe *f)
 {
     (void)g;
     return grid_scratch(f);
 }
 
-void LC_KFN(lc_grid_brute)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
-                           lc_kstats *st)
+void LC_KFN(grid_brute)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
 {
     (void)scratch;
     for (int y = t->y0; y < t->y1; y += DVR_PH) {

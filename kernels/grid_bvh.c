@@ -8,9 +8,7 @@
  * Leaves are integrated per ray on the SPEC.md lattice (grid_common.h). */
 #include <math.h>
 #include "grid_common.h"
-
-void LC_KFN(lc_grid_bvh)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
-                         lc_kstats *st);
+#include "kernels.h"
 
 /* Interval bounds of a packet's rays for the frustum test: origins in
  * [olo, ohi], inverse directions in [ilo, ihi] per axis; ok[a] = 0 when the
@@ -234,8 +232,7 @@ static void traverse(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int npk, lc
     }
 }
 
-void LC_KFN(lc_grid_bvh)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
-                         lc_kstats *st)
+void LC_KFN(grid_bvh)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
 {
     int pw, ph;
     grid_packet_dims(f, &pw, &ph);

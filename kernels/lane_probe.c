@@ -2,7 +2,7 @@
  * conformance suite can compare every target with the scalar one. Compiled
  * once per target. */
 #include "lane/lane.h"
-#include "shared/ktable.h"
+#include "kernels.h"
 
 static inline vmask load_mask(const int32_t *mk) { return vi_gt(vi_load(mk), vi_set1(0)); }
 static inline vfloat mask_to_vf(vmask m) { return vf_select(m, vf_set1(1.0f), vf_zero()); }

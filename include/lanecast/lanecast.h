@@ -180,6 +180,80 @@ LC_API int lc_tf_field_count(const lc_tf *tf);
 typedef struct lc_particles lc_particles; /* particle data, see "particles" below */
 typedef struct lc_grid lc_grid;           /* structured volume, see "grids" below */
 
+/* ---------------------------------------------------------------- particles */
+
+typedef struct lc_particle_params {
+    float sigma;        /* truncation radius in units of r_i; 0 = 2 */
+    float kappa;        /* global density scale; 0 = 1 */
+    int buffer_samples; /* samples per ray in the coherent buffer; 0 = 32 (64/M for M > 1 fields) */
+    float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
+} lc_particle_params;
+
+/* Particle data (Knoll 2014): a sum of truncated Gaussians per field,
+ * Phi_f(x) = sum kappa k_i exp(-|x - x_i|^2 / (2 r_i^2)) over |x - x_i| < sigma r_i. */
+typedef struct lc_particles_desc {
+    size_t count;
+    const float *positions; /* 3 * count floats, x y z interleaved */
+    const float *radii;     /* count radii, or NULL to use `radius` for all */
+    float radius;           /* radius of every particle when radii is NULL */
+    const float *values;    /* count values k_i, or NULL for 1 */
+    const uint8_t *fields;  /* count field ids, or NULL for field 0 */
+    int nfields;            /* 0 = 1 + the largest field id; at most LC_MAX_FIELDS */
+    int leaf_size;          /* particles per BVH leaf, 1..32; 0 = 4 */
+    int drop_invalid;       /* 1: drop particles with non-finite or non-positive data (counted) instead of failing */
+} lc_particles_desc;
+
+typedef struct lc_particles_info {
+    size_t count;       /* particles kept */
+    size_t dropped;     /* particles dropped by drop_invalid */
+    int nfields;
+    lc_box3 bounds;     /* of the centres */
+    float min_radius, max_radius;
+    double build_seconds; /* BVH build including flattening */
+    size_t bvh_bytes;   /* nodes and per-node radii */
+    size_t data_bytes;  /* the particle arrays lanecast keeps */
+    int bvh_nodes, bvh_depth, leaf_size;
+} lc_particles_info;
+
+/* Copies the particles (the caller's arrays may be freed afterwards) and
+ * builds the BVH with Embree. Invalid particles (non-finite position or value,
+ * radius <= 0 or non-finite, field id >= nfields) fail with
+ * LC_ERROR_INVALID_ARGUMENT and a message naming the first bad index and the
+ * number of bad ones, unless drop_invalid is set. count = 0 is a valid empty
+ * scene. */
+LC_API lc_status lc_particles_create(lc_device *device, const lc_particles_desc *desc, lc_particles **out);
+LC_API void lc_particles_destroy(lc_particles *particles);
+LC_API lc_status lc_particles_get_info(const lc_particles *particles, lc_particles_info *out);
+
+/* Evaluates every field (and optionally its gradient) at n points (xyz
+ * interleaved) with the given sigma and kappa (0 = defaults):
+ * values[i * nfields + f], gradients[3 * (i * nfields + f) + c]. gradients
+ * may be NULL. Uses the device's target and the BVH. */
+LC_API lc_status lc_particles_sample(lc_device *device, const lc_particles *particles, const lc_particle_params *params,
+                                     size_t n, const float *points, float *values, float *gradients);
+
+typedef enum lc_particle_format {
+    LC_PFORMAT_AUTO = 0, /* by extension: .xyz, .pdb/.ent, .raw/.f32 */
+    LC_PFORMAT_XYZ = 1,  /* "element x y z" lines; the usual count and comment header is optional */
+    LC_PFORMAT_PDB = 2,  /* ATOM/HETATM records; element from columns 77-78 or the atom name */
+    LC_PFORMAT_RAW = 3   /* raw little-endian float32 x y z triples; raw_count of them */
+} lc_particle_format;
+
+typedef struct lc_particles_load_options {
+    lc_particle_format format;
+    size_t raw_count;   /* LC_PFORMAT_RAW: number of particles (the file must hold exactly 12 * raw_count bytes) */
+    float radius;       /* > 0: this radius for every particle (overrides element radii; required for raw) */
+    float radius_scale; /* multiplies element radii; 0 = 1 */
+    int fields_by_element; /* 1: one field per distinct element (up to LC_MAX_FIELDS, the rest share the last) */
+    int leaf_size;
+    int drop_invalid;
+} lc_particles_load_options;
+
+/* Reads a particle file and creates the particles. Molecules get covalent
+ * radii by element (paper §3.1). The message names the file and line. */
+LC_API lc_status lc_particles_load(lc_device *device, const char *path, const lc_particles_load_options *options,
+                                   lc_particles **out);
+
 /* ---- grids (structured volumes, Knoll et al. 2011) */
 
 typedef enum lc_value_type {
@@ -273,12 +347,6 @@ typedef struct lc_lighting {
     int phong_exp; /* integer exponent, 1..256 */
 } lc_lighting;
 
-typedef struct lc_particle_params {
-    float sigma;        /* truncation radius in units of r_i; 0 = 2 */
-    float kappa;        /* global density scale; 0 = 1 */
-    int buffer_samples; /* samples per ray in the coherent buffer; 0 = 32 (64/M for M > 1 fields) */
-    float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
-} lc_particle_params;
 
 typedef struct lc_grid_params {
     int preintegrated;  /* 1: classify with the pre-integrated table */
@@ -305,6 +373,10 @@ typedef struct lc_render_desc {
     int tile;                  /* tile side in pixels for threads; 0 = 32 */
     lc_particle_params particle;
     lc_grid_params grid_params;
+    /* Called on the calling thread as tiles complete, with the fraction done
+     * in [0, 1]; NULL = none. */
+    void (*progress)(void *user, float fraction);
+    void *progress_user;
 } lc_render_desc;
 
 typedef struct lc_render_stats {

@@ -22,12 +22,15 @@ static inline vfloat vf_rsqrt(vfloat a)
 
 /* exp(x): Cephes-style range reduction x = n ln2 + r, |r| <= ln2/2, a degree-6
  * polynomial for e^r and the exponent-bit trick for 2^n. The argument is
- * clamped to [-87.3, 88.7]: below that the result would be denormal, which
- * both loses precision and slows SIMD code (NOTES.md). Measured relative error
- * below 1.5e-7 over the range (lane conformance test checks 1e-6). */
+ * clamped to [-87.3, 88.37]: below that the result would be denormal, which
+ * both loses precision and slows SIMD code (NOTES.md); above 88.37,
+ * n = floor(x log2(e) + 0.5) reaches 128 and n + 127 is the exponent field of
+ * infinity, so exp(88.5) came out as inf instead of 2.7e38. Larger arguments
+ * saturate at exp(88.37) ~ 2.4e38. Measured relative error below 1.5e-7 over
+ * the range (lane conformance test checks 1e-6). */
 static inline vfloat vf_exp(vfloat x)
 {
-    x = vf_clamp(x, vf_set1(-87.3f), vf_set1(88.7f));
+    x = vf_clamp(x, vf_set1(-87.3f), vf_set1(88.37f));
     vfloat fx = vf_floor(vf_fma(x, vf_set1(1.44269504088896341f), vf_set1(0.5f)));
     vfloat r = vf_fnma(fx, vf_set1(0.693359375f), x);
     r = vf_fnma(fx, vf_set1(-2.12194440e-4f), r);

@@ -24,6 +24,9 @@ typedef struct lc_ktable {
     lc_particles_tile_fn particles_coherent;
     lc_particles_tile_fn particles_direct;
     uint64_t (*particles_scratch_bytes)(const struct lc_kparticles *scene, const lc_kframe *frame);
+    /* fields and gradients at points; stack holds depth + 2 ints */
+    void (*particles_sample)(const struct lc_kparticles *scene, const float *xyz, int64_t n, float *phi, float *grad,
+                             int32_t *stack);
     /* structured grid path (Knoll 2011) */
     lc_grid_tile_fn grid_bvh;
     lc_grid_tile_fn grid_brute;

@@ -1,0 +1,24 @@
+/* The particle BVH: Embree's rtcBuildBVH over the particles' radius bounds,
+ * flattened into lc_kpnode arrays (bvh/particle_bvh.c). */
+#ifndef LC_PARTICLE_BVH_H
+#define LC_PARTICLE_BVH_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "../kernels/shared/kparticles.h"
+
+typedef struct lci_pbvh {
+    lc_kpnode *nodes;
+    float *rmax;
+    int32_t nnodes;
+    int32_t depth;
+    uint32_t *order; /* order[j] = original index of the j-th particle in leaf order */
+} lci_pbvh;
+
+/* Builds over n particles (positions xyz interleaved, radii r). leaf_size in
+ * 1..32. Returns 0 on success, else writes a message into err. */
+int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, size_t n, int leaf_size, lci_pbvh *out,
+                   char *err, size_t errlen);
+void lci_pbvh_free(lci_pbvh *b);
+
+#endif

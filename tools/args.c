@@ -1,0 +1,119 @@
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "args.h"
+
+const char *arg_value(const char *cmd, int argc, char **argv, int *i)
+{
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "%s: %s needs a value\n", cmd, argv[*i]);
+        return NULL;
+    }
+    return argv[++*i];
+}
+
+int arg_float(const char *cmd, const char *flag, const char *s, float lo, float hi, float *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || errno == ERANGE || !isfinite(v)) {
+        fprintf(stderr, "%s: %s: '%s' is not a number\n", cmd, flag, s);
+        return -1;
+    }
+    if (v < lo || v > hi) {
+        fprintf(stderr, "%s: %s: %s is outside [%g, %g]\n", cmd, flag, s, (double)lo, (double)hi);
+        return -1;
+    }
+    *out = (float)v;
+    return 0;
+}
+
+int arg_int(const char *cmd, const char *flag, const char *s, long lo, long hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end || errno == ERANGE) {
+        fprintf(stderr, "%s: %s: '%s' is not an integer\n", cmd, flag, s);
+        return -1;
+    }
+    if (v < lo || v > hi) {
+        fprintf(stderr, "%s: %s: %ld is outside [%ld, %ld]\n", cmd, flag, v, lo, hi);
+        return -1;
+    }
+    *out = (int)v;
+    return 0;
+}
+
+int arg_size_t(const char *cmd, const char *flag, const char *s, size_t *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (end == s || *end || errno == ERANGE || s[0] == '-' || v == 0) {
+        fprintf(stderr, "%s: %s: '%s' is not a positive count\n", cmd, flag, s);
+        return -1;
+    }
+    *out = (size_t)v;
+    return 0;
+}
+
+static int floats(const char *s, float *v, int n)
+{
+    const char *p = s;
+    for (int k = 0; k < n; k++) {
+        char *end;
+        errno = 0;
+        double x = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(x)) return -1;
+        v[k] = (float)x;
+        p = end;
+        if (k + 1 < n) {
+            if (*p != ',') return -1;
+            p++;
+        }
+    }
+    return *p ? -1 : 0;
+}
+
+int arg_vec3(const char *cmd, const char *flag, const char *s, lc_vec3 *out)
+{
+    float v[3];
+    if (floats(s, v, 3)) {
+        fprintf(stderr, "%s: %s: expected x,y,z (three numbers), got '%s'\n", cmd, flag, s);
+        return -1;
+    }
+    out->x = v[0], out->y = v[1], out->z = v[2];
+    return 0;
+}
+
+int arg_pair(const char *cmd, const char *flag, const char *s, float out[2])
+{
+    if (floats(s, out, 2)) {
+        fprintf(stderr, "%s: %s: expected two numbers a,b, got '%s'\n", cmd, flag, s);
+        return -1;
+    }
+    return 0;
+}
+
+int arg_size(const char *cmd, const char *flag, const char *s, int *w, int *h)
+{
+    char *end;
+    long a = strtol(s, &end, 10);
+    if (end == s || (*end != 'x' && *end != 'X')) goto bad;
+    const char *p = end + 1;
+    long b = strtol(p, &end, 10);
+    if (end == p || *end) goto bad;
+    if (a < 1 || b < 1 || a > 32768 || b > 32768) {
+        fprintf(stderr, "%s: %s: %s is outside 1x1 to 32768x32768\n", cmd, flag, s);
+        return -1;
+    }
+    *w = (int)a, *h = (int)b;
+    return 0;
+bad:
+    fprintf(stderr, "%s: %s: expected WIDTHxHEIGHT (e.g. 1024x768), got '%s'\n", cmd, flag, s);
+    return -1;
+}

@@ -1,0 +1,17 @@
+/* Command-line parsing helpers: each prints one line naming the flag and the
+ * bad value, and returns -1. */
+#ifndef LC_CLI_ARGS_H
+#define LC_CLI_ARGS_H
+
+#include "lanecast/lanecast.h"
+
+int arg_float(const char *cmd, const char *flag, const char *s, float lo, float hi, float *out);
+int arg_int(const char *cmd, const char *flag, const char *s, long lo, long hi, int *out);
+int arg_size_t(const char *cmd, const char *flag, const char *s, size_t *out);
+int arg_vec3(const char *cmd, const char *flag, const char *s, lc_vec3 *out);
+int arg_pair(const char *cmd, const char *flag, const char *s, float out[2]);
+int arg_size(const char *cmd, const char *flag, const char *s, int *w, int *h);
+/* The value of flag argv[*i] (advancing *i), or NULL after a message. */
+const char *arg_value(const char *cmd, int argc, char **argv, int *i);
+
+#endif
