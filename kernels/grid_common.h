@@ -119,7 +119,8 @@ static inline vfloat grid_fetch(const lc_kgrid *g, vint idx)
     case LC_KVAL_U16:
     case LC_KVAL_I16: {
         vint v;
-        if (vm_any(vi_gt(idx, vi_set1((int32_t)(g->wide_safe - 1))))) v = grid_load_lanes(g, idx);
+        if (g->wide_safe <= INT32_MAX && vm_any(vi_gt(idx, vi_set1((int32_t)(g->wide_safe - 1)))))
+            v = grid_load_lanes(g, idx);
         else if (g->type == LC_KVAL_U8) v = vi_gather_u8((const uint8_t *)g->data, idx);
         else v = vi_gather_u16((const uint16_t *)g->data, idx);
         if (g->type == LC_KVAL_I16) /* sign-extend: offset binary, then subtract the offset */
