@@ -271,7 +271,7 @@ lc_status lci_grid_prepare(lc_device *dev, const lc_grid *g, const lc_render_des
     const lc_ktable *kt = dev->kt;
     if (!kt->grid_bvh || !kt->grid_brute || !kt->grid_scratch_bytes)
         return lci_error(dev, LC_ERROR_UNSUPPORTED, "target %s has no grid kernels", kt->name);
-    size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * LC_PREINT_N * LC_PREINT_N * 4;
+    size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * LC_PREINT_N * LC_PREINT_N * 5;
     unsigned char *mem = malloc(bytes);
     if (!mem) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the pre-integrated table");
     lc_kgrid *k = (lc_kgrid *)mem;
@@ -279,6 +279,10 @@ lc_status lci_grid_prepare(lc_device *dev, const lc_grid *g, const lc_render_des
     float *table = (float *)(mem + ((sizeof(lc_kgrid) + 63) & ~(size_t)63));
     lci_grid_preint(frame->tf[0].rgbt, table);
     k->preint = table;
+    float *alpha = table + (size_t)LC_PREINT_N * LC_PREINT_N * 4;
+    for (size_t i = 0; i < (size_t)LC_PREINT_N * LC_PREINT_N; i++) alpha[i] = 1.0f - expf(-table[4 * i + 3] * frame->dt);
+    k->preint_alpha = alpha;
+    k->run_max = 48;
     k->use_preint = p->preintegrated != 0;
     k->rda = p->rda;
     k->delta_c = param(p->delta_c, 1e-3f);

@@ -106,7 +106,11 @@ static inline node_tf node_quant(const lc_ktf *tf, const lc_kgrid_node *n)
 }
 
 static inline float preint_tau(const lc_kgrid *g, int a, int b) { return g->preint[((size_t)a * LC_PREINT_N + (size_t)b) * 4 + 3]; }
-static inline float rho(const lc_kgrid *g, float dt, int a, int b) { return 1.0f - expf(-preint_tau(g, a, b) * dt); }
+static inline float rho(const lc_kgrid *g, float dt, int a, int b)
+{
+    (void)dt; /* the host tabulates 1 - exp(-tau_mean dt) per frame */
+    return g->preint_alpha[(size_t)a * LC_PREINT_N + (size_t)b];
+}
 
 /* eq. 5: a node is empty when the pre-integrated opacity over its range is at
  * most delta_c. The mean extinction being exactly zero is always used: it
@@ -150,6 +154,25 @@ static inline int node_constant(const lc_kgrid *g, const lc_kframe *f, const lc_
     return dc * r < g->delta_sv;
 }
 
+/* Leaves are not integrated one by one: each lane collects the lattice
+ * samples of consecutive leaves into a pending run [pa, pb] and integrates it
+ * when the next leaf leaves a gap (skipped empty space), when it grows past
+ * run_max samples (so early termination still stops traversal), before a
+ * constant subvolume, and at the end. The samples and their order are those
+ * of leaf-by-leaf integration; only the loop over them is longer, which keeps
+ * the lanes of a packlet busy. */
+static inline void flush(const lc_kgrid *g, const lc_kframe *f, gpk *q, lc_kstats *st)
+{
+    vmask has = vm_not(vi_gt(q->pa, q->pb));
+    if (vm_none(has)) return;
+    vint knext = q->knext;
+    q->knext = vi_select(has, q->pa, q->knext);
+    grid_integrate(g, f, q, q->pa, vi_select(has, q->pb, vi_sub(q->pa, vi_set1(1))), st);
+    q->knext = vi_max(q->knext, knext);
+    q->pa = vi_set1(1);
+    q->pb = vi_set1(0);
+}
+
 static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int fa, int npk, const lc_kgrid_node *n,
                            int csv, lc_kstats *st)
 {
@@ -162,9 +185,21 @@ static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int f
         vint kf, kl;
         grid_lattice(g, f->dt, t0, t1, &kf, &kl);
         vint ka = vi_max(q->knext, kf), kb = vi_min(q->klast, kl);
-        if (vm_none(vm_and(q->live, vm_not(vi_gt(ka, kb))))) continue;
-        if (csv) grid_integrate_const(g, f, q, ka, kb, phi, st);
-        else grid_integrate(g, f, q, ka, kb, st);
+        vmask v = vm_and(q->live, vm_not(vi_gt(ka, kb)));
+        if (vm_none(v)) continue;
+        if (csv) {
+            flush(g, f, q, st);
+            grid_integrate_const(g, f, q, ka, kb, phi, st);
+            continue;
+        }
+        vmask pending = vm_not(vi_gt(q->pa, q->pb));
+        vmask gap = vm_and(v, vm_and(pending, vi_gt(ka, vi_add(q->pb, vi_set1(1)))));
+        if (vm_any(gap)) flush(g, f, q, st);
+        pending = vm_not(vi_gt(q->pa, q->pb));
+        q->pa = vi_select(vm_and(v, vm_not(pending)), ka, q->pa);
+        q->pb = vi_select(v, kb, q->pb);
+        q->knext = vi_select(v, vi_add(kb, vi_set1(1)), q->knext);
+        if (vm_any(vi_gt(vi_sub(q->pb, q->pa), vi_set1(g->run_max)))) flush(g, f, q, st);
     }
 }
 
@@ -222,10 +257,10 @@ static void traverse(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int npk, lc
                 }
                 st->leaves++;
                 integrate_node(g, f, pk, fa, npk, n, csv, st);
-                if (!any_live(pk, npk)) return;
+                if (!any_live(pk, npk)) break;
             }
         }
-        if (d == 0) return;
+        if (d == 0) break;
         d--;
         id = stack[d];
         fa = fa_stack[d];
@@ -248,6 +283,7 @@ void LC_KFN(grid_bvh)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, 
                     st->rays += (uint64_t)vm_popcnt(vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1))));
                 }
             if (any_live(pk, npk)) traverse(g, f, pk, npk, st);
+            for (int p = 0; p < npk; p++) flush(g, f, &pk[p], st);
             for (int p = 0; p < npk; p++) dvr_store(t, pk[p].px, pk[p].py, &pk[p].c);
         }
     }

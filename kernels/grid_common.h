@@ -24,6 +24,7 @@ typedef struct gpk {
     vfloat prev;  /* pre-integration: normalised value of sample kprev */
     vint kprev;
     vmask live;   /* lanes with samples left and A < alpha_stop */
+    vint pa, pb;  /* BVH: pending run of samples not yet integrated (empty: pa > pb) */
 } gpk;
 
 static inline vfloat grid_safe_inv(vfloat d)
@@ -97,6 +98,8 @@ static inline void grid_packlet_init(const lc_kgrid *g, const lc_kframe *f, cons
     p->c.r = p->c.g = p->c.b = p->c.a = vf_zero();
     p->prev = vf_zero();
     p->kprev = vi_set1(-2);
+    p->pa = vi_set1(1);
+    p->pb = vi_set1(0);
 }
 
 /* Per-lane element loads for narrow gathers near the end of borrowed data. */

@@ -46,17 +46,19 @@ typedef struct lc_kgrid {
     const lc_kgrid_node *nodes;
     int32_t nnodes;
     int32_t depth;   /* longest root-to-leaf path in nodes */
-    /* pre-integrated TF of field 0 (LC_PREINT_N^2 x (r, g, b, tau_mean)) */
+    /* pre-integrated TF of field 0 (LC_PREINT_N^2 x (r, g, b, tau_mean)) and
+     * its opacity over one step, 1 - exp(-tau_mean dt) (LC_PREINT_N^2) */
     const float *preint;
+    const float *preint_alpha;
     /* per-frame options */
     int32_t use_preint; /* classify with the pre-integrated table */
     int32_t bvh_flags;  /* LC_KGRID_CULL / PRUNE / CONST bits */
     float delta_c, delta_p, delta_sv;
     float rda;          /* differential sampling: step k -> k+1 is dt (1 + rda k) */
     float diag_volume;  /* |D_volume| of eq. 6 */
-    float pad;
+    int32_t run_max;    /* BVH: longest run of lattice samples deferred before integrating */
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 

@@ -1,0 +1,216 @@
+/* Structured-volume benchmark (Knoll et al. 2011, Fig. 5/6, Table 1 style):
+ * one machine-readable line per case with the median fps of the repeats and
+ * its spread. Cases are the cross product of the lists given (see --help).
+ * Volumes: the real ones under DATA/volumes and procedural uint8 cubes
+ * ("proc512", "proc1024": a gyroid-like lattice inside a sphere, air outside;
+ * deterministic, no seed needed). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "lanecast/lanecast.h"
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int cmpd(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+#define MAXL 16
+typedef struct list {
+    int n;
+    char *v[MAXL];
+} list;
+
+static void split(list *l, char *s)
+{
+    l->n = 0;
+    for (char *t = strtok(s, ","); t && l->n < MAXL; t = strtok(NULL, ",")) l->v[l->n++] = t;
+}
+
+static lc_status procedural(lc_device *dev, int n, lc_grid **out)
+{
+    uint8_t *v = malloc((size_t)n * n * n);
+    float *s = malloc(sizeof(float) * n * 3), *c = s + n, *q = c + n;
+    if (!v || !s) return LC_ERROR_OUT_OF_MEMORY;
+    for (int i = 0; i < n; i++) {
+        double x = (double)i / (n - 1);
+        s[i] = (float)sin(x * 6.2831853 * 4), c[i] = (float)cos(x * 6.2831853 * 4);
+        q[i] = (float)((x - 0.5) * (x - 0.5));
+    }
+    for (int k = 0; k < n; k++)
+        for (int j = 0; j < n; j++) {
+            uint8_t *row = v + ((size_t)k * n + j) * n;
+            float qjk = q[j] + q[k];
+            for (int i = 0; i < n; i++) {
+                float g = s[i] * c[j] + s[j] * c[k] + s[k] * c[i]; /* gyroid, in [-1.5, 1.5] */
+                float r2 = q[i] + qjk;
+                row[i] = r2 < 0.2f ? (uint8_t)(127.5f + 85.0f * g) : 0;
+            }
+        }
+    free(s);
+    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v};
+    lc_status st = lc_grid_create(dev, &d, out);
+    free(v);
+    return st;
+}
+
+static const char help[] =
+    "usage: bench_grid [options]\n"
+    "  --data DIR          shared data folder (default ../shared/data)\n"
+    "  --volumes a,b,...   engine, neghip, headsq, hydrogen, embryo, HeadMRVolume, proc512, proc1024 (default engine)\n"
+    "  --sizes 512,1024    image sides (default 512)\n"
+    "  --views far,medium,close (default medium)\n"
+    "  --shades none,diffuse,phong (default none)\n"
+    "  --methods brute,bvh (default brute,bvh)\n"
+    "  --targets scalar,sse4,avx2,avx512 (default: the widest supported)\n"
+    "  --threads 1,2       (default: all CPUs)\n"
+    "  --packets 8,1       packet side (8 = 8x8, 1 = lane width; default 8)\n"
+    "  --heuristics on|off (default on)\n"
+    "  --repeats N         renders per case after one warm-up (default 5)\n"
+    "  --max-seconds S     stop repeating a case after S seconds (default 10)\n";
+
+int main(int argc, char **argv)
+{
+    char dflt_vol[] = "engine", dflt_size[] = "512", dflt_view[] = "medium", dflt_shade[] = "none",
+         dflt_meth[] = "brute,bvh", dflt_pk[] = "8", dflt_thr[] = "0", dflt_tgt[] = "auto";
+    const char *data = "../shared/data";
+    list vols, sizes, views, shades, meths, tgts, thrs, pks;
+    split(&vols, dflt_vol), split(&sizes, dflt_size), split(&views, dflt_view), split(&shades, dflt_shade);
+    split(&meths, dflt_meth), split(&tgts, dflt_tgt), split(&thrs, dflt_thr), split(&pks, dflt_pk);
+    int repeats = 5, heur = 1;
+    double max_s = 10;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help")) {
+            fputs(help, stdout);
+            return 0;
+        }
+        if (i + 1 >= argc) {
+            fprintf(stderr, "bench_grid: %s needs a value\n", a);
+            return 2;
+        }
+        char *v = argv[++i];
+        if (!strcmp(a, "--data")) data = v;
+        else if (!strcmp(a, "--volumes")) split(&vols, v);
+        else if (!strcmp(a, "--sizes")) split(&sizes, v);
+        else if (!strcmp(a, "--views")) split(&views, v);
+        else if (!strcmp(a, "--shades")) split(&shades, v);
+        else if (!strcmp(a, "--methods")) split(&meths, v);
+        else if (!strcmp(a, "--targets")) split(&tgts, v);
+        else if (!strcmp(a, "--threads")) split(&thrs, v);
+        else if (!strcmp(a, "--packets")) split(&pks, v);
+        else if (!strcmp(a, "--heuristics")) heur = !strcmp(v, "on");
+        else if (!strcmp(a, "--repeats")) repeats = atoi(v);
+        else if (!strcmp(a, "--max-seconds")) max_s = atof(v);
+        else {
+            fprintf(stderr, "bench_grid: unknown option %s\n", a);
+            return 2;
+        }
+    }
+    if (repeats < 1) repeats = 1;
+    lc_device *dev0 = NULL;
+    if (lc_device_create(&(lc_device_desc){.threads = 1}, &dev0) != LC_OK) return 1;
+    for (int vi = 0; vi < vols.n; vi++) {
+        lc_grid *g = NULL;
+        const char *vn = vols.v[vi];
+        double t0 = now();
+        lc_status s;
+        if (!strncmp(vn, "proc", 4)) s = procedural(dev0, atoi(vn + 4), &g);
+        else {
+            char p[1024];
+            snprintf(p, sizeof p, "%s/volumes/%s.%s", data, vn, strcmp(vn, "HeadMRVolume") ? "nhdr" : "mhd");
+            s = lc_grid_load(dev0, p, NULL, &g);
+        }
+        if (s != LC_OK) {
+            printf("# skip volume=%s: %s\n", vn, lc_last_error());
+            continue;
+        }
+        lc_grid_info in;
+        lc_grid_get_info(g, &in);
+        printf("# volume=%s dims=%dx%dx%d load_s=%.3f bvh_L=%d bvh_nodes=%llu bvh_MB=%.2f bvh_build_s=%.3f "
+               "layout_overhead_MB=%.3f\n",
+               vn, in.size[0], in.size[1], in.size[2], now() - t0, in.brick, (unsigned long long)in.bvh_nodes,
+               (double)in.bvh_bytes / 1e6, in.bvh_build_seconds, (double)in.layout_overhead_bytes / 1e6);
+        fflush(stdout);
+        float lo[3] = {in.bounds.lo.x, in.bounds.lo.y, in.bounds.lo.z}, hi[3] = {in.bounds.hi.x, in.bounds.hi.y, in.bounds.hi.z};
+        float diag = sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        /* a TF that hides the air (transparent below 30% of the range) */
+        float color[] = {0, 0.2f, 0.3f, 0.9f, 0.5f, 0.9f, 0.5f, 0.2f, 1, 1, 1, 0.9f};
+        float op[] = {0, 0, 0.3f, 0, 0.6f, 0.4f * 16 / diag, 1, 16 / diag};
+        lc_tf_field tfd = {.color = color, .ncolor = 3, .opacity = op, .nopacity = 4};
+        lc_tf *tf = NULL;
+        lc_tf_create(dev0, &tfd, 1, &tf);
+        for (int ti = 0; ti < tgts.n; ti++)
+            for (int hi_ = 0; hi_ < thrs.n; hi_++) {
+                lc_target tg = LC_TARGET_AUTO;
+                if (strcmp(tgts.v[ti], "auto") && lc_target_from_name(tgts.v[ti], &tg) != LC_OK) continue;
+                lc_device *dev = NULL;
+                if (lc_device_create(&(lc_device_desc){.target = tg, .threads = atoi(thrs.v[hi_])}, &dev) != LC_OK) {
+                    printf("# skip target=%s: %s\n", tgts.v[ti], lc_last_error());
+                    continue;
+                }
+                lc_target at;
+                int nth;
+                lc_device_target(dev, &at);
+                lc_device_threads(dev, &nth);
+                for (int si = 0; si < sizes.n; si++)
+                    for (int wi = 0; wi < views.n; wi++)
+                        for (int shi = 0; shi < shades.n; shi++)
+                            for (int pi = 0; pi < pks.n; pi++)
+                                for (int mi = 0; mi < meths.n; mi++) {
+                                    int W = atoi(sizes.v[si]);
+                                    const char *view = views.v[wi];
+                                    float dist = !strcmp(view, "far") ? 2.5f : !strcmp(view, "close") ? 0.75f : 1.3f;
+                                    float dir[3] = {0.5f, 0.4f, 0.767f};
+                                    lc_render_desc d = {.width = W, .height = W, .tf = tf, .grid = g, .packet = atoi(pks.v[pi])};
+                                    d.camera.at = (lc_vec3){0.5f * (lo[0] + hi[0]), 0.5f * (lo[1] + hi[1]), 0.5f * (lo[2] + hi[2])};
+                                    d.camera.eye = (lc_vec3){d.camera.at.x + dist * diag * dir[0], d.camera.at.y + dist * diag * dir[1],
+                                                             d.camera.at.z + dist * diag * dir[2]};
+                                    d.shading = !strcmp(shades.v[shi], "phong") ? LC_SHADE_PHONG
+                                                : !strcmp(shades.v[shi], "diffuse") ? LC_SHADE_DIFFUSE : LC_SHADE_NONE;
+                                    d.method = !strcmp(meths.v[mi], "brute") ? LC_METHOD_BRUTE : LC_METHOD_BVH;
+                                    if (!heur) d.grid_params = (lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1};
+                                    float *rgba = malloc(sizeof(float) * 4 * (size_t)W * W);
+                                    lc_render_stats st;
+                                    if (lc_render(dev, &d, rgba, &st) != LC_OK) { /* warm-up */
+                                        printf("# error: %s\n", lc_last_error());
+                                        free(rgba);
+                                        continue;
+                                    }
+                                    double ts[64];
+                                    int n = 0;
+                                    double start = now();
+                                    while (n < repeats && n < 64) {
+                                        double a = now();
+                                        lc_render(dev, &d, rgba, &st);
+                                        ts[n++] = now() - a;
+                                        if (now() - start > max_s) break;
+                                    }
+                                    qsort(ts, (size_t)n, sizeof *ts, cmpd);
+                                    double med = ts[n / 2];
+                                    printf("grid volume=%s size=%d view=%s shade=%s method=%s target=%s threads=%d packet=%s "
+                                           "heuristics=%s fps=%.3f fps_min=%.3f fps_max=%.3f ms=%.1f reps=%d "
+                                           "msamples=%.2f nodes=%llu leaves=%llu\n",
+                                           vn, W, view, shades.v[shi], meths.v[mi], lc_target_name(at), nth, pks.v[pi],
+                                           heur ? "on" : "off", 1.0 / med, 1.0 / ts[n - 1], 1.0 / ts[0], 1e3 * med, n,
+                                           (double)st.samples / 1e6, (unsigned long long)st.nodes, (unsigned long long)st.leaves);
+                                    fflush(stdout);
+                                    free(rgba);
+                                }
+                lc_device_destroy(dev);
+            }
+        lc_tf_destroy(tf);
+        lc_grid_destroy(g);
+    }
+    lc_device_destroy(dev0);
+    return 0;
+}
