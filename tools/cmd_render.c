@@ -310,7 +310,15 @@ static int run(ropts *o, int demo)
     if (s != LC_OK) goto fail;
     lc_particles_info pi;
     lc_particles_get_info(parts, &pi);
-    if (o->tf && !strchr(o->tf, '.') && !strchr(o->tf, '/')) {
+    if (demo && !o->tf) {
+        /* the helix warm and dense, the shell a faint cool haze */
+        static const float warm[] = {0.0f, 0.7f, 0.15f, 0.05f, 0.5f, 1.0f, 0.55f, 0.1f, 1.0f, 1.0f, 0.95f, 0.7f};
+        static const float cool[] = {0.0f, 0.1f, 0.3f, 0.8f, 1.0f, 0.5f, 0.85f, 1.0f};
+        static const float op0[] = {0.0f, 0.0f, 0.15f, 0.0f, 0.6f, 3.0f, 1.0f, 6.0f};
+        static const float op1[] = {0.0f, 0.0f, 0.2f, 0.0f, 1.0f, 0.18f};
+        lc_tf_field f[2] = {{warm, 4 - 1, op0, 4, 1, {0.0f, 1.0f}}, {cool, 2, op1, 3, 1, {0.0f, 1.0f}}};
+        s = lc_tf_create(dev, f, 2, &tf);
+    } else if (o->tf && !strchr(o->tf, '.') && !strchr(o->tf, '/')) {
         float tau = o->tau > 0.0f ? o->tau : (pi.max_radius > 0.0f ? 1.0f / pi.max_radius : 1.0f);
         s = lc_tf_preset(dev, o->tf, pi.nfields, tau, &tf);
     } else if (o->tf) {
