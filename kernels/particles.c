@@ -8,7 +8,7 @@
  *   segment, stopping when every ray of the group reached alpha_stop.
  * direct: the paper's baseline. Per sample, gather every overlapping particle
  *   through the BVH, then classify and blend.
- * Both evaluate the field with the same arithmetic (sample_phi), so they
+ * Both evaluate the field with the same arithmetic (sample_d2, gaussian), so they
  * differ only by summation order. */
 #include "dvr.h"
 #include "shared/kparticles.h"
@@ -35,16 +35,22 @@ static inline pgroup group_dims(const lc_kframe *f)
     return g;
 }
 
-/* Point p relative to particle centre c, the Gaussian truncated at R2 = (sigma r)^2. */
-static inline vfloat sample_phi(vfloat px, vfloat py, vfloat pz, float cx, float cy, float cz, float r2s, float nir,
-                                float kk, vmask m, vmask *inside, vfloat *ex, vfloat *ey, vfloat *ez)
+/* Offset of p from particle centre c and the truncation test d2 < R2 = (sigma r)^2. */
+static inline vfloat sample_d2(vfloat px, vfloat py, vfloat pz, float cx, float cy, float cz, float r2s, vmask m,
+                               vmask *inside, vfloat *ex, vfloat *ey, vfloat *ez)
 {
     *ex = vf_sub(px, vf_set1(cx));
     *ey = vf_sub(py, vf_set1(cy));
     *ez = vf_sub(pz, vf_set1(cz));
     vfloat d2 = vf_fma(*ex, *ex, vf_fma(*ey, *ey, vf_mul(*ez, *ez)));
     *inside = vm_and(m, vf_lt(d2, vf_set1(r2s)));
-    return vf_mul(vf_set1(kk), vf_exp(vf_mul(d2, vf_set1(nir))));
+    return d2;
+}
+
+/* kappa k_i exp(-d2 / (2 r_i^2)) (paper eq. 2), zero outside the support. */
+static inline vfloat gaussian(vfloat d2, float nir, float kk, vmask inside)
+{
+    return vf_select(inside, vf_mul(vf_set1(kk), vf_exp(vf_mul(d2, vf_set1(nir)))), vf_zero());
 }
 
 /* Ray-box slab test; returns the entry/exit interval (entry > exit: miss). */
@@ -242,10 +248,10 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
             vfloat px = vf_fma(dx, t, ox), py = vf_fma(dy, t, oy), pz = vf_fma(dz, t, oz);
             vmask in;
             vfloat ex, ey, ez;
-            vfloat phi = sample_phi(px, py, pz, cx, cy, cz, r2s, nir, kk, m, &in, &ex, &ey, &ez);
+            vfloat pd2 = sample_d2(px, py, pz, cx, cy, cz, r2s, m, &in, &ex, &ey, &ez);
             if (vm_none(in)) continue;
             st->kernel_evals += (uint64_t)vm_popcnt(in);
-            phi = vf_select(in, phi, vf_zero());
+            vfloat phi = gaussian(pd2, nir, kk, in);
             float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
             vf_store(row, vf_add(vf_load(row), phi));
             if (comps == 4) {
@@ -468,11 +474,11 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                             float rs = s->sigma * s->r[i];
                             vmask inside;
                             vfloat ex, ey, ez;
-                            vfloat p = sample_phi(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, s->neg_inv_2r2[i],
-                                                  s->kappa * s->k[i], in, &inside, &ex, &ey, &ez);
+                            vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex,
+                                                  &ey, &ez);
                             if (vm_none(inside)) continue;
                             st->kernel_evals += (uint64_t)vm_popcnt(inside);
-                            p = vf_select(inside, p, vf_zero());
+                            vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
                             int fi = s->field[i];
                             phi[fi] = vf_add(phi[fi], p);
                             if (shade) {
@@ -536,10 +542,9 @@ void LC_KFN(particles_sample)(const struct lc_kparticles *s, const float *xyz, i
                 float rs = s->sigma * s->r[i];
                 vmask inside;
                 vfloat ex, ey, ez;
-                vfloat p = sample_phi(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, s->neg_inv_2r2[i],
-                                      s->kappa * s->k[i], in, &inside, &ex, &ey, &ez);
+                vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex, &ey, &ez);
                 if (vm_none(inside)) continue;
-                p = vf_select(inside, p, vf_zero());
+                vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
                 int fi = s->field[i];
                 acc[fi] = vf_add(acc[fi], p);
                 vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i]));
