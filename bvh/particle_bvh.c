@@ -152,7 +152,7 @@ int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, size_t
     a.minLeafSize = 1;
     a.maxLeafSize = (unsigned)leaf_size;
     a.traversalCost = 1.0f;
-    a.intersectionCost = 1.0f;
+    a.intersectionCost = 0.5f; /* fuller leaves: half the nodes of 1.0 (1M particles: 0.73M vs 1.41M) */
     a.bvh = bvh;
     a.primitives = prims;
     a.primitiveCount = n;

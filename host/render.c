@@ -48,6 +48,7 @@ lc_status lci_frame_build(lc_device *dev, const lc_render_desc *d, const lci_sce
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "range [%g, %g]: expected finite lo < hi",
                          (double)d->range[0], (double)d->range[1]);
     f->nfields = nf;
+    f->zero_transparent = 1;
     for (int k = 0; k < nf; k++) {
         int src = tf->nfields == 1 ? 0 : k;
         float lo = info->default_range[0], hi = info->default_range[1];
@@ -56,6 +57,11 @@ lc_status lci_frame_build(lc_device *dev, const lc_render_desc *d, const lci_sce
         if (!(hi > lo)) hi = lo + 1.0f;
         lci_tf_fill(tf, src, lo, hi, tables + (size_t)k * LC_TF_TABLE_SIZE * 4, &f->tf[k]);
         f->tf[k].grad_eps = 1e-6f * (hi - lo) / f->dt;
+        /* extinction at value 0, interpolated as the kernels do */
+        float x = fminf(fmaxf((0.0f - lo) * f->tf[k].inv_range, 0.0f), 1.0f) * (LC_TF_TABLE_SIZE - 1);
+        int i0 = (int)fminf(floorf(x), LC_TF_TABLE_SIZE - 2);
+        const float *t = tables + (size_t)k * LC_TF_TABLE_SIZE * 4;
+        if (t[4 * i0 + 3] != 0.0f || t[4 * i0 + 7] != 0.0f) f->zero_transparent = 0;
     }
     return LC_OK;
 }

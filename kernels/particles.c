@@ -8,7 +8,7 @@
  *   segment, stopping when every ray of the group reached alpha_stop.
  * direct: the paper's baseline. Per sample, gather every overlapping particle
  *   through the BVH, then classify and blend.
- * Both evaluate the field with the same arithmetic (sample_phi), so they
+ * Both evaluate the field with the same arithmetic (sample_d2, gaussian), so they
  * differ only by summation order. */
 #include "dvr.h"
 #include "shared/kparticles.h"
@@ -35,16 +35,31 @@ static inline pgroup group_dims(const lc_kframe *f)
     return g;
 }
 
-/* Point p relative to particle centre c, the Gaussian truncated at R2 = (sigma r)^2. */
-static inline vfloat sample_phi(vfloat px, vfloat py, vfloat pz, float cx, float cy, float cz, float r2s, float nir,
-                                float kk, vmask m, vmask *inside, vfloat *ex, vfloat *ey, vfloat *ez)
+/* Offset of p from particle centre c and the truncation test d2 < R2 = (sigma r)^2. */
+static inline vfloat sample_d2(vfloat px, vfloat py, vfloat pz, float cx, float cy, float cz, float r2s, vmask m,
+                               vmask *inside, vfloat *ex, vfloat *ey, vfloat *ez)
 {
     *ex = vf_sub(px, vf_set1(cx));
     *ey = vf_sub(py, vf_set1(cy));
     *ez = vf_sub(pz, vf_set1(cz));
     vfloat d2 = vf_fma(*ex, *ex, vf_fma(*ey, *ey, vf_mul(*ez, *ez)));
     *inside = vm_and(m, vf_lt(d2, vf_set1(r2s)));
-    return vf_mul(vf_set1(kk), vf_exp(vf_mul(d2, vf_set1(nir))));
+    return d2;
+}
+
+/* kappa k_i exp(-d2 / (2 r_i^2)) (paper eq. 2), zero outside the support. */
+static inline vfloat gaussian(vfloat d2, float nir, float kk, vmask inside)
+{
+    return vf_select(inside, vf_mul(vf_set1(kk), vf_exp(vf_mul(d2, vf_set1(nir)))), vf_zero());
+}
+
+/* Squared distance of a centre from a ray: |oc - tc d|^2 with tc = oc.d. Not
+ * |oc|^2 - tc^2, which cancels catastrophically for a distant eye (|oc|^2 ~ 1e4
+ * against R^2 ~ 1) and wrongly drops rays that do pass within the support. */
+static inline vfloat perp2(vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vfloat tc)
+{
+    vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
+    return vf_fma(qx, qx, vf_fma(qy, qy, vf_mul(qz, qz)));
 }
 
 /* Ray-box slab test; returns the entry/exit interval (entry > exit: miss). */
@@ -92,7 +107,7 @@ static void trace_spheres(const lc_kparticles *s, const lc_kframe *f, const vray
             vfloat ocx = vf_sub(vf_set1(s->px[i]), ray->ox), ocy = vf_sub(vf_set1(s->py[i]), ray->oy),
                    ocz = vf_sub(vf_set1(s->pz[i]), ray->oz);
             vfloat tc = vf_fma(ocx, ray->dx, vf_fma(ocy, ray->dy, vf_mul(ocz, ray->dz)));
-            vfloat d2 = vf_fnma(tc, tc, vf_fma(ocx, ocx, vf_fma(ocy, ocy, vf_mul(ocz, ocz))));
+            vfloat d2 = perp2(ocx, ocy, ocz, ray->dx, ray->dy, ray->dz, tc);
             vfloat h2 = vf_sub(vf_set1(rr * rr), d2);
             vmask m = vm_and(hit, vf_ge(h2, vf_zero()));
             if (vm_none(m)) continue;
@@ -170,6 +185,7 @@ typedef struct cscratch {
     float *cr, *cg, *cb, *ca;                          /* accumulated colour */
     float *sr, *sg, *sb, *sa;                          /* opaque surface */
     float *buf;                                        /* [field][row][comp][ray] */
+    int32_t *touched;                                  /* per vector: deposits this pass */
     int32_t *stack;
 } cscratch;
 
@@ -193,6 +209,8 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     off += align64(rays * 4);
     if (base) c->buf = (float *)(base + off);
     off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)s->buffer_k * comps * rays * 4);
+    if (base) c->touched = (int32_t *)(base + off);
+    off += align64((uint64_t)g.nv * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
     return off;
@@ -224,9 +242,9 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
         vfloat ocx = vf_sub(vf_set1(cx), ox), ocy = vf_sub(vf_set1(cy), oy), ocz = vf_sub(vf_set1(cz), oz);
         vfloat tc = vf_fma(ocx, dx, vf_fma(ocy, dy, vf_mul(ocz, dz)));
-        vfloat d2 = vf_fnma(tc, tc, vf_fma(ocx, ocx, vf_fma(ocy, ocy, vf_mul(ocz, ocz))));
+        vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         /* conservative chord: the per-sample test below is the exact one */
-        vfloat h2 = vf_sub(vf_set1(r2s * 1.0002f + 1e-12f), d2);
+        vfloat h2 = vf_sub(vf_set1(r2s * 1.001f + 1e-12f), d2);
         m = vm_and(m, vf_ge(h2, vf_zero()));
         if (vm_none(m)) continue;
         vfloat half = vf_add(vf_sqrt(vf_max(h2, vf_zero())), vf_set1(1e-4f * rs));
@@ -242,10 +260,11 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
             vfloat px = vf_fma(dx, t, ox), py = vf_fma(dy, t, oy), pz = vf_fma(dz, t, oz);
             vmask in;
             vfloat ex, ey, ez;
-            vfloat phi = sample_phi(px, py, pz, cx, cy, cz, r2s, nir, kk, m, &in, &ex, &ey, &ez);
+            vfloat pd2 = sample_d2(px, py, pz, cx, cy, cz, r2s, m, &in, &ex, &ey, &ez);
             if (vm_none(in)) continue;
+            c->touched[v] = 1;
             st->kernel_evals += (uint64_t)vm_popcnt(in);
-            phi = vf_select(in, phi, vf_zero());
+            vfloat phi = gaussian(pd2, nir, kk, in);
             float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
             vf_store(row, vf_add(vf_load(row), phi));
             if (comps == 4) {
@@ -367,12 +386,16 @@ void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *
                         float *p = c.buf + ((size_t)fi * (size_t)K + (size_t)row) * (size_t)comps * (size_t)rays;
                         for (int q = 0; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
                     }
+                for (int v = 0; v < nv; v++) c.touched[v] = 0;
                 traverse_pass(s, &c, nv, kp, kend, dt, comps, st);
                 /* Listing 2, lines 11-13: integrate the buffer front to back */
                 for (int v = 0; v < nv; v++) {
                     int o = v * LC_W;
                     vmask live = vf_le(vf_load(c.w0 + o), vf_load(c.w1 + o));
                     if (vm_none(live)) continue;
+                    /* no particle reached these rays in this pass: every sample is 0 and, with
+                       tau(0) = 0, blends to exactly nothing */
+                    if (f->zero_transparent && !c.touched[v]) continue;
                     vray r;
                     r.dx = vf_load(c.dx + o), r.dy = vf_load(c.dy + o), r.dz = vf_load(c.dz + o);
                     vcolor col = {vf_load(c.cr + o), vf_load(c.cg + o), vf_load(c.cb + o), vf_load(c.ca + o)};
@@ -441,13 +464,12 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                 for (int k = k0; k <= k1; k++) {
                     vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
                     if (vm_none(m)) continue;
-                    st->samples += (uint64_t)vm_popcnt(m);
                     vfloat tk = vf_set1((float)k * dt);
                     vfloat px = vf_fma(r.dx, tk, r.ox), py = vf_fma(r.dy, tk, r.oy), pz = vf_fma(r.dz, tk, r.oz);
                     vfloat phi[LC_MAX_FIELDS], gx[LC_MAX_FIELDS], gy[LC_MAX_FIELDS], gz[LC_MAX_FIELDS];
                     for (int fi = 0; fi < nf; fi++) phi[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
                     /* gather: every particle whose support contains a sample */
-                    int sp = 0;
+                    int sp = 0, found = 0;
                     stack[sp++] = 0;
                     while (sp > 0) {
                         int32_t n = stack[--sp];
@@ -468,11 +490,12 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                             float rs = s->sigma * s->r[i];
                             vmask inside;
                             vfloat ex, ey, ez;
-                            vfloat p = sample_phi(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, s->neg_inv_2r2[i],
-                                                  s->kappa * s->k[i], in, &inside, &ex, &ey, &ez);
+                            vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex,
+                                                  &ey, &ez);
                             if (vm_none(inside)) continue;
+                            found = 1;
                             st->kernel_evals += (uint64_t)vm_popcnt(inside);
-                            p = vf_select(inside, p, vf_zero());
+                            vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
                             int fi = s->field[i];
                             phi[fi] = vf_add(phi[fi], p);
                             if (shade) {
@@ -483,6 +506,8 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                             }
                         }
                     }
+                    if (!found && f->zero_transparent) continue; /* blends to exactly nothing */
+                    st->samples += (uint64_t)vm_popcnt(m);
                     for (int fi = 0; fi < nf; fi++) {
                         vfloat cr, cg, cb, tau;
                         dvr_classify(&f->tf[fi], phi[fi], &cr, &cg, &cb, &tau);
@@ -536,10 +561,9 @@ void LC_KFN(particles_sample)(const struct lc_kparticles *s, const float *xyz, i
                 float rs = s->sigma * s->r[i];
                 vmask inside;
                 vfloat ex, ey, ez;
-                vfloat p = sample_phi(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, s->neg_inv_2r2[i],
-                                      s->kappa * s->k[i], in, &inside, &ex, &ey, &ez);
+                vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex, &ey, &ez);
                 if (vm_none(inside)) continue;
-                p = vf_select(inside, p, vf_zero());
+                vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
                 int fi = s->field[i];
                 acc[fi] = vf_add(acc[fi], p);
                 vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i]));

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 #include "args.h"
 #include "cli.h"
@@ -312,15 +313,20 @@ static int run(ropts *o, int demo)
         return CLI_EXIT_FAIL;
     }
     double t0 = 0;
+    struct timespec ts0, ts1;
+    clock_gettime(CLOCK_MONOTONIC, &ts0);
     /* ---- volumes (cmd_render_grid.c): own loading, TF default and stats */
     lc_particles_info pi;
     memset(&pi, 0, sizeof pi);
     lc_grid_info gi;
+    double load_s = 0;
     int volume = !demo && grid_is_volume(&o->grid, o->input);
     lc_status s;
     if (volume) {
         s = grid_load(dev, &o->grid, o->input, &grid, &gi);
         if (s != LC_OK) goto fail;
+        clock_gettime(CLOCK_MONOTONIC, &ts1);
+        load_s = (double)(ts1.tv_sec - ts0.tv_sec) + 1e-9 * (double)(ts1.tv_nsec - ts0.tv_nsec);
         o->rd.grid = grid;
         grid_apply(&o->grid, &o->rd);
         /* presets: peak extinction so the densest material stops a ray in about 1/8 of the diagonal */
@@ -334,8 +340,18 @@ static int run(ropts *o, int demo)
     }
     s = demo ? demo_particles(dev, &parts) : lc_particles_load(dev, o->input, &o->load, &parts);
     if (s != LC_OK) goto fail;
+    clock_gettime(CLOCK_MONOTONIC, &ts1);
+    load_s = (double)(ts1.tv_sec - ts0.tv_sec) + 1e-9 * (double)(ts1.tv_nsec - ts0.tv_nsec);
     lc_particles_get_info(parts, &pi);
-    if (o->tf && !strchr(o->tf, '.') && !strchr(o->tf, '/')) {
+    if (demo && !o->tf) {
+        /* the helix warm and dense, the shell a faint cool haze */
+        static const float warm[] = {0.0f, 0.7f, 0.15f, 0.05f, 0.5f, 1.0f, 0.55f, 0.1f, 1.0f, 1.0f, 0.95f, 0.7f};
+        static const float cool[] = {0.0f, 0.1f, 0.3f, 0.8f, 1.0f, 0.5f, 0.85f, 1.0f};
+        static const float op0[] = {0.0f, 0.0f, 0.15f, 0.0f, 0.6f, 3.0f, 1.0f, 6.0f};
+        static const float op1[] = {0.0f, 0.0f, 0.2f, 0.0f, 1.0f, 0.18f};
+        lc_tf_field f[2] = {{warm, 4 - 1, op0, 4, 1, {0.0f, 1.0f}}, {cool, 2, op1, 3, 1, {0.0f, 1.0f}}};
+        s = lc_tf_create(dev, f, 2, &tf);
+    } else if (o->tf && !strchr(o->tf, '.') && !strchr(o->tf, '/')) {
         float tau = o->tau > 0.0f ? o->tau : (pi.max_radius > 0.0f ? 1.0f / pi.max_radius : 1.0f);
         s = lc_tf_preset(dev, o->tf, pi.nfields, tau, &tf);
     } else if (o->tf) {
@@ -369,8 +385,13 @@ render:
         if (volume) grid_print_stats(&gi, stdout);
         else printf("particles     %zu (%zu dropped), %d fields, radius %.4g..%.4g\n", pi.count, pi.dropped, pi.nfields,
                (double)pi.min_radius, (double)pi.max_radius);
-        if (!volume) printf("bvh           %d nodes, depth %d, %.2f MB, build %.3f s\n", pi.bvh_nodes, pi.bvh_depth,
-               (double)pi.bvh_bytes / 1e6, pi.build_seconds);
+        if (!volume) {
+            printf("load          %.3f s (reading and BVH build)\n", load_s);
+            printf("bvh           %d nodes, depth %d, %.2f MB, build %.3f s; particle data %.2f MB\n", pi.bvh_nodes,
+                   pi.bvh_depth, (double)pi.bvh_bytes / 1e6, pi.build_seconds, (double)pi.data_bytes / 1e6);
+        } else {
+            printf("load          %.3f s (reading, bricking and BVH build)\n", load_s);
+        }
         printf("render        %.3f s (%.2f fps)\n", t0, 1.0 / t0);
         printf("rays          %llu\n", (unsigned long long)st.rays);
         printf("samples       %llu\n", (unsigned long long)st.samples);

@@ -382,7 +382,7 @@ typedef struct lc_render_desc {
 typedef struct lc_render_stats {
     double seconds;       /* wall time of the render */
     uint64_t rays;
-    uint64_t samples;
+    uint64_t samples;      /* samples integrated (empty samples skipped exactly when tau(0) = 0 are not counted) */
     uint64_t kernel_evals; /* Gaussian evaluations (particles) or voxel reconstructions (grids) */
     uint64_t nodes;        /* BVH nodes visited */
     uint64_t leaves;

@@ -52,7 +52,9 @@ typedef struct lc_kframe {
     float alpha_stop;    /* stop a ray once A >= alpha_stop; 1 = never */
     float pad0;
     int32_t packet;      /* rays per packet group side (e.g. 8 for 8x8); 0 = lane width */
-    int32_t pad[2];
+    int32_t zero_transparent; /* 1: every field's TF has tau = 0 at value 0, so samples where no
+                                 particle (or nothing) contributes may be skipped exactly */
+    int32_t pad1;
 } lc_kframe;
 _Static_assert(sizeof(lc_kframe) == 80 + 24 * LC_MAX_FIELDS + 48, "lc_kframe layout");
 
