@@ -36,6 +36,8 @@ static void split(list *l, char *s)
     for (char *t = strtok(s, ","); t && l->n < MAXL; t = strtok(NULL, ",")) l->v[l->n++] = t;
 }
 
+static lc_grid_layout layout = LC_LAYOUT_DEFAULT;
+
 static lc_status procedural(lc_device *dev, int n, lc_grid **out)
 {
     uint8_t *v = malloc((size_t)n * n * n);
@@ -57,7 +59,7 @@ static lc_status procedural(lc_device *dev, int n, lc_grid **out)
             }
         }
     free(s);
-    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v};
+    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout};
     lc_status st = lc_grid_create(dev, &d, out);
     free(v);
     return st;
@@ -75,6 +77,7 @@ static const char help[] =
     "  --threads 1,2       (default: all CPUs)\n"
     "  --packets 8,1       packet side (8 = 8x8, 1 = lane width; default 8)\n"
     "  --heuristics on|off (default on)\n"
+    "  --layout linear|bricked  voxel layout (default bricked, 4^3)\n"
     "  --repeats N         renders per case after one warm-up (default 5)\n"
     "  --max-seconds S     stop repeating a case after S seconds (default 10)\n";
 
@@ -110,6 +113,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--packets")) split(&pks, v);
         else if (!strcmp(a, "--heuristics")) heur = !strcmp(v, "on");
         else if (!strcmp(a, "--repeats")) repeats = atoi(v);
+        else if (!strcmp(a, "--layout")) layout = !strcmp(v, "linear") ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED;
         else if (!strcmp(a, "--max-seconds")) max_s = atof(v);
         else {
             fprintf(stderr, "bench_grid: unknown option %s\n", a);
@@ -128,7 +132,8 @@ int main(int argc, char **argv)
         else {
             char p[1024];
             snprintf(p, sizeof p, "%s/volumes/%s.%s", data, vn, strcmp(vn, "HeadMRVolume") ? "nhdr" : "mhd");
-            s = lc_grid_load(dev0, p, NULL, &g);
+            lc_grid_load_options lo_ = {.layout = layout};
+            s = lc_grid_load(dev0, p, &lo_, &g);
         }
         if (s != LC_OK) {
             printf("# skip volume=%s: %s\n", vn, lc_last_error());

@@ -155,7 +155,10 @@ lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, con
                 for (int32_t j = 0; j < n[1]; j++) {
                     const unsigned char *row = s8 + ((size_t)k * (size_t)n[1] + (size_t)j) * (size_t)n[0] * (size_t)es;
                     int64_t base = (int64_t)yo[j] + zo[k];
-                    for (int32_t i = 0; i < n[0]; i++)
+                    int32_t i = 0;
+                    for (; i + 4 <= n[0]; i += 4) /* a brick row holds 4 consecutive x */
+                        memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, 4 * (size_t)es);
+                    for (; i < n[0]; i++)
                         memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, (size_t)es);
                 }
         }
@@ -175,6 +178,10 @@ lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, con
         k->hi[a] = origin[a] + (float)(n[a] - 1) * spacing[a];
     }
     k->type = kval(d->type);
+    k->bricked = layout == LC_LAYOUT_BRICKED;
+    k->ystride = k->bricked ? yo[4 < n[1] ? 4 : 0] : n[0];
+    k->zstride = k->bricked ? 64 * ((n[0] + 3) / 4) * ((n[1] + 3) / 4) : n[0] * n[1];
+    if (k->bricked) k->ystride = 64 * ((n[0] + 3) / 4);
     k->wide_safe = borrow ? (d->type == LC_VALUE_UINT8 ? count - 3 : count - 1) : INT64_MAX;
     k->nodes = g->bvh.nodes;
     k->nnodes = g->bvh.nnodes;

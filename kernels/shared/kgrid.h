@@ -34,6 +34,12 @@ typedef struct lc_kgrid {
     const int32_t *xoff, *yoff, *zoff;
     int32_t size[3];
     int32_t type;     /* LC_KVAL_* */
+    /* the same offsets computed arithmetically (kernels: no table gathers):
+     * bricked: (i/4)*64 + i%4 + (j/4)*ystride + (j%4)*4 + (k/4)*zstride + (k%4)*16
+     * linear:  i + j*ystride + k*zstride */
+    int32_t bricked;
+    int32_t ystride, zstride;
+    int32_t pad0;
     float origin[4];
     float spacing[4];
     float inv_spacing[4];
@@ -58,7 +64,7 @@ typedef struct lc_kgrid {
     float diag_volume;  /* |D_volume| of eq. 6 */
     int32_t run_max;    /* BVH: longest run of lattice samples deferred before integrating */
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 
