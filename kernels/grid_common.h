@@ -135,6 +135,26 @@ static inline vfloat grid_fetch(const lc_kgrid *g, vint idx)
     }
 }
 
+static inline vint grid_sext16(vint v) { return vi_sub(vi_and(vi_add(v, vi_set1(0x8000)), vi_set1(0xffff)), vi_set1(0x8000)); }
+
+/* Values at idx and idx + 1 of an owned (padded) linear u8/u16/i16 grid. */
+static inline void grid_fetch_pair(const lc_kgrid *g, vint idx, vfloat *a, vfloat *b)
+{
+    vint lo, hi;
+    if (g->type == LC_KVAL_U8) {
+        vint w = vi_gather_u8pair((const uint8_t *)g->data, idx);
+        lo = vi_and(w, vi_set1(0xff));
+        hi = vi_srl(w, 8);
+    } else {
+        vint w = vi_gather_u16pair((const uint16_t *)g->data, idx);
+        lo = vi_and(w, vi_set1(0xffff));
+        hi = vi_srl(w, 16);
+        if (g->type == LC_KVAL_I16) lo = grid_sext16(lo), hi = grid_sext16(hi);
+    }
+    *a = vi_to_vf(lo);
+    *b = vi_to_vf(hi);
+}
+
 /* Trilinear value (eq. 8) at world positions, and if want_grad the analytic
  * gradient of the same interpolant (eq. 9) in world units. */
 static inline vfloat grid_sample(const lc_kgrid *g, vfloat x, vfloat y, vfloat z, int want_grad, vfloat *gx, vfloat *gy,
@@ -170,10 +190,19 @@ static inline vfloat grid_sample(const lc_kgrid *g, vfloat x, vfloat y, vfloat z
         z1 = vi_add(z0, vi_set1(g->zstride));
     }
     vint yz00 = vi_add(y0, z0), yz10 = vi_add(y1, z0), yz01 = vi_add(y0, z1), yz11 = vi_add(y1, z1);
-    vfloat v000 = grid_fetch(g, vi_add(x0, yz00)), v100 = grid_fetch(g, vi_add(x1, yz00));
-    vfloat v010 = grid_fetch(g, vi_add(x0, yz10)), v110 = grid_fetch(g, vi_add(x1, yz10));
-    vfloat v001 = grid_fetch(g, vi_add(x0, yz01)), v101 = grid_fetch(g, vi_add(x1, yz01));
-    vfloat v011 = grid_fetch(g, vi_add(x0, yz11)), v111 = grid_fetch(g, vi_add(x1, yz11));
+    vfloat v000, v100, v010, v110, v001, v101, v011, v111;
+    if (!g->bricked && g->type != LC_KVAL_F32 && g->wide_safe > INT32_MAX) {
+        /* linear narrow voxels: x neighbours are adjacent, one gather per pair */
+        grid_fetch_pair(g, vi_add(x0, yz00), &v000, &v100);
+        grid_fetch_pair(g, vi_add(x0, yz10), &v010, &v110);
+        grid_fetch_pair(g, vi_add(x0, yz01), &v001, &v101);
+        grid_fetch_pair(g, vi_add(x0, yz11), &v011, &v111);
+    } else {
+        v000 = grid_fetch(g, vi_add(x0, yz00)), v100 = grid_fetch(g, vi_add(x1, yz00));
+        v010 = grid_fetch(g, vi_add(x0, yz10)), v110 = grid_fetch(g, vi_add(x1, yz10));
+        v001 = grid_fetch(g, vi_add(x0, yz01)), v101 = grid_fetch(g, vi_add(x1, yz01));
+        v011 = grid_fetch(g, vi_add(x0, yz11)), v111 = grid_fetch(g, vi_add(x1, yz11));
+    }
     vfloat c00 = vf_lerp(v000, v100, wx), c10 = vf_lerp(v010, v110, wx);
     vfloat c01 = vf_lerp(v001, v101, wx), c11 = vf_lerp(v011, v111, wx);
     vfloat c0 = vf_lerp(c00, c10, wy), c1 = vf_lerp(c01, c11, wy);

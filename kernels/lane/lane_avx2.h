@@ -140,4 +140,15 @@ static inline vint vi_gather_u16(const uint16_t *base, vint idx)
     return _mm256_and_si256(_mm256_i32gather_epi32((const int *)(const void *)base, idx, 2), _mm256_set1_epi32(0xffff));
 }
 
+/* Pairs of horizontally adjacent voxels: base[idx] | base[idx + 1] << 8 (16);
+ * one 32-bit gather, reading up to 2 bytes past the pair (u8). */
+static inline vint vi_gather_u8pair(const uint8_t *base, vint idx)
+{
+    return _mm256_and_si256(_mm256_i32gather_epi32((const int *)(const void *)base, idx, 1), _mm256_set1_epi32(0xffff));
+}
+static inline vint vi_gather_u16pair(const uint16_t *base, vint idx)
+{
+    return _mm256_i32gather_epi32((const int *)(const void *)base, idx, 2);
+}
+
 #endif

@@ -108,4 +108,15 @@ static inline vint vi_gather_u16(const uint16_t *base, vint idx)
     return _mm512_and_si512(_mm512_i32gather_epi32(idx, (const void *)base, 2), _mm512_set1_epi32(0xffff));
 }
 
+/* Pairs of horizontally adjacent voxels: base[idx] | base[idx + 1] << 8 (16);
+ * one 32-bit gather, reading up to 2 bytes past the pair (u8). */
+static inline vint vi_gather_u8pair(const uint8_t *base, vint idx)
+{
+    return _mm512_and_si512(_mm512_i32gather_epi32(idx, (const void *)base, 1), _mm512_set1_epi32(0xffff));
+}
+static inline vint vi_gather_u16pair(const uint16_t *base, vint idx)
+{
+    return _mm512_i32gather_epi32(idx, (const void *)base, 2);
+}
+
 #endif

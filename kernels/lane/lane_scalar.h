@@ -105,4 +105,8 @@ static inline float vf_reduce_max(vfloat a) { return a; }
 static inline vint vi_gather_u8(const uint8_t *base, vint idx) { return base[idx]; }
 static inline vint vi_gather_u16(const uint16_t *base, vint idx) { return base[idx]; }
 
+/* Pairs of horizontally adjacent voxels: base[idx] | base[idx + 1] << 8 (16). */
+static inline vint vi_gather_u8pair(const uint8_t *base, vint idx) { return base[idx] | base[idx + 1] << 8; }
+static inline vint vi_gather_u16pair(const uint16_t *base, vint idx) { return (int32_t)((uint32_t)base[idx] | (uint32_t)base[idx + 1] << 16); }
+
 #endif

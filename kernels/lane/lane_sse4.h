@@ -167,4 +167,20 @@ static inline vint vi_gather_u16(const uint16_t *base, vint idx)
                           base[_mm_extract_epi32(idx, 2)], base[_mm_extract_epi32(idx, 3)]);
 }
 
+/* Pairs of horizontally adjacent voxels: base[idx] | base[idx + 1] << 8 (16). */
+static inline vint vi_gather_u8pair(const uint8_t *base, vint idx)
+{
+    int32_t ix[4], v[4];
+    _mm_storeu_si128((__m128i *)ix, idx);
+    for (int l = 0; l < 4; l++) v[l] = base[ix[l]] | base[ix[l] + 1] << 8;
+    return _mm_loadu_si128((const __m128i *)v);
+}
+static inline vint vi_gather_u16pair(const uint16_t *base, vint idx)
+{
+    int32_t ix[4], v[4];
+    _mm_storeu_si128((__m128i *)ix, idx);
+    for (int l = 0; l < 4; l++) v[l] = (int32_t)((uint32_t)base[ix[l]] | (uint32_t)base[ix[l] + 1] << 16);
+    return _mm_loadu_si128((const __m128i *)v);
+}
+
 #endif
