@@ -78,9 +78,12 @@ void ref_render(const ref_grid *g, const ref_params *p, float *rgba)
             }
             double C[3] = {0, 0, 0}, A = 0;
             if (t0 <= t1) {
-                long k0 = (long)ceil(t0 / p->dt), k1 = (long)floor(t1 / p->dt);
-                for (long k = k0; k <= k1 && A < p->alpha_stop; k++) {
-                    double t = k * p->dt, x[3], gr[3];
+                /* SPEC.md: the step grows by rda*dt per sample, from the eye */
+#define TK(k) (p->dt * ((double)(k) + p->rda * (double)(k) * ((double)(k) - 1) / 2))
+                long k0 = 0;
+                while (TK(k0) < t0) k0++;
+                for (long k = k0; TK(k) <= t1 && A < p->alpha_stop; k++) {
+                    double t = TK(k), x[3], gr[3];
                     for (int a = 0; a < 3; a++) x[a] = p->eye[a] + t * d[a];
                     double phi = ref_sample(g, x, gr);
                     double rgb[3], tau;
@@ -91,7 +94,7 @@ void ref_render(const ref_grid *g, const ref_params *p, float *rgba)
                         double kk = 0.2 + 0.8 * ndl, s = p->shade == 2 ? 0.4 * pow(ndl, 16) : 0;
                         for (int c = 0; c < 3; c++) rgb[c] = rgb[c] * kk + s;
                     }
-                    double al = 1 - exp(-tau * p->dt);
+                    double al = 1 - exp(-tau * p->dt * (1 + p->rda * k));
                     for (int c = 0; c < 3; c++) C[c] += (1 - A) * al * rgb[c];
                     A += (1 - A) * al;
                 }

@@ -18,6 +18,7 @@ typedef struct ref_params {
     double lo, hi;
     double dt, alpha_stop;
     int shade; /* 0 none, 1 diffuse, 2 phong */
+    double rda; /* differential sampling: t_k = dt (k + rda k (k-1) / 2) */
 } ref_params;
 
 /* rgba: premultiplied (C, A), width * height * 4 floats. */

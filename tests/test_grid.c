@@ -198,6 +198,8 @@ static void test_node_ranges(void)
     vol_free(&v);
 }
 
+static float g_rda;
+
 static void render(lc_device *dev, lc_grid *g, const lc_tf *tf, const vol *v, const double eye[3], const double at[3],
                    lc_method m, int shade, int packet, int heur, int preint, float *out, int W, int H, float dt)
 {
@@ -210,6 +212,7 @@ static void render(lc_device *dev, lc_grid *g, const lc_tf *tf, const vol *v, co
     d.range[0] = (float)v->lo, d.range[1] = (float)v->hi;
     if (!heur) d.grid_params = (lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1};
     d.grid_params.preintegrated = preint;
+    d.grid_params.rda = g_rda;
     lc_status s = lc_render(dev, &d, out, NULL);
     CHECK(s == LC_OK, "render: %s", lc_last_error());
 }
@@ -239,7 +242,7 @@ static void test_images(lc_target t)
             for (int shade = 0; shade <= 2; shade++) {
                 double dt = 0.4;
                 ref_params rp = {W, H, {eyes[e][0], eyes[e][1], eyes[e][2]}, {ctr[0], ctr[1], ctr[2]}, {0, 1, 0}, 40, tf,
-                                 v.lo, v.hi, dt, 1.0, shade};
+                                 v.lo, v.hi, dt, 1.0, shade, 0};
                 ref_render(&rg, &rp, r);
                 double amax = 0;
                 for (int i = 0; i < W * H; i++) amax = fmax(amax, r[4 * i + 3]);
@@ -260,6 +263,23 @@ static void test_images(lc_target t)
                                type, e ? "inside" : "outside", md[0], ps[0], md[1], ps[1]);
                 }
             }
+        }
+        /* differential sampling (rda): the same lattice for BVH, brute force and reference */
+        {
+            double dt = 0.3;
+            ref_params rp = {W, H, {eyes[0][0], eyes[0][1], eyes[0][2]}, {ctr[0], ctr[1], ctr[2]}, {0, 1, 0}, 40, tf,
+                             v.lo, v.hi, dt, 1.0, 1, 0.004};
+            ref_render(&rg, &rp, r);
+            g_rda = 0.004f;
+            render(dev, g, tf, &v, eyes[0], ctr, LC_METHOD_BVH, 1, 0, 0, 0, a, W, H, (float)dt);
+            render(dev, g, tf, &v, eyes[0], ctr, LC_METHOD_BRUTE, 1, 0, 0, 0, b, W, H, (float)dt);
+            g_rda = 0;
+            double m1, p1, m2, p2;
+            compare(a, b, W * H, &m1, &p1);
+            compare(a, r, W * H, &m2, &p2);
+            CHECK(m1 <= 2.0 / 255 && p1 >= 50 && m2 <= 2.0 / 255 && p2 >= 50,
+                  "%s type %d rda: bvh-brute max %.5f psnr %.1f, bvh-ref max %.5f psnr %.1f", lc_target_name(t), type, m1, p1,
+                  m2, p2);
         }
         /* pre-integrated classification: BVH and brute take the same segments */
         render(dev, g, tf, &v, eyes[0], ctr, LC_METHOD_BVH, 1, 0, 0, 1, a, W, H, 0.4f);
