@@ -91,6 +91,17 @@ static long rss_mb(void)
     return ru.ru_maxrss / 1024;
 }
 
+/* Resident memory now (not the peak), from /proc/self/statm. */
+static long rss_now_mb(void)
+{
+    long pages = 0, res = 0;
+    FILE *f = fopen("/proc/self/statm", "r");
+    if (!f) return -1;
+    if (fscanf(f, "%ld %ld", &pages, &res) != 2) res = -1;
+    fclose(f);
+    return res < 0 ? -1 : res * 4096 / (1024 * 1024);
+}
+
 static void run_set(const cfg *c, const char *set)
 {
     char path[1024] = "";
@@ -168,15 +179,16 @@ static void run_set(const cfg *c, const char *set)
                             if (now() - start > c->min_seconds) break;
                         }
                         if (!reps) continue;
+                        long rss_now = rss_now_mb();
                         qsort(times, (size_t)reps, sizeof times[0], cmpd);
                         double med = reps % 2 ? times[reps / 2] : 0.5 * (times[reps / 2 - 1] + times[reps / 2]);
                         printf("particles set=%s n=%zu view=%s target=%s lanes=%d threads=%d method=%s packet=%d "
                                "size=%dx%d reps=%d median_s=%.5f min_s=%.5f max_s=%.5f fps=%.3f gauss_per_s=%.4g "
-                               "samples=%llu build_s=%.3f bvh_mb=%.2f data_mb=%.2f rss_mb=%ld\n",
+                               "samples=%llu build_s=%.3f bvh_mb=%.2f data_mb=%.2f rss_now_mb=%ld rss_peak_mb=%ld\n",
                                set, pi.count, view, tn, lc_target_lanes((lc_target)t), th, mn, pk, c->width,
                                c->height, reps, med, times[0], times[reps - 1], 1.0 / med, (double)evals / med,
                                (unsigned long long)samples, pi.build_seconds, (double)pi.bvh_bytes / 1e6,
-                               (double)pi.data_bytes / 1e6, rss_mb());
+                               (double)pi.data_bytes / 1e6, rss_now, rss_mb());
                         fflush(stdout);
                     }
                 }

@@ -54,6 +54,7 @@ static void *create_leaf(RTCThreadLocalAllocator alloc, const struct RTCBuildPri
 typedef struct flat_ctx {
     lci_pbvh *b;
     const float *xyz, *r;
+    float r_all;
     int32_t next_node;
     int32_t next_prim;
     int32_t depth;
@@ -77,7 +78,8 @@ static int flatten(flat_ctx *c, const bnode *n, int32_t slot, int32_t depth)
                 lo[k] = v < lo[k] ? v : lo[k];
                 hi[k] = v > hi[k] ? v : hi[k];
             }
-            rm = c->r[id] > rm ? c->r[id] : rm;
+            float ri = c->r ? c->r[id] : c->r_all;
+            rm = ri > rm ? ri : rm;
         }
         memcpy(o->lo, lo, sizeof lo);
         memcpy(o->hi, hi, sizeof hi);
@@ -110,8 +112,8 @@ void lci_pbvh_free(lci_pbvh *b)
     memset(b, 0, sizeof *b);
 }
 
-int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, size_t n, int leaf_size, lci_pbvh *out,
-                   char *err, size_t errlen)
+int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
+                   lci_pbvh *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
     if (n == 0) return 0;
@@ -127,12 +129,13 @@ int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, size_t
     }
     for (size_t i = 0; i < n; i++) {
         const float *p = xyz + 3 * i;
-        prims[i].lower_x = p[0] - r[i];
-        prims[i].lower_y = p[1] - r[i];
-        prims[i].lower_z = p[2] - r[i];
-        prims[i].upper_x = p[0] + r[i];
-        prims[i].upper_y = p[1] + r[i];
-        prims[i].upper_z = p[2] + r[i];
+        float ri = r ? r[i] : r_all;
+        prims[i].lower_x = p[0] - ri;
+        prims[i].lower_y = p[1] - ri;
+        prims[i].lower_z = p[2] - ri;
+        prims[i].upper_x = p[0] + ri;
+        prims[i].upper_y = p[1] + ri;
+        prims[i].upper_z = p[2] + ri;
         prims[i].geomID = 0;
         prims[i].primID = (unsigned)i;
     }
@@ -180,7 +183,7 @@ int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, size_t
             snprintf(err, errlen, "out of memory for the BVH of %zu particles", n);
             rc = -1;
         } else {
-            flat_ctx c = {out, xyz, r, 1, 0, 0};
+            flat_ctx c = {out, xyz, r, r_all, 1, 0, 0};
             if (flatten(&c, root, 0, 0) != 0 || (size_t)c.next_prim != n) {
                 snprintf(err, errlen, "Embree returned a malformed tree (%d of %zu particles in leaves)", c.next_prim, n);
                 rc = -1;

@@ -15,10 +15,11 @@ typedef struct lci_pbvh {
     uint32_t *order; /* order[j] = original index of the j-th particle in leaf order */
 } lci_pbvh;
 
-/* Builds over n particles (positions xyz interleaved, radii r). leaf_size in
- * 1..32. Returns 0 on success, else writes a message into err. */
-int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, size_t n, int leaf_size, lci_pbvh *out,
-                   char *err, size_t errlen);
+/* Builds over n particles (positions xyz interleaved, radii r, or r_all for
+ * every particle when r is NULL). leaf_size in 1..32. Returns 0 on success,
+ * else writes a message into err. */
+int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
+                   lci_pbvh *out, char *err, size_t errlen);
 void lci_pbvh_free(lci_pbvh *b);
 
 #endif

@@ -167,8 +167,8 @@ static lc_status read_xyz(reader *r, plist *p)
         }
         if (declared >= 0 && (long)p->n == declared) break; /* next frame */
         if (sscanf(s, "%15s %63s %63s %63s", el, xs, ys, zs) != 4)
-            return lci_error(r->dev, LC_ERROR_FORMAT, "%s:%ld: expected 'element x y z', got '%.60s'", r->path,
-                             r->lineno, s);
+            return lci_error(r->dev, LC_ERROR_FORMAT, "%s:%ld: expected 'element x y z', got '%.*s'", r->path,
+                             r->lineno, (int)(strcspn(s, "\r\n") < 60 ? strcspn(s, "\r\n") : 60), s);
         float x, y, z;
         if (parse_float(xs, &x) || parse_float(ys, &y) || parse_float(zs, &z))
             return lci_error(r->dev, LC_ERROR_FORMAT, "%s:%ld: coordinates '%s %s %s' are not numbers", r->path,

@@ -127,12 +127,27 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
                          d->count, first_bad, why);
     size_t n = d->count - bad;
     lc_particles *p = calloc(1, sizeof *p);
-    float *xyz = malloc(sizeof(float) * 3 * (n ? n : 1));
-    float *rad = malloc(sizeof(float) * (n ? n : 1));
-    size_t *src = malloc(sizeof(size_t) * (n ? n : 1));
-    if (!p || !xyz || !rad || !src) {
-        free(p), free(xyz), free(rad), free(src);
-        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
+    if (!p) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory");
+    /* With nothing dropped the BVH is built straight from the caller's arrays;
+     * otherwise from compacted copies (src maps them back). */
+    const float *xyz = d->positions, *rad = d->radii;
+    float *own_xyz = NULL, *own_rad = NULL;
+    size_t *src = NULL;
+    if (bad) {
+        own_xyz = malloc(sizeof(float) * 3 * (n ? n : 1));
+        own_rad = malloc(sizeof(float) * (n ? n : 1));
+        src = malloc(sizeof(size_t) * (n ? n : 1));
+        if (!own_xyz || !own_rad || !src) {
+            free(p), free(own_xyz), free(own_rad), free(src);
+            return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
+        }
+        for (size_t i = 0, j = 0; i < d->count; i++) {
+            if (invalid(d, i, nfields)) continue;
+            memcpy(own_xyz + 3 * j, d->positions + 3 * i, sizeof(float) * 3);
+            own_rad[j] = d->radii ? d->radii[i] : d->radius;
+            src[j++] = i;
+        }
+        xyz = own_xyz, rad = own_rad;
     }
     p->device = dev;
     lc_particles_info *info = &p->info;
@@ -143,17 +158,13 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
     info->min_radius = INFINITY;
     info->max_radius = 0.0f;
     lc_box3 bb = {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-    for (size_t i = 0, j = 0; i < d->count; i++) {
-        if (bad && invalid(d, i, nfields)) continue;
-        const float *x = d->positions + 3 * i;
-        memcpy(xyz + 3 * j, x, sizeof(float) * 3);
-        rad[j] = d->radii ? d->radii[i] : d->radius;
-        src[j] = i;
-        info->min_radius = fminf(info->min_radius, rad[j]);
-        info->max_radius = fmaxf(info->max_radius, rad[j]);
+    for (size_t j = 0; j < n; j++) {
+        const float *x = xyz + 3 * j;
+        float rj = rad ? rad[j] : d->radius;
+        info->min_radius = fminf(info->min_radius, rj);
+        info->max_radius = fmaxf(info->max_radius, rj);
         bb.lo.x = fminf(bb.lo.x, x[0]), bb.lo.y = fminf(bb.lo.y, x[1]), bb.lo.z = fminf(bb.lo.z, x[2]);
         bb.hi.x = fmaxf(bb.hi.x, x[0]), bb.hi.y = fmaxf(bb.hi.y, x[1]), bb.hi.z = fmaxf(bb.hi.z, x[2]);
-        j++;
     }
     if (n == 0) {
         bb = (lc_box3){{0, 0, 0}, {0, 0, 0}};
@@ -166,7 +177,7 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
         void *e = lci_embree_device(dev);
         char err[256];
         if (!e) s = LC_ERROR_INTERNAL;
-        else if (lci_pbvh_build(e, xyz, rad, n, leaf, &p->bvh, err, sizeof err) != 0)
+        else if (lci_pbvh_build(e, xyz, rad, d->radius, n, leaf, &p->bvh, err, sizeof err) != 0)
             s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
     }
     if (s == LC_OK) {
@@ -180,10 +191,11 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
     if (s == LC_OK) {
         for (size_t j = 0; j < n; j++) {
             uint32_t o = p->bvh.order[j];
-            size_t i = src[o];
+            size_t i = src ? src[o] : o;
+            float ro = rad ? rad[o] : d->radius;
             p->px[j] = xyz[3 * o], p->py[j] = xyz[3 * o + 1], p->pz[j] = xyz[3 * o + 2];
-            p->r[j] = rad[o];
-            p->nir[j] = -1.0f / (2.0f * rad[o] * rad[o]);
+            p->r[j] = ro;
+            p->nir[j] = -1.0f / (2.0f * ro * ro);
             p->k[j] = d->values ? d->values[i] : 1.0f;
             p->field[j] = d->fields ? d->fields[i] : 0;
         }
@@ -197,8 +209,8 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
         lci_log(dev, LC_LOG_INFO, "particles: %zu (%zu dropped), %d fields, BVH %d nodes depth %d, %.1f MB, %.3f s", n,
                 bad, nfields, p->bvh.nnodes, p->bvh.depth, (double)info->bvh_bytes / 1e6, info->build_seconds);
     }
-    free(xyz);
-    free(rad);
+    free(own_xyz);
+    free(own_rad);
     free(src);
     if (s != LC_OK) {
         lc_particles_destroy(p);

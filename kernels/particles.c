@@ -111,7 +111,9 @@ static void trace_spheres(const lc_kparticles *s, const lc_kframe *f, const vray
             vfloat h2 = vf_sub(vf_set1(rr * rr), d2);
             vmask m = vm_and(hit, vf_ge(h2, vf_zero()));
             if (vm_none(m)) continue;
-            vfloat t = vf_sub(tc, vf_sqrt(vf_max(h2, vf_zero())));
+            vfloat h = vf_sqrt(vf_max(h2, vf_zero()));
+            vfloat t = vf_sub(tc, h);
+            t = vf_select(vf_gt(t, vf_zero()), t, vf_add(tc, h)); /* eye inside: the far side */
             m = vm_and(m, vm_and(vf_gt(t, vf_zero()), vf_lt(t, best)));
             if (vm_none(m)) continue;
             best = vf_select(m, t, best);

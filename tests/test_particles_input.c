@@ -1,0 +1,200 @@
+/* Bad input to the particle API (issue 3, Tests): lc_particles_create rejects
+ * invalid particles with LC_ERROR_INVALID_ARGUMENT and a message naming the
+ * first bad index and the count of bad ones, drop_invalid drops and counts;
+ * lc_particles_load on malformed files names the file (and the line).
+ * usage: test_particles_input TMPDIR */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+#include <string.h>
+#include "lanecast/lanecast.h"
+#include "check.h"
+
+static lc_device *dev;
+
+/* The call fails with `want` and the message contains every needle (NULL-terminated). */
+static void expect(lc_status got, lc_status want, const char *what, const char *const *needles)
+{
+    const char *m = lc_last_error();
+    int ok = got == want && !strchr(m, '\n'); /* one line: the CLI prints it as is */
+    for (int i = 0; needles[i]; i++) ok = ok && strstr(m, needles[i]);
+    CHECK(ok, "%-44s -> %s: \"%s\"", what, lc_status_string(got), m);
+}
+#define EXPECT(call, want, what, ...) expect((call), (want), (what), (const char *const[]){__VA_ARGS__, NULL})
+
+static void create_errors(void)
+{
+    enum { N = 10 };
+    float xyz[3 * N], r[N], k[N];
+    uint8_t f[N];
+    for (int i = 0; i < N; i++) xyz[3 * i] = (float)i, xyz[3 * i + 1] = 0, xyz[3 * i + 2] = 0, r[i] = 0.5f, k[i] = 1, f[i] = (uint8_t)(i % 2);
+    lc_particles *p = (lc_particles *)(uintptr_t)1;
+    lc_particles_desc d = {.count = N, .positions = xyz, .radii = r, .values = k, .fields = f};
+    /* a NaN position at 3 and an inf one at 7: first index 3, 2 bad */
+    xyz[3 * 3 + 1] = NAN, xyz[3 * 7 + 2] = INFINITY;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "NaN/inf positions at 3, 7", "particle 3", "2 of 10");
+    CHECK(p == NULL, "out is NULL after a failure");
+    d.drop_invalid = 1;
+    lc_status s = lc_particles_create(dev, &d, &p);
+    lc_particles_info info = {0};
+    if (s == LC_OK) lc_particles_get_info(p, &info);
+    CHECK(s == LC_OK && info.count == 8 && info.dropped == 2, "drop_invalid: kept %zu, dropped %zu", info.count, info.dropped);
+    lc_particles_destroy(p);
+    d.drop_invalid = 0;
+    xyz[3 * 3 + 1] = 0, xyz[3 * 7 + 2] = 0;
+    /* radii: zero at 2, negative at 5, inf at 6, NaN at 9 */
+    r[2] = 0.0f, r[5] = -1.0f, r[6] = INFINITY, r[9] = NAN;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "radii 0, -1, inf, NaN at 2, 5, 6, 9", "particle 2", "4 of 10");
+    d.drop_invalid = 1;
+    s = lc_particles_create(dev, &d, &p);
+    if (s == LC_OK) lc_particles_get_info(p, &info);
+    CHECK(s == LC_OK && info.count == 6 && info.dropped == 4, "drop_invalid radii: kept %zu, dropped %zu", info.count, info.dropped);
+    lc_particles_destroy(p);
+    d.drop_invalid = 0;
+    for (int i = 0; i < N; i++) r[i] = 0.5f;
+    /* one shared radius that is bad: every particle is bad */
+    d.radii = NULL, d.radius = 0.0f;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "shared radius 0", "particle 0", "10 of 10");
+    d.radii = r;
+    /* non-finite value */
+    k[4] = NAN;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "NaN value at 4", "particle 4", "1 of 10");
+    k[4] = 1;
+    /* field ids: 2 and 3 with nfields = 2 */
+    f[6] = 2, f[8] = 3;
+    d.nfields = 2;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "field ids 2, 3 with nfields 2", "particle 6", "2 of 10");
+    d.nfields = 0;
+    f[6] = 9, f[8] = 200;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "field ids 9, 200 (auto nfields)", "particle 6", "2 particles");
+    f[6] = 0, f[8] = 0;
+    d.nfields = 9;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "nfields 9", "nfields = 9");
+    d.nfields = -1;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "nfields -1", "nfields = -1");
+    d.nfields = 0;
+    d.leaf_size = 33;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "leaf_size 33", "leaf_size = 33");
+    d.leaf_size = -1;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "leaf_size -1", "leaf_size = -1");
+    /* leaf_size 0 means the default 4 */
+    d.leaf_size = 0;
+    s = lc_particles_create(dev, &d, &p);
+    if (s == LC_OK) lc_particles_get_info(p, &info);
+    CHECK(s == LC_OK && info.leaf_size == 4, "leaf_size 0 = default %d", info.leaf_size);
+    lc_particles_destroy(p);
+    d.positions = NULL;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "NULL positions, count 10", "positions is NULL");
+    d.count = 0;
+    s = lc_particles_create(dev, &d, &p);
+    if (s == LC_OK) lc_particles_get_info(p, &info);
+    CHECK(s == LC_OK && info.count == 0, "count 0 with NULL positions is an empty scene");
+    lc_particles_destroy(p);
+    EXPECT(lc_particles_create(dev, NULL, &p), LC_ERROR_INVALID_ARGUMENT, "NULL desc", "desc is NULL");
+    EXPECT(lc_particles_create(dev, &d, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL out", "out is NULL");
+    EXPECT(lc_particles_create(NULL, &d, &p), LC_ERROR_INVALID_ARGUMENT, "NULL device", "device is NULL");
+    /* all invalid with drop_invalid: an empty scene */
+    d = (lc_particles_desc){.count = 3, .positions = xyz, .radius = -1.0f, .drop_invalid = 1};
+    s = lc_particles_create(dev, &d, &p);
+    if (s == LC_OK) lc_particles_get_info(p, &info);
+    CHECK(s == LC_OK && info.count == 0 && info.dropped == 3, "all dropped: kept %zu, dropped %zu", info.count, info.dropped);
+    lc_particles_destroy(p);
+}
+
+static char tmpdir[512];
+
+static const char *write_file(const char *name, const void *data, size_t n)
+{
+    static char path[1024];
+    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    FILE *fp = fopen(path, "wb");
+    if (fp) {
+        fwrite(data, 1, n, fp);
+        fclose(fp);
+    }
+    return path;
+}
+#define WRITE_TEXT(name, text) write_file(name, text, strlen(text))
+
+static void load_errors(void)
+{
+    lc_particles *p = NULL;
+    lc_particles_load_options o = {0};
+    const char *f;
+    f = WRITE_TEXT("bad_number.xyz", "3\ncomment\nC 0 0 0\nO 1.0 2.x 3\nN 1 1 1\n");
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_FORMAT, "XYZ with a bad number on line 4", f, ":4:");
+    CHECK(p == NULL, "out is NULL after a failed load");
+    f = WRITE_TEXT("short_line.xyz", "C 0 0 0\nC 1 2\n");
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_FORMAT, "XYZ with two coordinates on line 2", f, ":2:");
+    f = WRITE_TEXT("short_count.xyz", "5\ncomment\nC 0 0 0\nC 1 1 1\n");
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_FORMAT, "XYZ header count 5, 2 atoms", f, "5");
+    f = WRITE_TEXT("bad.pdb",
+                   "HEADER    TEST\n"
+                   "ATOM      1  N   ALA A   1      11.104   6.134  -6.504  1.00  0.00           N\n"
+                   "ATOM      2  CA  ALA A   1      11.639   6.0x1  -5.147  1.00  0.00           C\n");
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_FORMAT, "PDB with a bad number on line 3", f, ":3:");
+    f = WRITE_TEXT("empty.pdb", "HEADER    NOTHING\nEND\n");
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_FORMAT, "PDB without atoms", f, "no ATOM");
+    float raw[3 * 4] = {0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3};
+    f = write_file("trunc.raw", raw, sizeof raw - 5); /* 43 bytes */
+    o.raw_count = 4, o.radius = 0.5f;
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_FORMAT, "raw file truncated (43 of 48 bytes)", f, "43 bytes");
+    f = write_file("four.raw", raw, sizeof raw);
+    o.raw_count = 3;
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_FORMAT, "raw count 3 for 4 particles", f, "count");
+    o.raw_count = 5;
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_FORMAT, "raw count 5 for 4 particles", f, "48 bytes");
+    o.raw_count = 4, o.radius = 0.0f;
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_INVALID_ARGUMENT, "raw without a radius", f, "radius");
+    o.radius = 0.5f;
+    lc_status s = lc_particles_load(dev, f, &o, &p);
+    lc_particles_info info = {0};
+    if (s == LC_OK) lc_particles_get_info(p, &info);
+    CHECK(s == LC_OK && info.count == 4, "raw file of 4 particles loads (%zu)", info.count);
+    lc_particles_destroy(p);
+    p = NULL;
+    o = (lc_particles_load_options){0};
+    f = WRITE_TEXT("atoms.foo", "C 0 0 0\n");
+    EXPECT(lc_particles_load(dev, f, &o, &p), LC_ERROR_UNSUPPORTED, "unknown extension .foo", f, "unknown particle format");
+    char missing[1024];
+    snprintf(missing, sizeof missing, "%s/does_not_exist.xyz", tmpdir);
+    EXPECT(lc_particles_load(dev, missing, &o, &p), LC_ERROR_IO, "missing file", missing, "cannot open");
+    f = WRITE_TEXT("nan.xyz", "C 0 0 0\nC nan 1 1\nC 2 2 2\n");
+    s = lc_particles_load(dev, f, &o, &p);
+    const char *m = lc_last_error();
+    CHECK(s != LC_OK && p == NULL && strstr(m, "nan.xyz") && (strstr(m, ":2") || strstr(m, "particle 1")),
+          "XYZ with a NaN coordinate on line 2 -> %s: \"%s\"", lc_status_string(s), m);
+    o.drop_invalid = 1;
+    s = lc_particles_load(dev, f, &o, &p);
+    if (s == LC_OK) lc_particles_get_info(p, &info);
+    CHECK(s == LC_OK && info.count == 2 && info.dropped == 1, "XYZ NaN with drop_invalid: kept %zu, dropped %zu",
+          info.count, info.dropped);
+    lc_particles_destroy(p);
+}
+
+int main(int argc, char **argv)
+{
+    snprintf(tmpdir, sizeof tmpdir, "%s/particles_input_XXXXXX", argc > 1 ? argv[1] : ".");
+    if (!mkdtemp(tmpdir)) {
+        printf("cannot create a temporary folder %s\n", tmpdir);
+        return 1;
+    }
+    lc_device_desc dd = {.threads = 1};
+    if (lc_device_create(&dd, &dev) != LC_OK) {
+        printf("lc_device_create: %s\n", lc_last_error());
+        return 1;
+    }
+    create_errors();
+    load_errors();
+    lc_device_destroy(dev);
+    static const char *const names[] = {"bad_number.xyz", "short_line.xyz", "short_count.xyz", "bad.pdb", "empty.pdb",
+                                        "trunc.raw", "four.raw", "atoms.foo", "nan.xyz"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", tmpdir, names[i]);
+        remove(path);
+    }
+    rmdir(tmpdir);
+    return check_summary("test_particles_input");
+}
