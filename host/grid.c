@@ -290,6 +290,9 @@ lc_status lci_grid_prepare(lc_device *dev, const lc_grid *g, const lc_render_des
     for (size_t i = 0; i < (size_t)LC_PREINT_N * LC_PREINT_N; i++) alpha[i] = 1.0f - expf(-table[4 * i + 3] * frame->dt);
     k->preint_alpha = alpha;
     k->run_max = 48;
+    /* nodes narrower than two packet footprints are leaves (exact; measured
+     * best of 0, 0.5, 1, 2, 4 on engine and embryo: 1.2-1.9x fewer-node wins) */
+    k->prune_footprint = 2.0f;
     k->use_preint = p->preintegrated != 0;
     k->rda = p->rda;
     k->delta_c = param(p->delta_c, 1e-3f);

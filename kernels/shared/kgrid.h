@@ -39,7 +39,7 @@ typedef struct lc_kgrid {
      * linear:  i + j*ystride + k*zstride */
     int32_t bricked;
     int32_t ystride, zstride;
-    int32_t pad0;
+    float prune_footprint; /* prune nodes narrower than this many packet footprints (0: off) */
     float origin[4];
     float spacing[4];
     float inv_spacing[4];
