@@ -414,8 +414,10 @@ void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *
                         for (int fi = 0; fi < nf; fi++) {
                             const float *p = c.buf + (((size_t)fi * (size_t)K + (size_t)(k - kp)) * (size_t)comps) *
                                                          (size_t)rays + (size_t)o;
+                            vfloat phi = vf_load(p);
+                            if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
                             vfloat cr, cg, cb, tau;
-                            dvr_classify(&f->tf[fi], vf_load(p), &cr, &cg, &cb, &tau);
+                            dvr_classify(&f->tf[fi], phi, &cr, &cg, &cb, &tau);
                             if (comps == 4)
                                 dvr_shade(f, f->tf[fi].grad_eps, &r, vf_load(p + rays), vf_load(p + 2 * rays),
                                           vf_load(p + 3 * rays), &cr, &cg, &cb);
@@ -516,6 +518,8 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                     if (!found && f->zero_transparent) continue; /* blends to exactly nothing */
                     st->samples += (uint64_t)vm_popcnt(m);
                     for (int fi = 0; fi < nf; fi++) {
+                        /* tau(0) = 0 and this field is 0 on every lane: it blends to exactly nothing */
+                        if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi[fi], vf_zero())))) continue;
                         vfloat cr, cg, cb, tau;
                         dvr_classify(&f->tf[fi], phi[fi], &cr, &cg, &cb, &tau);
                         if (shade) dvr_shade(f, f->tf[fi].grad_eps, &r, gx[fi], gy[fi], gz[fi], &cr, &cg, &cb);
