@@ -257,15 +257,19 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         int kb = (int)__builtin_ceilf(vf_reduce_max_masked(m, tb) / dt);
         ka = ka < kp ? kp : ka;
         kb = kb > kend ? kend : kb;
+        if (ka > kb) continue;
+        c->touched[v] = 1;
+        uint64_t evals = 0;
+        /* branch-free: [ka, kb] is the union of the lanes' chords, so almost every
+           step has active lanes and a data-dependent branch would mispredict at
+           both ends of every chord */
         for (int k = ka; k <= kb; k++) {
             vfloat t = vf_set1((float)k * dt);
             vfloat px = vf_fma(dx, t, ox), py = vf_fma(dy, t, oy), pz = vf_fma(dz, t, oz);
             vmask in;
             vfloat ex, ey, ez;
             vfloat pd2 = sample_d2(px, py, pz, cx, cy, cz, r2s, m, &in, &ex, &ey, &ez);
-            if (vm_none(in)) continue;
-            c->touched[v] = 1;
-            st->kernel_evals += (uint64_t)vm_popcnt(in);
+            evals += (uint64_t)vm_popcnt(in);
             vfloat phi = gaussian(pd2, nir, kk, in);
             float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
             vf_store(row, vf_add(vf_load(row), phi));
@@ -276,6 +280,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
                 vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
             }
         }
+        st->kernel_evals += evals;
     }
 }
 
@@ -409,8 +414,10 @@ void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *
                         for (int fi = 0; fi < nf; fi++) {
                             const float *p = c.buf + (((size_t)fi * (size_t)K + (size_t)(k - kp)) * (size_t)comps) *
                                                          (size_t)rays + (size_t)o;
+                            vfloat phi = vf_load(p);
+                            if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
                             vfloat cr, cg, cb, tau;
-                            dvr_classify(&f->tf[fi], vf_load(p), &cr, &cg, &cb, &tau);
+                            dvr_classify(&f->tf[fi], phi, &cr, &cg, &cb, &tau);
                             if (comps == 4)
                                 dvr_shade(f, f->tf[fi].grad_eps, &r, vf_load(p + rays), vf_load(p + 2 * rays),
                                           vf_load(p + 3 * rays), &cr, &cg, &cb);
@@ -511,6 +518,8 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                     if (!found && f->zero_transparent) continue; /* blends to exactly nothing */
                     st->samples += (uint64_t)vm_popcnt(m);
                     for (int fi = 0; fi < nf; fi++) {
+                        /* tau(0) = 0 and this field is 0 on every lane: it blends to exactly nothing */
+                        if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi[fi], vf_zero())))) continue;
                         vfloat cr, cg, cb, tau;
                         dvr_classify(&f->tf[fi], phi[fi], &cr, &cg, &cb, &tau);
                         if (shade) dvr_shade(f, f->tf[fi].grad_eps, &r, gx[fi], gy[fi], gz[fi], &cr, &cg, &cb);
