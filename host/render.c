@@ -66,6 +66,13 @@ lc_status lci_frame_build(lc_device *dev, const lc_render_desc *d, const lci_sce
     return LC_OK;
 }
 
+/* Each worker's counters on their own cache lines: kernels bump them in hot
+ * loops, and two workers sharing a line would ping-pong it between cores. */
+typedef struct padded_stats {
+    lc_kstats s;
+    unsigned char pad[128 - sizeof(lc_kstats)];
+} padded_stats;
+
 typedef struct job {
     const lci_prepared *prep;
     const lc_kframe *frame;
@@ -73,7 +80,7 @@ typedef struct job {
     int width, height, tile, ntx;
     unsigned char *scratch;
     uint64_t scratch_bytes;
-    lc_kstats *stats; /* one per worker */
+    padded_stats *stats; /* one per worker */
     atomic_int done;
     int ntasks;
     void (*progress)(void *user, float fraction);
@@ -92,8 +99,8 @@ static void run_tile(void *ctx, int task, int worker)
     t.pad = 0;
     t.rgba = j->rgba;
     lc_kscratch sc = {j->scratch + (size_t)worker * j->scratch_bytes, j->scratch_bytes};
-    if (j->prep->particles_fn) j->prep->particles_fn(j->prep->particles, j->frame, &t, &sc, &j->stats[worker]);
-    else j->prep->grid_fn(j->prep->grid, j->frame, &t, &sc, &j->stats[worker]);
+    if (j->prep->particles_fn) j->prep->particles_fn(j->prep->particles, j->frame, &t, &sc, &j->stats[worker].s);
+    else j->prep->grid_fn(j->prep->grid, j->frame, &t, &sc, &j->stats[worker].s);
     int done = atomic_fetch_add_explicit(&j->done, 1, memory_order_relaxed) + 1;
     if (j->progress && worker == 0) j->progress(j->progress_user, (float)done / (float)j->ntasks);
 }
@@ -130,7 +137,7 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
     lci_prepared prep;
     memset(&prep, 0, sizeof prep);
     unsigned char *scratch = NULL;
-    lc_kstats *ws = NULL;
+    padded_stats *ws = NULL;
     if (!tables || !frame) {
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
         goto done;
@@ -143,7 +150,7 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
     int nthreads = lci_pool_threads(dev->pool);
     uint64_t sb = (prep.scratch_bytes + 63) & ~(uint64_t)63;
     scratch = lci_aligned_alloc(64, (size_t)sb * (size_t)nthreads);
-    ws = calloc((size_t)nthreads, sizeof *ws);
+    ws = lci_aligned_alloc(128, (size_t)nthreads * sizeof *ws);
     if (!scratch || !ws) {
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for %d x %llu bytes of scratch", nthreads,
                       (unsigned long long)sb);
@@ -158,19 +165,19 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
     if (stats) {
         memset(stats, 0, sizeof *stats);
         for (int w = 0; w < nthreads; w++) {
-            stats->rays += ws[w].rays;
-            stats->samples += ws[w].samples;
-            stats->kernel_evals += ws[w].kernel_evals;
-            stats->nodes += ws[w].nodes;
-            stats->leaves += ws[w].leaves;
-            stats->passes += ws[w].passes;
+            stats->rays += ws[w].s.rays;
+            stats->samples += ws[w].s.samples;
+            stats->kernel_evals += ws[w].s.kernel_evals;
+            stats->nodes += ws[w].s.nodes;
+            stats->leaves += ws[w].s.leaves;
+            stats->passes += ws[w].s.passes;
         }
         stats->target = dev->target;
         stats->threads = nthreads;
         stats->seconds = lci_now() - t0;
     }
 done:
-    free(ws);
+    lci_aligned_free(ws);
     lci_aligned_free(scratch);
     free(prep.owned);
     lci_aligned_free(frame);
