@@ -440,6 +440,57 @@ void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *
     }
 }
 
+/* ---------------------------------------------------------------- gathering */
+
+/* Every field (and, with grad, its gradient) at the points p of the lanes in m,
+ * through the BVH: the direct method's per-sample gather. Returns whether any
+ * particle contributed. */
+static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
+                                int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
+{
+    for (int fi = 0; fi < s->nfields; fi++) phi[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
+    if (s->nnodes == 0) return 0;
+    int sp = 0, found = 0;
+    uint64_t nodes = 0, leaves = 0, evals = 0;
+    stack[sp++] = 0;
+    while (sp > 0) {
+        int32_t n = stack[--sp];
+        const lc_kpnode *node = &s->nodes[n];
+        float g = grow(s->sigma * s->node_rmax[n]);
+        nodes++;
+        vmask in = vm_and(m, vm_and(vm_and(vf_ge(px, vf_set1(node->lo[0] - g)), vf_le(px, vf_set1(node->hi[0] + g))),
+                                    vm_and(vm_and(vf_ge(py, vf_set1(node->lo[1] - g)), vf_le(py, vf_set1(node->hi[1] + g))),
+                                           vm_and(vf_ge(pz, vf_set1(node->lo[2] - g)), vf_le(pz, vf_set1(node->hi[2] + g))))));
+        if (vm_none(in)) continue;
+        if (node->count == 0) {
+            stack[sp++] = node->first + 1;
+            stack[sp++] = node->first;
+            continue;
+        }
+        leaves++;
+        for (int32_t i = node->first; i < node->first + node->count; i++) {
+            float rs = s->sigma * s->r[i];
+            vmask inside;
+            vfloat ex, ey, ez;
+            vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex, &ey, &ez);
+            if (vm_none(inside)) continue;
+            found = 1;
+            evals += (uint64_t)vm_popcnt(inside);
+            vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
+            int fi = s->field[i];
+            phi[fi] = vf_add(phi[fi], p);
+            if (grad) {
+                vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i])); /* grad phi_i = -(p - c) / r^2 phi_i */
+                gx[fi] = vf_fma(ex, gp, gx[fi]);
+                gy[fi] = vf_fma(ey, gp, gy[fi]);
+                gz[fi] = vf_fma(ez, gp, gz[fi]);
+            }
+        }
+    }
+    if (st) st->nodes += nodes, st->leaves += leaves, st->kernel_evals += evals;
+    return found;
+}
+
 /* ---------------------------------------------------------------- direct */
 
 void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f, const lc_ktile *t,
@@ -476,45 +527,8 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                     vfloat tk = vf_set1((float)k * dt);
                     vfloat px = vf_fma(r.dx, tk, r.ox), py = vf_fma(r.dy, tk, r.oy), pz = vf_fma(r.dz, tk, r.oz);
                     vfloat phi[LC_MAX_FIELDS], gx[LC_MAX_FIELDS], gy[LC_MAX_FIELDS], gz[LC_MAX_FIELDS];
-                    for (int fi = 0; fi < nf; fi++) phi[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
                     /* gather: every particle whose support contains a sample */
-                    int sp = 0, found = 0;
-                    stack[sp++] = 0;
-                    while (sp > 0) {
-                        int32_t n = stack[--sp];
-                        const lc_kpnode *node = &s->nodes[n];
-                        float g = grow(s->sigma * s->node_rmax[n]);
-                        st->nodes++;
-                        vmask in = vm_and(m, vm_and(vm_and(vf_ge(px, vf_set1(node->lo[0] - g)), vf_le(px, vf_set1(node->hi[0] + g))),
-                                                    vm_and(vm_and(vf_ge(py, vf_set1(node->lo[1] - g)), vf_le(py, vf_set1(node->hi[1] + g))),
-                                                           vm_and(vf_ge(pz, vf_set1(node->lo[2] - g)), vf_le(pz, vf_set1(node->hi[2] + g))))));
-                        if (vm_none(in)) continue;
-                        if (node->count == 0) {
-                            stack[sp++] = node->first + 1;
-                            stack[sp++] = node->first;
-                            continue;
-                        }
-                        st->leaves++;
-                        for (int32_t i = node->first; i < node->first + node->count; i++) {
-                            float rs = s->sigma * s->r[i];
-                            vmask inside;
-                            vfloat ex, ey, ez;
-                            vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex,
-                                                  &ey, &ez);
-                            if (vm_none(inside)) continue;
-                            found = 1;
-                            st->kernel_evals += (uint64_t)vm_popcnt(inside);
-                            vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
-                            int fi = s->field[i];
-                            phi[fi] = vf_add(phi[fi], p);
-                            if (shade) {
-                                vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i]));
-                                gx[fi] = vf_fma(ex, gp, gx[fi]);
-                                gy[fi] = vf_fma(ey, gp, gy[fi]);
-                                gz[fi] = vf_fma(ez, gp, gz[fi]);
-                            }
-                        }
-                    }
+                    int found = gather_fields(s, px, py, pz, m, shade, stack, phi, gx, gy, gz, st);
                     if (!found && f->zero_transparent) continue; /* blends to exactly nothing */
                     st->samples += (uint64_t)vm_popcnt(m);
                     for (int fi = 0; fi < nf; fi++) {
@@ -552,37 +566,7 @@ void LC_KFN(particles_sample)(const struct lc_kparticles *s, const float *xyz, i
         vfloat px = vf_load(tx), py = vf_load(ty), pz = vf_load(tz);
         vmask m = vm_first_n(cnt);
         vfloat acc[LC_MAX_FIELDS], gx[LC_MAX_FIELDS], gy[LC_MAX_FIELDS], gz[LC_MAX_FIELDS];
-        for (int fi = 0; fi < nf; fi++) acc[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
-        int sp = 0;
-        if (s->nnodes > 0) stack[sp++] = 0;
-        while (sp > 0) {
-            int32_t nd = stack[--sp];
-            const lc_kpnode *node = &s->nodes[nd];
-            float g = grow(s->sigma * s->node_rmax[nd]);
-            vmask in = vm_and(m, vm_and(vm_and(vf_ge(px, vf_set1(node->lo[0] - g)), vf_le(px, vf_set1(node->hi[0] + g))),
-                                        vm_and(vm_and(vf_ge(py, vf_set1(node->lo[1] - g)), vf_le(py, vf_set1(node->hi[1] + g))),
-                                               vm_and(vf_ge(pz, vf_set1(node->lo[2] - g)), vf_le(pz, vf_set1(node->hi[2] + g))))));
-            if (vm_none(in)) continue;
-            if (node->count == 0) {
-                stack[sp++] = node->first + 1;
-                stack[sp++] = node->first;
-                continue;
-            }
-            for (int32_t i = node->first; i < node->first + node->count; i++) {
-                float rs = s->sigma * s->r[i];
-                vmask inside;
-                vfloat ex, ey, ez;
-                vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex, &ey, &ez);
-                if (vm_none(inside)) continue;
-                vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
-                int fi = s->field[i];
-                acc[fi] = vf_add(acc[fi], p);
-                vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i]));
-                gx[fi] = vf_fma(ex, gp, gx[fi]);
-                gy[fi] = vf_fma(ey, gp, gy[fi]);
-                gz[fi] = vf_fma(ez, gp, gz[fi]);
-            }
-        }
+        gather_fields(s, px, py, pz, m, 1, stack, acc, gx, gy, gz, NULL);
         for (int fi = 0; fi < nf; fi++) {
             for (int l = 0; l < cnt; l++) {
                 int64_t o = (base + l) * nf + fi;
