@@ -9,7 +9,23 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include "host/internal.h"
 #include "lanecast/lanecast.h"
+
+/* Stage-profile kernel variants (bench/grid_prof.c, meson prof_masks): each
+ * replaces one more stage than the one before. */
+#define PROF_DECL(i)                                                                                                   \
+    void grid_bvh_prof##i(const struct lc_kgrid *, const lc_kframe *, const lc_ktile *, lc_kscratch *, lc_kstats *);  \
+    void grid_brute_prof##i(const struct lc_kgrid *, const lc_kframe *, const lc_ktile *, lc_kscratch *, lc_kstats *);
+PROF_DECL(0) PROF_DECL(1) PROF_DECL(2) PROF_DECL(3) PROF_DECL(4) PROF_DECL(5) PROF_DECL(6)
+#define NPROF 7
+static const lc_grid_tile_fn prof_bvh[NPROF] = {grid_bvh_prof0, grid_bvh_prof1, grid_bvh_prof2, grid_bvh_prof3,
+                                                grid_bvh_prof4, grid_bvh_prof5, grid_bvh_prof6};
+static const lc_grid_tile_fn prof_brute[NPROF] = {grid_brute_prof0, grid_brute_prof1, grid_brute_prof2, grid_brute_prof3,
+                                                  grid_brute_prof4, grid_brute_prof5, grid_brute_prof6};
+/* stage removed between variant i-1 and i (variant 0: all stages, no early termination) */
+static const char *const prof_stage[NPROF] = {"total", "fetch", "interpolation", "classification", "shading", "blending",
+                                              "sample_loop"};
 
 static double now(void)
 {
@@ -65,6 +81,68 @@ static lc_status procedural(lc_device *dev, int n, lc_grid **out)
     return st;
 }
 
+static int prof_bad; /* a variant took other samples than the full one: the profile is void */
+
+/* Stage profile of one case: the shipped kernel (default alpha_stop) for
+ * reference, then the variants round-robin `repeats` times so that load
+ * changes hit every variant alike; medians; the time of a stage is the
+ * median time of the variant before its removal minus the one after. */
+static void run_profile(lc_device *dev, const lc_render_desc *d0, const char *vn, int W, const char *view, const char *shade,
+                        const char *meth, int nth, int repeats)
+{
+    lc_target pt;
+    if (lc_target_from_name(LC_PROF_TARGET, &pt) != LC_OK || dev->target != pt) {
+        printf("# profile: variants are built for %s, device runs %s: skipped\n", LC_PROF_TARGET, lc_target_name(dev->target));
+        return;
+    }
+    float *rgba = malloc(sizeof(float) * 4 * (size_t)W * W);
+    lc_render_desc d = *d0;
+    lc_render_stats st;
+    double shipped[64], ts[NPROF][64];
+    uint64_t samples[NPROF];
+    int n = repeats < 64 ? repeats : 64;
+    const lc_ktable *orig = dev->kt;
+    lc_ktable kt = *orig;
+    lc_render(dev, &d, rgba, &st); /* warm-up */
+    for (int r = 0; r < n; r++) {
+        double a = now();
+        lc_render(dev, &d, rgba, &st);
+        shipped[r] = now() - a;
+    }
+    uint64_t shipped_samples = st.samples;
+    d.alpha_stop = 1.0f;
+    for (int r = -1; r < n; r++) /* r = -1: warm-up round */
+        for (int v = 0; v < NPROF; v++) {
+            kt.grid_bvh = prof_bvh[v], kt.grid_brute = prof_brute[v];
+            dev->kt = &kt;
+            double a = now();
+            lc_render(dev, &d, rgba, &st);
+            if (r >= 0) ts[v][r] = now() - a;
+            samples[v] = st.samples;
+            dev->kt = orig;
+        }
+    qsort(shipped, (size_t)n, sizeof(double), cmpd);
+    double med[NPROF], lo[NPROF], hi[NPROF];
+    for (int v = 0; v < NPROF; v++) {
+        qsort(ts[v], (size_t)n, sizeof(double), cmpd);
+        med[v] = ts[v][n / 2], lo[v] = ts[v][0], hi[v] = ts[v][n - 1];
+    }
+    printf("gridprof volume=%s size=%d view=%s shade=%s method=%s target=%s threads=%d reps=%d shipped_ms=%.1f "
+           "shipped_msamples=%.2f nostop_msamples=%.2f",
+           vn, W, view, shade, meth, lc_target_name(dev->target), nth, n, 1e3 * shipped[n / 2], (double)shipped_samples / 1e6,
+           (double)samples[0] / 1e6);
+    /* same samples in every variant that still samples: the subtraction compares like with like */
+    int same = 1;
+    for (int v = 1; v < NPROF - 1; v++) same &= samples[v] == samples[0];
+    printf(" same_samples=%s", same ? "yes" : "NO");
+    if (!same) prof_bad = 1;
+    for (int v = 0; v < NPROF; v++) printf(" v%d_ms=%.1f v%d_min=%.1f v%d_max=%.1f", v, 1e3 * med[v], v, 1e3 * lo[v], v, 1e3 * hi[v]);
+    for (int v = 1; v < NPROF; v++) printf(" %s_ms=%.1f", prof_stage[v], 1e3 * (med[v - 1] - med[v]));
+    printf(" rest_ms=%.1f\n", 1e3 * med[NPROF - 1]);
+    fflush(stdout);
+    free(rgba);
+}
+
 static const char help[] =
     "usage: bench_grid [options]\n"
     "  --data DIR          shared data folder (default ../shared/data)\n"
@@ -79,7 +157,9 @@ static const char help[] =
     "  --heuristics on|off (default on)\n"
     "  --layout linear|bricked  voxel layout (default bricked, 4^3)\n"
     "  --repeats N         renders per case after one warm-up (default 5)\n"
-    "  --max-seconds S     stop repeating a case after S seconds (default 10)\n";
+    "  --max-seconds S     stop repeating a case after S seconds (default 10)\n"
+    "  --profile           stage profile instead of fps: the kernel variants of bench/grid_prof.c\n"
+    "                      (widest compiled target), repeats interleaved; see docs/BENCHMARKS-grid.md\n";
 
 int main(int argc, char **argv)
 {
@@ -89,13 +169,17 @@ int main(int argc, char **argv)
     list vols, sizes, views, shades, meths, tgts, thrs, pks;
     split(&vols, dflt_vol), split(&sizes, dflt_size), split(&views, dflt_view), split(&shades, dflt_shade);
     split(&meths, dflt_meth), split(&tgts, dflt_tgt), split(&thrs, dflt_thr), split(&pks, dflt_pk);
-    int repeats = 5, heur = 1;
+    int repeats = 5, heur = 1, profile = 0;
     double max_s = 10;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--help")) {
             fputs(help, stdout);
             return 0;
+        }
+        if (!strcmp(a, "--profile")) {
+            profile = 1;
+            continue;
         }
         if (i + 1 >= argc) {
             fprintf(stderr, "bench_grid: %s needs a value\n", a);
@@ -184,6 +268,10 @@ int main(int argc, char **argv)
                                                 : !strcmp(shades.v[shi], "diffuse") ? LC_SHADE_DIFFUSE : LC_SHADE_NONE;
                                     d.method = !strcmp(meths.v[mi], "brute") ? LC_METHOD_BRUTE : LC_METHOD_BVH;
                                     if (!heur) d.grid_params = (lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1};
+                                    if (profile) {
+                                        run_profile(dev, &d, vn, W, view, shades.v[shi], meths.v[mi], nth, repeats);
+                                        continue;
+                                    }
                                     float *rgba = malloc(sizeof(float) * 4 * (size_t)W * W);
                                     lc_render_stats st;
                                     if (lc_render(dev, &d, rgba, &st) != LC_OK) { /* warm-up */
@@ -217,5 +305,5 @@ int main(int argc, char **argv)
         lc_grid_destroy(g);
     }
     lc_device_destroy(dev0);
-    return 0;
+    return prof_bad;
 }

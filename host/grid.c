@@ -9,6 +9,8 @@
 /* kernels index voxels with int32 element offsets */
 #define MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
 #define GATHER_PAD 64
+/* nodes per axis: every index up to size - 2 is exact in float32 */
+#define MAX_AXIS (1 << 24)
 
 int lci_value_size(lc_value_type t)
 {
@@ -80,6 +82,17 @@ lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, con
         if (d->size[a] < 2) {
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: size %d x %d x %d: every size must be at least 2 nodes",
                           name, d->size[0], d->size[1], d->size[2]);
+            goto fail;
+        }
+        /* the kernels locate samples in float32 node coordinates: past 2^24
+         * nodes an axis has cells float cannot address, and the clamp of the
+         * cell index to size - 2 rounds up to size - 1, so the +1 neighbour
+         * of the last cell would be read one row, plane or element past the
+         * array (found with a borrowed array ending at a guard page) */
+        if (d->size[a] > MAX_AXIS) {
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                          "%s: size %d x %d x %d: at most %d nodes per axis (float32 sample coordinates)", name,
+                          d->size[0], d->size[1], d->size[2], MAX_AXIS);
             goto fail;
         }
         if (count > MAX_ELEMENTS / d->size[a]) {

@@ -11,6 +11,32 @@
 #include "shared/kgrid.h"
 #include "shared/ktable.h"
 
+/* Stage profile (bench only, docs/BENCHMARKS-grid.md "Stage profile"): the
+ * benchmark compiles these kernels again with GRID_PROF set to a cumulative
+ * set of stages replaced by cheap stand-ins that keep the data flow (so the
+ * compiler cannot drop what remains) and the samples taken (frames run with
+ * no early termination). The shipped kernels have GRID_PROF = 0: every test is
+ * a compile-time constant and folds away. */
+#ifndef GRID_PROF
+#define GRID_PROF 0
+#endif
+enum {
+    GP_FETCH = 1,   /* voxel loads -> arithmetic on the element index */
+    GP_INTERP = 2,  /* cell, offsets, trilinear weights, gradient -> a linear function of position */
+    GP_CLASS = 4,   /* TF / pre-integrated table lookups -> rgb = v, tau = v */
+    GP_SHADE = 8,   /* shading -> nothing */
+    GP_BLEND = 16,  /* exp and front-to-back compositing -> masked sums */
+    GP_SAMPLE = 32, /* the whole per-sample loop -> nothing (only its bookkeeping) */
+    GP_NOSTOP = 64  /* every profile variant: no early termination, so all take the same samples */
+};
+
+/* Lanes still below alpha_stop (all of them in profile variants). */
+static inline vmask grid_below_stop(vfloat a, vfloat astop)
+{
+    if (GRID_PROF & GP_NOSTOP) return vi_eq(vi_set1(0), vi_set1(0));
+    return vf_lt(a, astop);
+}
+
 /* One packlet: LC_W rays in SOA form, their colour and lattice progress.
  * knext: next lattice index still to integrate (the BVH visits leaves front
  * to back, so a sample on a face shared by two leaves is taken once);
@@ -115,6 +141,7 @@ static inline vint grid_load_lanes(const lc_kgrid *g, vint idx)
 /* Voxel values at element indices idx (any lane value must be valid). */
 static inline vfloat grid_fetch(const lc_kgrid *g, vint idx)
 {
+    if (GRID_PROF & GP_FETCH) return vi_to_vf(vi_and(idx, vi_set1(0xff)));
     switch (g->type) {
     case LC_KVAL_F32:
         return vf_gather((const float *)g->data, idx);
@@ -141,6 +168,11 @@ static inline vint grid_sext16(vint v) { return vi_sub(vi_and(vi_add(v, vi_set1(
 static inline void grid_fetch_pair(const lc_kgrid *g, vint idx, vfloat *a, vfloat *b)
 {
     vint lo, hi;
+    if (GRID_PROF & GP_FETCH) {
+        *a = vi_to_vf(vi_and(idx, vi_set1(0xff)));
+        *b = vi_to_vf(vi_and(vi_add(idx, vi_set1(1)), vi_set1(0xff)));
+        return;
+    }
     if (g->type == LC_KVAL_U8) {
         vint w = vi_gather_u8pair((const uint8_t *)g->data, idx);
         lo = vi_and(w, vi_set1(0xff));
@@ -163,6 +195,10 @@ static inline vfloat grid_sample(const lc_kgrid *g, vfloat x, vfloat y, vfloat z
     vfloat ux = vf_mul(vf_sub(x, vf_set1(g->origin[0])), vf_set1(g->inv_spacing[0]));
     vfloat uy = vf_mul(vf_sub(y, vf_set1(g->origin[1])), vf_set1(g->inv_spacing[1]));
     vfloat uz = vf_mul(vf_sub(z, vf_set1(g->origin[2])), vf_set1(g->inv_spacing[2]));
+    if (GRID_PROF & GP_INTERP) {
+        if (want_grad) *gx = ux, *gy = uy, *gz = uz;
+        return vf_add(ux, vf_add(uy, uz));
+    }
     vfloat fx0 = vf_clamp(vf_floor(ux), vf_zero(), vf_set1((float)(g->size[0] - 2)));
     vfloat fy0 = vf_clamp(vf_floor(uy), vf_zero(), vf_set1((float)(g->size[1] - 2)));
     vfloat fz0 = vf_clamp(vf_floor(uz), vf_zero(), vf_set1((float)(g->size[2] - 2)));
@@ -248,6 +284,7 @@ static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p,
     vmask m = start;
     vint k = ka;
     uint64_t n = 0;
+    if (GRID_PROF & GP_SAMPLE) m = vm_and(m, vm_not(m));
     while (vm_any(m)) {
         vfloat t = grid_t_of_k(g, dt, k);
         vfloat x = vf_fma(t, p->ray.dx, p->ray.ox);
@@ -256,7 +293,10 @@ static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p,
         vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
         vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
         vfloat r, gg, b, tau;
-        if (g->use_preint) {
+        if (GRID_PROF & GP_CLASS) {
+            r = gg = b = phi;
+            tau = vf_mul(phi, vf_set1(1e-3f));
+        } else if (g->use_preint) {
             vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
             vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
             grid_classify_preint(g, va, v, &r, &gg, &b, &tau);
@@ -265,18 +305,26 @@ static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p,
         } else {
             dvr_classify(tf, phi, &r, &gg, &b, &tau);
         }
-        if (shade) dvr_shade(f, tf->grad_eps, &p->ray, gx, gy, gz, &r, &gg, &b);
+        if (shade && !(GRID_PROF & GP_SHADE)) dvr_shade(f, tf->grad_eps, &p->ray, gx, gy, gz, &r, &gg, &b);
+        if (shade && (GRID_PROF & GP_SHADE)) r = vf_add(r, gx), gg = vf_add(gg, gy), b = vf_add(b, gz);
         if (g->rda != 0.0f) /* this sample's step is dt (1 + rda k) */
             tau = vf_mul(tau, vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f)));
-        dvr_blend(&p->c, m, r, gg, b, tau, dt);
+        if (GRID_PROF & GP_BLEND) {
+            p->c.r = vf_add(p->c.r, vf_select(m, r, vf_zero()));
+            p->c.g = vf_add(p->c.g, vf_select(m, gg, vf_zero()));
+            p->c.b = vf_add(p->c.b, vf_select(m, b, vf_zero()));
+            p->c.a = vf_add(p->c.a, vf_select(m, tau, vf_zero()));
+        } else {
+            dvr_blend(&p->c, m, r, gg, b, tau, dt);
+        }
         n += (uint64_t)vm_popcnt(m);
         k = vi_add(k, vi_set1(1));
-        m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), vf_lt(p->c.a, astop)));
+        m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
     }
     st->samples += n;
     st->kernel_evals += n;
     p->knext = vi_select(start, vi_max(p->knext, vi_add(kb, vi_set1(1))), p->knext);
-    p->live = vm_and(p->live, vm_and(vm_not(vi_gt(p->knext, p->klast)), vf_lt(p->c.a, astop)));
+    p->live = vm_and(p->live, vm_and(vm_not(vi_gt(p->knext, p->klast)), grid_below_stop(p->c.a, astop)));
 }
 
 /* Constant subvolume (eq. 7): samples ka..kb all take the value phi, unshaded,
@@ -296,7 +344,7 @@ static inline void grid_integrate_const(const lc_kgrid *g, const lc_kframe *f, g
     st->samples += (uint64_t)vm_popcnt(m);
     p->knext = vi_select(m, vi_max(p->knext, kend), p->knext);
     p->kprev = vi_select(m, vi_set1(-2), p->kprev);
-    p->live = vm_and(p->live, vm_and(vm_not(vi_gt(p->knext, p->klast)), vf_lt(p->c.a, vf_set1(f->alpha_stop))));
+    p->live = vm_and(p->live, vm_and(vm_not(vi_gt(p->knext, p->klast)), grid_below_stop(p->c.a, vf_set1(f->alpha_stop))));
 }
 
 /* Side of the ray packets (in rays) for this target and frame: packet 1 means

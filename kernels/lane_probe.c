@@ -69,6 +69,10 @@ void LC_KFN(lc_lane_apply)(const lc_lane_args *g)
         case LC_OP_GATHER: vf_store(o, vf_gather(g->a, ia)); break;
         case LC_OP_GATHER_MASKED: vf_store(o, vf_gather_masked(m, g->a, ia, b)); break;
         case LC_OP_VI_GATHER: vi_store(io, vi_gather(g->ib, ia)); break;
+        case LC_OP_GATHER_U8: vi_store(io, vi_gather_u8((const uint8_t *)(const void *)g->ib, ia)); break;
+        case LC_OP_GATHER_U16: vi_store(io, vi_gather_u16((const uint16_t *)(const void *)g->ib, ia)); break;
+        case LC_OP_GATHER_U8PAIR: vi_store(io, vi_gather_u8pair((const uint8_t *)(const void *)g->ib, ia)); break;
+        case LC_OP_GATHER_U16PAIR: vi_store(io, vi_gather_u16pair((const uint16_t *)(const void *)g->ib, ia)); break;
         case LC_OP_LANE:
             for (int l = 0; l < LC_W; l++) { o[l] = vf_lane(a, l); io[l] = vi_lane(ia, l); }
             break;

@@ -29,7 +29,8 @@ static const char *const op_names[] = {
     "floor", "exp", "powi", "clamp", "lerp", "to_vi", "vi_to_vf", "as_vi_roundtrip", "lt", "le", "gt", "ge",
     "eq", "ne", "select", "vi_add", "vi_sub", "vi_mul", "vi_min", "vi_max", "vi_and", "vi_or", "vi_sll",
     "vi_srl", "vi_lt", "vi_gt", "vi_eq", "vi_select", "mask_and", "mask_or", "mask_xor", "mask_andnot",
-    "mask_not", "load_masked", "store_masked", "gather", "gather_masked", "vi_gather", "lane", "iota",
+    "mask_not", "load_masked", "store_masked", "gather", "gather_masked", "vi_gather",
+    "gather_u8", "gather_u16", "gather_u8pair", "gather_u16pair", "lane", "iota",
     "bits_roundtrip", "first_n", "any", "all", "none", "popcnt", "first", "bits", "reduce_add",
     "reduce_min", "reduce_max", "reduce_min_masked"};
 _Static_assert(sizeof op_names / sizeof op_names[0] == LC_OP_COUNT, "op_names must follow enum lc_lane_op");
@@ -107,6 +108,13 @@ static float gen_value(enum gen g)
     }
 }
 
+/* Last index a narrow gather may take in ib's 4N bytes (lane_ops.h). */
+static int narrow_last(int op) { return op == LC_OP_GATHER_U8 || op == LC_OP_GATHER_U8PAIR ? 4 * N - 4 : 2 * N - 2; }
+
+/* Element e of ib read as little-endian uint8 / uint16 (independent of the host's byte order). */
+static uint32_t ib_u8(const bufs *in, int e) { return ((uint32_t)in->ib[e / 4] >> (8 * (e % 4))) & 0xffu; }
+static uint32_t ib_u16(const bufs *in, int e) { return ib_u8(in, 2 * e) | ib_u8(in, 2 * e + 1) << 8; }
+
 static void gen_inputs(bufs *in, int op, enum gen g)
 {
     for (int i = 0; i < N; i++) {
@@ -127,6 +135,14 @@ static void gen_inputs(bufs *in, int op, enum gen g)
     if (op == LC_OP_GATHER_MASKED) /* inactive lanes hold indices that would fault if read */
         for (int i = 0; i < N; i++)
             if (in->mk[i] <= 0) in->ia[i] = (rnd() % 2) ? INT32_MAX - irange(0, 1000) : INT32_MIN + irange(0, 1000);
+    if (op >= LC_OP_GATHER_U8 && op <= LC_OP_GATHER_U16PAIR) {
+        /* table: ib's bytes, every bit pattern (u16 values above 0x7fff, pairs
+         * whose int32 is negative); indices up to the last element whose
+         * 32-bit load stays inside ib, which about one lane in eight takes */
+        int last = narrow_last(op);
+        for (int i = 0; i < N; i++) in->ib[i] = (int32_t)(uint32_t)rnd();
+        for (int i = 0; i < N; i++) in->ia[i] = rnd() % 8 == 0 ? last : irange(0, last);
+    }
     if (op == LC_OP_FIRST_N)
         for (int i = 0; i < N; i++) in->ia[i] = irange(-2, 18);
     if (op == LC_OP_REDUCE_ADD) /* finite sums: keep away from overflow */
@@ -157,7 +173,8 @@ static enum kind op_kind(int op)
     case LC_OP_RSQRT: return K_RSQRT;
     case LC_OP_TO_VI: case LC_OP_VI_ADD: case LC_OP_VI_SUB: case LC_OP_VI_MUL: case LC_OP_VI_MIN:
     case LC_OP_VI_MAX: case LC_OP_VI_AND: case LC_OP_VI_OR: case LC_OP_VI_SLL: case LC_OP_VI_SRL:
-    case LC_OP_VI_SELECT: case LC_OP_VI_GATHER: return K_EXACT_I;
+    case LC_OP_VI_SELECT: case LC_OP_VI_GATHER: case LC_OP_GATHER_U8: case LC_OP_GATHER_U16:
+    case LC_OP_GATHER_U8PAIR: case LC_OP_GATHER_U16PAIR: return K_EXACT_I;
     case LC_OP_LANE: case LC_OP_IOTA: return K_EXACT_FI;
     default: return K_EXACT_F;
     }
@@ -228,6 +245,10 @@ static int32_t ref_int(const bufs *in, int op, int i, int l)
     case LC_OP_VI_SRL: return (int32_t)(x >> 5);
     case LC_OP_VI_SELECT: return in->mk[i] > 0 ? in->ia[i] : in->ib[i];
     case LC_OP_VI_GATHER: return in->ib[in->ia[i]];
+    case LC_OP_GATHER_U8: return (int32_t)ib_u8(in, in->ia[i]);
+    case LC_OP_GATHER_U16: return (int32_t)ib_u16(in, in->ia[i]);
+    case LC_OP_GATHER_U8PAIR: return (int32_t)(ib_u8(in, in->ia[i]) | ib_u8(in, in->ia[i] + 1) << 8);
+    case LC_OP_GATHER_U16PAIR: return (int32_t)(ib_u16(in, in->ia[i]) | ib_u16(in, in->ia[i] + 1) << 16);
     case LC_OP_LANE: return in->ia[i];
     case LC_OP_IOTA: return l;
     default: return 0;

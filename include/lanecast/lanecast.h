@@ -315,7 +315,8 @@ typedef struct lc_grid_info {
 
 /* Creates a grid from caller memory, builds its implicit min-max BVH.
  * Fails with LC_ERROR_INVALID_ARGUMENT for sizes < 2, sizes whose product
- * overflows (or exceeds 2^31 values), an unknown type, a bad spacing or brick,
+ * overflows (or exceeds 2^31 values), a size above 2^24 nodes on one axis,
+ * an unknown type, a bad spacing or brick,
  * borrow with LC_LAYOUT_BRICKED, or non-finite float values. *out = NULL on
  * failure. Thread safety: as the device. */
 LC_API lc_status lc_grid_create(lc_device *device, const lc_grid_desc *desc, lc_grid **out);

@@ -15,6 +15,7 @@ enum lc_lane_op {
     LC_OP_VI_LT, LC_OP_VI_GT, LC_OP_VI_EQ, LC_OP_VI_SELECT,
     LC_OP_MASK_AND, LC_OP_MASK_OR, LC_OP_MASK_XOR, LC_OP_MASK_ANDNOT, LC_OP_MASK_NOT,
     LC_OP_LOAD_MASKED, LC_OP_STORE_MASKED, LC_OP_GATHER, LC_OP_GATHER_MASKED, LC_OP_VI_GATHER,
+    LC_OP_GATHER_U8, LC_OP_GATHER_U16, LC_OP_GATHER_U8PAIR, LC_OP_GATHER_U16PAIR,
     LC_OP_LANE, LC_OP_IOTA, LC_OP_BITS_ROUNDTRIP, LC_OP_FIRST_N,
     /* horizontal: one result per chunk of lane-width elements, in out[chunk] */
     LC_OP_ANY, LC_OP_ALL, LC_OP_NONE, LC_OP_POPCNT, LC_OP_FIRST, LC_OP_BITS,
@@ -25,7 +26,11 @@ enum lc_lane_op {
 /* Arguments of one probe call. Arrays hold n elements, n a multiple of 16.
  * a, b, c: float operands; ia, ib: int operands; mk: mask (lane active where
  * mk[i] > 0); out/iout: results. For GATHER the table is a (gsize floats) and
- * the indices are ia. */
+ * the indices are ia. The narrow gathers (GATHER_U8 ... U16PAIR, unmasked in
+ * the vocabulary) read ib's 4n bytes as a little-endian uint8 or uint16 table
+ * at indices ia; they may load up to 3 bytes past the addressed element, so
+ * the suite keeps indices at most 4n - 4 (u8, u8 pairs) or 2n - 2 (u16,
+ * u16 pairs), the last element that leaves those bytes inside ib. */
 typedef struct lc_lane_args {
     int op;
     int n;
