@@ -151,7 +151,7 @@ static const char help[] =
     "  --views far,medium,close (default medium)\n"
     "  --shades none,diffuse,phong (default none)\n"
     "  --methods brute,bvh (default brute,bvh)\n"
-    "  --targets scalar,sse4,avx2,avx512 (default: the widest supported)\n"
+    "  --targets scalar,sse4,avx2,avx512,avx512_8 (default: the widest supported)\n"
     "  --threads 1,2       (default: all CPUs)\n"
     "  --packets 8,1       packet side (8 = 8x8, 1 = lane width; default 8)\n"
     "  --heuristics on|off (default on)\n"

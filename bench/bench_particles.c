@@ -22,7 +22,7 @@ static const char help[] =
     "usage: bench_particles [options]\n"
     "  --size WxH         image size (default 1024x1024)\n"
     "  --sets LIST        comma list: 1e4,1e5,1e6,1e7 (procedural), 1tii, 1tw7 (real) (default 1e4,1e5,1e6,1tii,1tw7)\n"
-    "  --targets LIST     scalar,sse4,avx2,avx512 (default: every supported)\n"
+    "  --targets LIST     scalar,sse4,avx2,avx512,avx512_8 (default: every supported)\n"
     "  --threads LIST     e.g. 1,2 (default 1,2)\n"
     "  --methods LIST     coherent,direct (default coherent,direct)\n"
     "  --packets LIST     8,1 (default 8)\n"

@@ -75,6 +75,7 @@ const char *lci_cpu_missing(lc_target target)
         if (!c.avx2 || !c.fma) return "AVX2/FMA instructions";
         return c.os_avx ? "" : "OS support for AVX state";
     case LC_TARGET_AVX512:
+    case LC_TARGET_AVX512_8: /* same instructions, 256-bit vectors (VL) */
         if (!(c.avx512f && c.avx512dq && c.avx512bw && c.avx512vl)) return "AVX-512 F/DQ/BW/VL instructions";
         return c.os_avx512 ? "" : "OS support for AVX-512 state";
     default: return "a valid target";
@@ -96,11 +97,30 @@ const lc_ktable *lci_ktable(lc_target target)
 #ifdef LC_HAVE_AVX512
     case LC_TARGET_AVX512: return &lc_ktable_avx512;
 #endif
+#ifdef LC_HAVE_AVX512_8
+    case LC_TARGET_AVX512_8: return &lc_ktable_avx512_8;
+#endif
     default: return NULL;
     }
 }
 
-static const char *const target_names[LC_TARGET_COUNT] = {"auto", "scalar", "sse4", "avx2", "avx512"};
+/* Widest first. avx512_8 comes after avx512 (it is a width study: the same
+ * CPU always runs the 16-lane one) and before avx2 (same width, a superset of
+ * its instructions), so AUTO lands on it only if avx512 is not compiled in or
+ * masked out. Appending to the enum must not change this order. */
+static const lc_target auto_order[] = {LC_TARGET_AVX512, LC_TARGET_AVX512_8, LC_TARGET_AVX2, LC_TARGET_SSE4,
+                                       LC_TARGET_SCALAR};
+_Static_assert(sizeof auto_order / sizeof auto_order[0] == LC_TARGET_COUNT - 1,
+               "every target except AUTO has a place in auto_order");
+
+lc_target lci_target_auto(void)
+{
+    for (size_t i = 0; i < sizeof auto_order / sizeof auto_order[0]; i++)
+        if (lc_target_compiled(auto_order[i]) && lci_cpu_supports(auto_order[i])) return auto_order[i];
+    return LC_TARGET_SCALAR; /* always compiled, always supported */
+}
+
+static const char *const target_names[LC_TARGET_COUNT] = {"auto", "scalar", "sse4", "avx2", "avx512", "avx512_8"};
 
 const char *lc_target_name(lc_target target)
 {
@@ -119,7 +139,7 @@ lc_status lc_target_from_name(const char *name, lc_target *out)
         }
     }
     return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT,
-                     "unknown target '%s' (known: auto, scalar, sse4, avx2, avx512)", name);
+                     "unknown target '%s' (known: " LCI_TARGET_NAMES ")", name);
 }
 
 int lc_target_compiled(lc_target target)
@@ -136,7 +156,7 @@ int lc_target_supported(lc_target target)
 
 int lc_target_lanes(lc_target target)
 {
-    static const int lanes[LC_TARGET_COUNT] = {0, 1, 4, 8, 16};
+    static const int lanes[LC_TARGET_COUNT] = {0, 1, 4, 8, 16, 8};
     if ((int)target < 0 || target >= LC_TARGET_COUNT) return 0;
     return lanes[target];
 }

@@ -17,17 +17,12 @@ static lc_status choose_target(lc_target requested, lc_target *out)
         if (env && *env) {
             if (lc_target_from_name(env, &t) != LC_OK)
                 return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT,
-                                 "LANECAST_TARGET='%s' is not a target (known: auto, scalar, sse4, avx2, avx512)", env);
+                                 "LANECAST_TARGET='%s' is not a target (known: " LCI_TARGET_NAMES ")", env);
         }
     }
     if (t == LC_TARGET_AUTO) {
-        for (int c = LC_TARGET_COUNT - 1; c >= LC_TARGET_SCALAR; c--) {
-            if (lc_target_compiled((lc_target)c) && lci_cpu_supports((lc_target)c)) {
-                *out = (lc_target)c;
-                return LC_OK;
-            }
-        }
-        return lci_error(NULL, LC_ERROR_INTERNAL, "no usable target (the scalar one is always compiled)");
+        *out = lci_target_auto();
+        return LC_OK;
     }
     if (!lc_target_compiled(t))
         return lci_error(NULL, LC_ERROR_UNSUPPORTED, "target '%s' is not compiled into this build of lanecast",

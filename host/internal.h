@@ -31,6 +31,11 @@ void lci_log(lc_device *device, lc_log_level level, const char *fmt, ...) __attr
 int lci_cpu_supports(lc_target target);
 const char *lci_cpu_missing(lc_target target); /* what the CPU/OS lacks, or "" */
 const lc_ktable *lci_ktable(lc_target target); /* NULL if not compiled */
+/* AUTO's choice: the first compiled and supported target of an explicit
+ * preference order (widest first; ISA breaks ties), never the enum order. */
+lc_target lci_target_auto(void);
+/* The known target names, for error messages. */
+#define LCI_TARGET_NAMES "auto, scalar, sse4, avx2, avx512, avx512_8"
 
 /* Threads (host/pool.c): runs fn(ctx, task, worker) for task in [0, ntasks)
  * on the pool's threads plus the caller; FTZ/DAZ are set in every worker. */

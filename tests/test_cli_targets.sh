@@ -23,10 +23,18 @@ check "--version exits 0 and prints 'lanecast <x.y.z>'" sh -c "[ $(cat "$tmp/rc"
 run "" --help
 check "--help exits 0 and mentions targets" sh -c "[ $(cat "$tmp/rc") -eq 0 ] && grep -q targets '$tmp/out' && grep -q LANECAST_TARGET '$tmp/out'"
 run "" targets
-for t in scalar sse4 avx2 avx512; do
+for t in scalar sse4 avx2 avx512 avx512_8; do
     check "targets lists $t" sh -c "[ $(cat "$tmp/rc") -eq 0 ] && grep -Eq '^$t +' '$tmp/out'"
 done
 check "targets marks exactly one active (auto)" sh -c "[ \$(grep -c '\\* (auto)' '$tmp/out') -eq 1 ]"
+check "targets: avx512_8 has 8 lanes, avx512 16" sh -c "grep -Eq '^avx512_8 +8 ' '$tmp/out' && grep -Eq '^avx512 +16 ' '$tmp/out'"
+if grep -Eq '^avx512 +16 +yes +yes' "$tmp/out"; then
+    check "auto picks avx512 (16 lanes), not avx512_8" sh -c "grep -Eq '^avx512 .*\\* \\(auto\\)' '$tmp/out'"
+fi
+if grep -Eq '^avx512_8 +8 +yes +yes' "$tmp/out"; then
+    run avx512_8 targets
+    check "LANECAST_TARGET=avx512_8 targets marks avx512_8 active" sh -c "[ $(cat "$tmp/rc") -eq 0 ] && grep -Eq '^avx512_8 .*\\* \\(forced' '$tmp/out' && [ \$(grep -c '\\*' '$tmp/out') -eq 1 ]"
+fi
 run sse4 targets
 check "LANECAST_TARGET=sse4 targets marks sse4 active" sh -c "rc=$(cat "$tmp/rc"); [ \$rc -eq 0 ] && grep -Eq '^sse4 .*\\* \\(forced' '$tmp/out' && [ \$(grep -c '\\*' '$tmp/out') -eq 1 ]"
 run bogus targets

@@ -7,9 +7,21 @@
 #include "lanecast/lanecast.h"
 #include "check.h"
 
-static const int expected_lanes[LC_TARGET_COUNT] = {0, 1, 4, 8, 16};
+static const int expected_lanes[LC_TARGET_COUNT] = {0, 1, 4, 8, 16, 8};
+
+/* AUTO's preference, spelled out independently of host/cpu.c: widest first,
+ * and at equal width avx512_8 before avx2. Not the enum order. */
+static const lc_target auto_order[] = {LC_TARGET_AVX512, LC_TARGET_AVX512_8, LC_TARGET_AVX2, LC_TARGET_SSE4,
+                                       LC_TARGET_SCALAR};
 
 static int usable(lc_target t) { return lc_target_compiled(t) && lc_target_supported(t); }
+
+static lc_target expected_auto(void)
+{
+    for (size_t i = 0; i < sizeof auto_order / sizeof auto_order[0]; i++)
+        if (usable(auto_order[i])) return auto_order[i];
+    return LC_TARGET_SCALAR;
+}
 
 /* Creates a device and returns its status; *got receives its target. */
 static lc_status create(lc_target requested, lc_target *got)
@@ -54,11 +66,16 @@ static void explicit_and_env(void)
 {
     lc_target got;
     unsetenv("LANECAST_TARGET");
-    int widest = LC_TARGET_SCALAR;
-    for (int t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++)
-        if (usable((lc_target)t)) widest = t;
+    int widest = expected_auto();
     CHECK(create(LC_TARGET_AUTO, &got) == LC_OK && got == (lc_target)widest, "AUTO picks the widest usable: %s",
           lc_target_name(got));
+    for (int t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++)
+        CHECK(lc_target_lanes((lc_target)t) <= lc_target_lanes((lc_target)widest) || !usable((lc_target)t),
+              "AUTO's %s is at least as wide as usable %s", lc_target_name((lc_target)widest),
+              lc_target_name((lc_target)t));
+    if (usable(LC_TARGET_AVX512))
+        CHECK(widest == LC_TARGET_AVX512, "AUTO keeps the 16-lane avx512 over avx512_8 (got %s)",
+              lc_target_name((lc_target)widest));
     for (int t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++) {
         const char *name = lc_target_name((lc_target)t);
         if (!usable((lc_target)t)) {
@@ -118,11 +135,38 @@ static void simulated_old_cpu(void)
     unsetenv("LANECAST_CPU_MASK");
 }
 
+/* AUTO's order among the wide targets, by masking some of them out: each
+ * case is the expected_auto() of that pretended CPU. */
+static void auto_order_masked(void)
+{
+    static const char *const masks[] = {"scalar,sse4,avx2,avx512,avx512_8", "scalar,sse4,avx2,avx512_8",
+                                        "scalar,sse4,avx2", "scalar,sse4,avx512", "scalar,sse4,avx512_8"};
+    for (size_t i = 0; i < sizeof masks / sizeof masks[0]; i++) {
+        setenv("LANECAST_CPU_MASK", masks[i], 1);
+        lc_target got, want = expected_auto();
+        CHECK(create(LC_TARGET_AUTO, &got) == LC_OK && got == want, "LANECAST_CPU_MASK=%s: AUTO -> %s (want %s)",
+              masks[i], lc_target_name(got), lc_target_name(want));
+    }
+    unsetenv("LANECAST_CPU_MASK");
+    if (usable(LC_TARGET_AVX512) && usable(LC_TARGET_AVX512_8) && usable(LC_TARGET_AVX2)) {
+        /* on this machine the expectations above are concrete: spell them out */
+        lc_target got;
+        setenv("LANECAST_CPU_MASK", "scalar,sse4,avx2,avx512_8", 1);
+        CHECK(create(LC_TARGET_AUTO, &got) == LC_OK && got == LC_TARGET_AVX512_8,
+              "without avx512, AUTO takes avx512_8 over avx2 (got %s)", lc_target_name(got));
+        setenv("LANECAST_CPU_MASK", "scalar,sse4,avx2", 1);
+        CHECK(create(LC_TARGET_AUTO, &got) == LC_OK && got == LC_TARGET_AVX2, "without AVX-512, AUTO takes avx2 (got %s)",
+              lc_target_name(got));
+        unsetenv("LANECAST_CPU_MASK");
+    }
+}
+
 int main(void)
 {
     unsetenv("LANECAST_CPU_MASK");
     names_and_lanes();
     explicit_and_env();
     simulated_old_cpu();
+    auto_order_masked();
     return check_summary("test_dispatch");
 }

@@ -31,6 +31,9 @@ void lc_test_grid_sample_avx2(const lc_kgrid *, const float *, int, float *, flo
 #ifdef LC_HAVE_AVX512
 void lc_test_grid_sample_avx512(const lc_kgrid *, const float *, int, float *, float *);
 #endif
+#ifdef LC_HAVE_AVX512_8
+void lc_test_grid_sample_avx512_8(const lc_kgrid *, const float *, int, float *, float *);
+#endif
 
 static probe_fn probe_of(lc_target t)
 {
@@ -44,6 +47,9 @@ static probe_fn probe_of(lc_target t)
 #endif
 #ifdef LC_HAVE_AVX512
     case LC_TARGET_AVX512: return lc_test_grid_sample_avx512;
+#endif
+#ifdef LC_HAVE_AVX512_8
+    case LC_TARGET_AVX512_8: return lc_test_grid_sample_avx512_8;
 #endif
     default: return NULL;
     }
@@ -132,6 +138,7 @@ static lc_tf *make_tf(lc_device *dev, double tau_scale)
 static void test_linear(lc_device *dev, lc_target t)
 {
     probe_fn probe = probe_of(t);
+    CHECK(probe, "%s: compiled and supported but test_grid has no grid probe for it", lc_target_name(t));
     if (!probe) return;
     int n[3] = {9, 7, 6};
     float *data = malloc(sizeof(float) * 9 * 7 * 6);

@@ -89,12 +89,12 @@ static ref_particles as_ref(const pdata *d)
 
 /* ---------------------------------------------------------------- targets */
 
-static lc_target targets[4];
+static lc_target targets[LC_TARGET_COUNT];
 static int ntargets;
 
 static void find_targets(void)
 {
-    for (lc_target t = LC_TARGET_SCALAR; t <= LC_TARGET_AVX512; t++) {
+    for (lc_target t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++) {
         if (!lc_target_compiled(t)) printf("skip target %s: not compiled in\n", lc_target_name(t));
         else if (!lc_target_supported(t)) printf("skip target %s: this CPU cannot run it\n", lc_target_name(t));
         else targets[ntargets++] = t;

@@ -20,7 +20,7 @@ static const char usage[] =
     "  --version             print the version\n"
     "\n"
     "environment:\n"
-    "  LANECAST_TARGET       force a target: scalar, sse4, avx2, avx512 or auto\n"
+    "  LANECAST_TARGET       force a target: scalar, sse4, avx2, avx512, avx512_8 or auto\n"
     "  LANECAST_THREADS      worker threads (default: all online CPUs)\n"
     "\n"
     "exit status: 0 ok, 1 bad input or failed work, 2 bad usage\n";

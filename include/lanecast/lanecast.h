@@ -63,17 +63,22 @@ LC_API const char *lc_version_string(void);
 /* ---------------------------------------------------------------- targets */
 
 /* SIMD targets. Every kernel is compiled once per target; a device runs on
- * exactly one. AUTO picks the widest target this CPU (and OS) supports. */
+ * exactly one. AUTO picks the widest target this CPU (and OS) supports, in
+ * the order avx512, avx512_8, avx2, sse4, scalar (not the enum order).
+ * AVX512_8 runs AVX-512 instructions on 8 lanes, for comparing lane width
+ * and instruction set separately. */
 typedef enum lc_target {
     LC_TARGET_AUTO = 0,
-    LC_TARGET_SCALAR = 1, /* 1 lane, any x86-64 */
-    LC_TARGET_SSE4 = 2,   /* 4 lanes, SSE4.2 */
-    LC_TARGET_AVX2 = 3,   /* 8 lanes, AVX2 + FMA */
-    LC_TARGET_AVX512 = 4, /* 16 lanes, AVX-512 F/DQ/BW/VL */
-    LC_TARGET_COUNT = 5
+    LC_TARGET_SCALAR = 1,   /* 1 lane, any x86-64 */
+    LC_TARGET_SSE4 = 2,     /* 4 lanes, SSE4.2 */
+    LC_TARGET_AVX2 = 3,     /* 8 lanes, AVX2 + FMA */
+    LC_TARGET_AVX512 = 4,   /* 16 lanes, AVX-512 F/DQ/BW/VL */
+    LC_TARGET_AVX512_8 = 5, /* 8 lanes, AVX-512 F/DQ/BW/VL on 256-bit vectors */
+    LC_TARGET_COUNT = 6
 } lc_target;
 
-/* "auto", "scalar", "sse4", "avx2", "avx512"; NULL for a value out of range. */
+/* "auto", "scalar", "sse4", "avx2", "avx512", "avx512_8"; NULL for a value out of
+ * range. */
 LC_API const char *lc_target_name(lc_target target);
 /* Parses a target name (case-sensitive, as above). Unknown names fail with
  * LC_ERROR_INVALID_ARGUMENT and a message listing the known ones. */
@@ -95,7 +100,7 @@ typedef void (*lc_log_fn)(void *user, lc_log_level level, const char *message);
 
 typedef struct lc_device_desc {
     /* LC_TARGET_AUTO (0) reads the LANECAST_TARGET environment variable
-     * ("scalar", "sse4", "avx2", "avx512", "auto") and otherwise picks the
+     * ("scalar", "sse4", "avx2", "avx512", "avx512_8", "auto") and otherwise picks the
      * widest supported target. An explicit target overrides the variable. */
     lc_target target;
     /* Worker threads for rendering; 0 = LANECAST_THREADS or the number of

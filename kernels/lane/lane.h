@@ -18,8 +18,10 @@
 #include "lane_avx2.h"
 #elif defined(LC_TARGET_AVX512)
 #include "lane_avx512.h"
+#elif defined(LC_TARGET_AVX512_8)
+#include "lane_avx512_8.h"
 #else
-#error "lane.h: define one of LC_TARGET_SCALAR, LC_TARGET_SSE4, LC_TARGET_AVX2, LC_TARGET_AVX512"
+#error "lane.h: define one of LC_TARGET_SCALAR, LC_TARGET_SSE4, LC_TARGET_AVX2, LC_TARGET_AVX512, LC_TARGET_AVX512_8"
 #endif
 
 #include "lane_math.h"
