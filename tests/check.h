@@ -15,6 +15,18 @@ static int check_failures;
         if (!ok_) check_failures++;                                                                                  \
     } while (0)
 
+/* Like CHECK but prints only failures, with file and line: for tests that run
+ * thousands of checks. */
+#define CHECK_QUIET(cond, ...)                                                                                       \
+    do {                                                                                                             \
+        if (!(cond)) {                                                                                               \
+            check_failures++;                                                                                        \
+            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                              \
+            printf(__VA_ARGS__);                                                                                     \
+            printf("\n");                                                                                            \
+        }                                                                                                            \
+    } while (0)
+
 static inline int check_summary(const char *suite)
 {
     printf("%s: %s (%d failures)\n", suite, check_failures ? "FAIL" : "PASS", check_failures);

@@ -9,16 +9,7 @@
 #include "host/grid.h"
 #include "host/tf.h"
 
-static int failures;
-#define CHECK(c, ...)                                                                                                  \
-    do {                                                                                                               \
-        if (!(c)) {                                                                                                    \
-            failures++;                                                                                                \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                                \
-            printf(__VA_ARGS__);                                                                                       \
-            printf("\n");                                                                                              \
-        }                                                                                                              \
-    } while (0)
+#include "check.h"
 
 typedef void (*probe_fn)(const lc_kgrid *, const float *, int, float *, float *);
 void lc_test_grid_sample_scalar(const lc_kgrid *, const float *, int, float *, float *);
@@ -138,7 +129,7 @@ static lc_tf *make_tf(lc_device *dev, double tau_scale)
 static void test_linear(lc_device *dev, lc_target t)
 {
     probe_fn probe = probe_of(t);
-    CHECK(probe, "%s: compiled and supported but test_grid has no grid probe for it", lc_target_name(t));
+    CHECK_QUIET(probe, "%s: compiled and supported but test_grid has no grid probe for it", lc_target_name(t));
     if (!probe) return;
     int n[3] = {9, 7, 6};
     float *data = malloc(sizeof(float) * 9 * 7 * 6);
@@ -153,7 +144,7 @@ static void test_linear(lc_device *dev, lc_target t)
         lc_grid *g = NULL;
         lc_grid_desc d = {.size = {n[0], n[1], n[2]}, .type = LC_VALUE_FLOAT32, .data = data,
                           .spacing = {sp[0], sp[1], sp[2]}, .origin = {org[0], org[1], org[2]}, .layout = layout};
-        CHECK(lc_grid_create(dev, &d, &g) == LC_OK, "create: %s", lc_last_error());
+        CHECK_QUIET(lc_grid_create(dev, &d, &g) == LC_OK, "create: %s", lc_last_error());
         if (!g) continue;
         float xyz[300], val[100], grad[300];
         for (int i = 0; i < 100; i++)
@@ -165,7 +156,7 @@ static void test_linear(lc_device *dev, lc_target t)
             maxe = fmax(maxe, fabs(val[i] - ex));
             for (int a = 0; a < 3; a++) maxg = fmax(maxg, fabs(grad[3 * i + a] - c[a]));
         }
-        CHECK(maxe < 1e-4 && maxg < 1e-4, "%s layout %d: trilinear error %g, gradient error %g", lc_target_name(t), layout,
+        CHECK_QUIET(maxe < 1e-4 && maxg < 1e-4, "%s layout %d: trilinear error %g, gradient error %g", lc_target_name(t), layout,
               maxe, maxg);
         lc_grid_destroy(g);
     }
@@ -181,7 +172,7 @@ static void test_node_ranges(void)
     float org[3] = {0, 0, 0}, sp[3] = {1, 1, 1};
     for (int L = 1; L <= 16; L *= 2) {
         lci_grid_bvh b;
-        CHECK(lci_grid_bvh_build(v.data, LC_KVAL_F32, n, org, sp, L, &b) == 0, "bvh build");
+        CHECK_QUIET(lci_grid_bvh_build(v.data, LC_KVAL_F32, n, org, sp, L, &b) == 0, "bvh build");
         int bad = 0;
         for (int id = 0; id < b.nnodes; id++) {
             const lc_kgrid_node *nd = &b.nodes[id];
@@ -195,11 +186,11 @@ static void test_node_ranges(void)
                         if (x < nd->vmin || x > nd->vmax) bad++;
                     }
             if (nd->child) {
-                CHECK(b.nodes[nd->child].vmin >= nd->vmin && b.nodes[nd->child + 1].vmax <= nd->vmax, "child range");
+                CHECK_QUIET(b.nodes[nd->child].vmin >= nd->vmin && b.nodes[nd->child + 1].vmax <= nd->vmax, "child range");
             }
         }
-        CHECK(bad == 0, "L=%d: %d voxels outside their node ranges", L, bad);
-        CHECK(b.nleaves * 2 - 1 == b.nnodes, "node count");
+        CHECK_QUIET(bad == 0, "L=%d: %d voxels outside their node ranges", L, bad);
+        CHECK_QUIET(b.nleaves * 2 - 1 == b.nnodes, "node count");
         lci_grid_bvh_free(&b);
     }
     vol_free(&v);
@@ -221,7 +212,7 @@ static void render(lc_device *dev, lc_grid *g, const lc_tf *tf, const vol *v, co
     d.grid_params.preintegrated = preint;
     d.grid_params.rda = g_rda;
     lc_status s = lc_render(dev, &d, out, NULL);
-    CHECK(s == LC_OK, "render: %s", lc_last_error());
+    CHECK_QUIET(s == LC_OK, "render: %s", lc_last_error());
 }
 
 /* BVH = brute = reference, per target, all types, odd sizes, camera outside
@@ -241,7 +232,7 @@ static void test_images(lc_target t)
                            .brick = type == LC_VALUE_UINT16 ? 8 : 4, .borrow = type == LC_VALUE_INT16,
                            .layout = type == LC_VALUE_INT16 || type == LC_VALUE_UINT16 ? LC_LAYOUT_LINEAR : LC_LAYOUT_DEFAULT};
         /* layouts covered: u8 and f32 bricked, u16 linear owned (pair gathers), i16 linear borrowed */
-        CHECK(lc_grid_create(dev, &gd, &g) == LC_OK, "create: %s", lc_last_error());
+        CHECK_QUIET(lc_grid_create(dev, &gd, &g) == LC_OK, "create: %s", lc_last_error());
         ref_grid rg = {{37, 29, 41}, {0, 0, 0}, {1, 1.25, 0.8}, v.ref};
         double ctr[3] = {18, 17.5, 16};
         double eyes[2][3] = {{18 + 30, 17.5 + 25, 16 + 70}, {20.3, 16.1, 14.7}};
@@ -253,7 +244,7 @@ static void test_images(lc_target t)
                 ref_render(&rg, &rp, r);
                 double amax = 0;
                 for (int i = 0; i < W * H; i++) amax = fmax(amax, r[4 * i + 3]);
-                CHECK(amax > 0.3, "reference image nearly empty (max alpha %g): the test would prove nothing", amax);
+                CHECK_QUIET(amax > 0.3, "reference image nearly empty (max alpha %g): the test would prove nothing", amax);
                 for (int packet = 0; packet <= 1; packet++) {
                     render(dev, g, tf, &v, eyes[e], ctr, LC_METHOD_BVH, shade, packet, 0, 0, a, W, H, (float)dt);
                     render(dev, g, tf, &v, eyes[e], ctr, LC_METHOD_BRUTE, shade, packet, 0, 0, b, W, H, (float)dt);
@@ -263,7 +254,7 @@ static void test_images(lc_target t)
                     compare(b, r, W * H, &md[2], &ps[2]);
                     const char *names[3] = {"bvh-brute", "bvh-ref", "brute-ref"};
                     for (int c = 0; c < 3; c++)
-                        CHECK(md[c] <= 2.0 / 255 && ps[c] >= 50, "%s type %d eye %d shade %d packet %d %s: max %.5f psnr %.1f",
+                        CHECK_QUIET(md[c] <= 2.0 / 255 && ps[c] >= 50, "%s type %d eye %d shade %d packet %d %s: max %.5f psnr %.1f",
                               lc_target_name(t), type, e, shade, packet, names[c], md[c], ps[c]);
                     if (shade == 2 && packet == 0)
                         printf("%-7s type %d %-7s bvh-brute max %.2e psnr %.1f | bvh-ref max %.2e psnr %.1f\n", lc_target_name(t),
@@ -284,7 +275,7 @@ static void test_images(lc_target t)
             double m1, p1, m2, p2;
             compare(a, b, W * H, &m1, &p1);
             compare(a, r, W * H, &m2, &p2);
-            CHECK(m1 <= 2.0 / 255 && p1 >= 50 && m2 <= 2.0 / 255 && p2 >= 50,
+            CHECK_QUIET(m1 <= 2.0 / 255 && p1 >= 50 && m2 <= 2.0 / 255 && p2 >= 50,
                   "%s type %d rda: bvh-brute max %.5f psnr %.1f, bvh-ref max %.5f psnr %.1f", lc_target_name(t), type, m1, p1,
                   m2, p2);
         }
@@ -293,7 +284,7 @@ static void test_images(lc_target t)
         render(dev, g, tf, &v, eyes[0], ctr, LC_METHOD_BRUTE, 1, 0, 0, 1, b, W, H, 0.4f);
         double md, ps;
         compare(a, b, W * H, &md, &ps);
-        CHECK(md <= 2.0 / 255 && ps >= 50, "%s type %d preintegrated bvh-brute: max %.5f psnr %.1f", lc_target_name(t), type, md, ps);
+        CHECK_QUIET(md <= 2.0 / 255 && ps >= 50, "%s type %d preintegrated bvh-brute: max %.5f psnr %.1f", lc_target_name(t), type, md, ps);
         lc_grid_destroy(g);
         vol_free(&v);
     }
@@ -328,10 +319,10 @@ static void test_preint(lc_device *dev)
             for (int c = 0; c < 3; c++) maxc = fmax(maxc, fabs(e[c] - sc[c] / st));
         /* eq. 4 opacity for a unit segment */
         double al = 1 - exp(-st), at = 1 - exp(-e[3]);
-        CHECK(fabs(al - at) < 2e-3, "alpha(%d,%d) %g vs %g", qa, qb, at, al);
+        CHECK_QUIET(fabs(al - at) < 2e-3, "alpha(%d,%d) %g vs %g", qa, qb, at, al);
     }
     printf("pre-integration vs numeric integral: max |tau| error %.2e, max colour error %.2e\n", maxe, maxc);
-    CHECK(maxe < 2e-3 && maxc < 5e-3, "pre-integration errors %g %g", maxe, maxc);
+    CHECK_QUIET(maxe < 2e-3 && maxc < 5e-3, "pre-integration errors %g %g", maxe, maxc);
     free(tab), free(pre);
     lc_tf_destroy(tf);
 }
@@ -351,6 +342,6 @@ int main(void)
         test_images((lc_target)t);
     }
     lc_device_destroy(dev);
-    printf("%s: %d failure(s)\n", failures ? "FAIL" : "ok", failures);
-    return failures ? 1 : 0;
+    printf("%s: %d failure(s)\n", check_failures ? "FAIL" : "ok", check_failures);
+    return check_failures ? 1 : 0;
 }

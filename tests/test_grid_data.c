@@ -9,16 +9,7 @@
 #include <unistd.h>
 #include "lanecast/lanecast.h"
 
-static int failures;
-#define CHECK(c, ...)                                                                                                  \
-    do {                                                                                                               \
-        if (!(c)) {                                                                                                    \
-            failures++;                                                                                                \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                                \
-            printf(__VA_ARGS__);                                                                                       \
-            printf("\n");                                                                                              \
-        }                                                                                                              \
-    } while (0)
+#include "check.h"
 
 static void compare(const float *a, const float *b, int n, double *maxd, double *psnr)
 {
@@ -55,7 +46,7 @@ int main(int argc, char **argv)
         snprintf(p, sizeof p, "%s/volumes/%s", data, vols[v]);
         lc_grid *g = NULL;
         lc_status s = lc_grid_load(dev, p, NULL, &g);
-        CHECK(s == LC_OK, "%s: %s", vols[v], lc_last_error());
+        CHECK_QUIET(s == LC_OK, "%s: %s", vols[v], lc_last_error());
         if (!g) continue;
         lc_grid_info in;
         lc_grid_get_info(g, &in);
@@ -75,20 +66,20 @@ int main(int argc, char **argv)
                                     0.5f * (in.bounds.lo.z + in.bounds.hi.z)};
             lc_render_stats sb, sh, so;
             d.method = LC_METHOD_BRUTE;
-            CHECK(lc_render(dev, &d, b, &sb) == LC_OK, "%s", lc_last_error());
+            CHECK_QUIET(lc_render(dev, &d, b, &sb) == LC_OK, "%s", lc_last_error());
             d.method = LC_METHOD_BVH;
-            CHECK(lc_render(dev, &d, a, &sh) == LC_OK, "%s", lc_last_error());
+            CHECK_QUIET(lc_render(dev, &d, a, &sh) == LC_OK, "%s", lc_last_error());
             double md, ps;
             compare(a, b, W * H, &md, &ps);
-            CHECK(ps >= 40.0, "%s shade %d: heuristics on, PSNR %.1f dB vs brute force (< 40)", vols[v], shade, ps);
+            CHECK_QUIET(ps >= 40.0, "%s shade %d: heuristics on, PSNR %.1f dB vs brute force (< 40)", vols[v], shade, ps);
             d.grid_params = (lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1};
             d.alpha_stop = 1.0f;
-            CHECK(lc_render(dev, &d, a, &so) == LC_OK, "%s", lc_last_error());
+            CHECK_QUIET(lc_render(dev, &d, a, &so) == LC_OK, "%s", lc_last_error());
             d.method = LC_METHOD_BRUTE;
-            CHECK(lc_render(dev, &d, b, NULL) == LC_OK, "%s", lc_last_error());
+            CHECK_QUIET(lc_render(dev, &d, b, NULL) == LC_OK, "%s", lc_last_error());
             double md0, ps0;
             compare(a, b, W * H, &md0, &ps0);
-            CHECK(md0 <= 2.0 / 255 && ps0 >= 50, "%s shade %d: heuristics off max %.5f PSNR %.1f", vols[v], shade, md0, ps0);
+            CHECK_QUIET(md0 <= 2.0 / 255 && ps0 >= 50, "%s shade %d: heuristics off max %.5f PSNR %.1f", vols[v], shade, md0, ps0);
             printf("%-18s %-7s %s heuristics on: PSNR %6.1f dB max %.4f, samples %5.1f%% of brute | off: PSNR %6.1f max %.1e\n",
                    vols[v], shade ? "diffuse" : "unlit", lc_target_name(tg), ps, md, 100.0 * sh.samples / (double)sb.samples,
                    ps0, md0);
@@ -98,6 +89,6 @@ int main(int argc, char **argv)
     }
     free(a), free(b);
     lc_device_destroy(dev);
-    printf("%s: %d failure(s)\n", failures ? "FAIL" : "ok", failures);
-    return failures ? 1 : 0;
+    printf("%s: %d failure(s)\n", check_failures ? "FAIL" : "ok", check_failures);
+    return check_failures ? 1 : 0;
 }

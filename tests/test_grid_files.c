@@ -7,16 +7,7 @@
 #include <zlib.h>
 #include "lanecast/lanecast.h"
 
-static int failures;
-#define CHECK(c, ...)                                                                                                  \
-    do {                                                                                                               \
-        if (!(c)) {                                                                                                    \
-            failures++;                                                                                                \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                                \
-            printf(__VA_ARGS__);                                                                                       \
-            printf("\n");                                                                                              \
-        }                                                                                                              \
-    } while (0)
+#include "check.h"
 
 static char dir[256];
 
@@ -57,8 +48,8 @@ static void bad(lc_device *dev, const char *file, const lc_grid_load_options *o,
     lc_grid *g = (lc_grid *)1;
     lc_status s = lc_grid_load(dev, path(file), o, &g);
     const char *m = lc_last_error();
-    CHECK(s != LC_OK && g == NULL, "%s: expected an error", file);
-    CHECK(strstr(m, what) != NULL && strchr(m, '\n') == NULL, "%s: message \"%s\" lacks \"%s\"", file, m, what);
+    CHECK_QUIET(s != LC_OK && g == NULL, "%s: expected an error", file);
+    CHECK_QUIET(strstr(m, what) != NULL && strchr(m, '\n') == NULL, "%s: message \"%s\" lacks \"%s\"", file, m, what);
     printf("  %-16s -> %s\n", file, m);
 }
 
@@ -103,16 +94,16 @@ int main(void)
     for (int i = 0; i < 6; i++) {
         lc_grid *g = NULL;
         lc_status s = lc_grid_load(dev, path(good[i]), i == 5 ? &raw : NULL, &g);
-        CHECK(s == LC_OK, "%s: %s", good[i], lc_last_error());
+        CHECK_QUIET(s == LC_OK, "%s: %s", good[i], lc_last_error());
         if (!g) continue;
         lc_grid_info in;
         lc_grid_get_info(g, &in);
         uint16_t mx = 0, mn = 65535;
         for (int k = 0; k < N; k++) mx = le[k] > mx ? le[k] : mx, mn = le[k] < mn ? le[k] : mn;
-        CHECK(in.size[0] == NX && in.size[1] == NY && in.size[2] == NZ && in.type == LC_VALUE_UINT16, "%s: info", good[i]);
-        CHECK(in.value_min == mn && in.value_max == mx, "%s: range %g..%g, expected %d..%d (endianness?)", good[i],
+        CHECK_QUIET(in.size[0] == NX && in.size[1] == NY && in.size[2] == NZ && in.type == LC_VALUE_UINT16, "%s: info", good[i]);
+        CHECK_QUIET(in.value_min == mn && in.value_max == mx, "%s: range %g..%g, expected %d..%d (endianness?)", good[i],
               (double)in.value_min, (double)in.value_max, mn, mx);
-        if (i < 3 || i == 4) CHECK(in.spacing.y == 2 && in.spacing.z == 3, "%s: spacing", good[i]);
+        if (i < 3 || i == 4) CHECK_QUIET(in.spacing.y == 2 && in.spacing.z == 3, "%s: spacing", good[i]);
         lc_grid_destroy(g);
     }
     printf("bad files:\n");
@@ -138,6 +129,6 @@ int main(void)
     lc_device_destroy(dev);
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0) return 1;
-    printf("%s: %d failure(s)\n", failures ? "FAIL" : "ok", failures);
-    return failures ? 1 : 0;
+    printf("%s: %d failure(s)\n", check_failures ? "FAIL" : "ok", check_failures);
+    return check_failures ? 1 : 0;
 }

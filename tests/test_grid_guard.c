@@ -19,16 +19,7 @@
 #include <unistd.h>
 #include "lanecast/lanecast.h"
 
-static int failures;
-#define CHECK(c, ...)                                                                                                  \
-    do {                                                                                                               \
-        if (!(c)) {                                                                                                    \
-            failures++;                                                                                                \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                                \
-            printf(__VA_ARGS__);                                                                                       \
-            printf("\n");                                                                                              \
-        }                                                                                                              \
-    } while (0)
+#include "check.h"
 
 /* bytes of memory whose end is followed by a PROT_NONE page */
 typedef struct guarded {
@@ -121,18 +112,18 @@ static int run_case(const gcase *c)
     float opacity[] = {0, 1.0f, 1, 3.0f};
     lc_tf_field tff = {.color = color, .ncolor = 2, .opacity = opacity, .nopacity = 2};
     lc_tf *tf = NULL;
-    CHECK(lc_tf_create(dev0, &tff, 1, &tf) == LC_OK, "tf: %s", lc_last_error());
+    CHECK_QUIET(lc_tf_create(dev0, &tff, 1, &tf) == LC_OK, "tf: %s", lc_last_error());
     /* 0: borrowed (linear, in place); 1: owned linear copy; 2: owned bricked copy */
     lc_grid *grids[3] = {NULL, NULL, NULL};
     for (int v = 0; v < 3; v++) {
         lc_grid_desc gd = {.size = {c->n[0], c->n[1], c->n[2]}, .type = c->type, .data = mem.data, .borrow = v == 0,
                            .layout = v == 2 ? LC_LAYOUT_BRICKED : LC_LAYOUT_LINEAR, .brick = 4};
-        CHECK(lc_grid_create(dev0, &gd, &grids[v]) == LC_OK, "create %d: %s", v, lc_last_error());
+        CHECK_QUIET(lc_grid_create(dev0, &gd, &grids[v]) == LC_OK, "create %d: %s", v, lc_last_error());
     }
     lc_grid_desc bad = {.size = {c->n[0], c->n[1], c->n[2]}, .type = c->type, .data = mem.data, .borrow = 1,
                         .layout = LC_LAYOUT_BRICKED};
     lc_grid *gb = NULL;
-    CHECK(lc_grid_create(dev0, &bad, &gb) != LC_OK && !gb, "borrowed bricked grid must be refused (it has no padding)");
+    CHECK_QUIET(lc_grid_create(dev0, &bad, &gb) != LC_OK && !gb, "borrowed bricked grid must be refused (it has no padding)");
     float *img[3];
     for (int v = 0; v < 3; v++) img[v] = malloc(sizeof(float) * W * H * 4);
     int fails = 0, rendered = 0;
@@ -145,23 +136,23 @@ static int run_case(const gcase *c)
                 for (int shade = 0; shade <= 2; shade += 2) {
                     lc_method meth = m ? LC_METHOD_BRUTE : LC_METHOD_BVH;
                     for (int v = 0; v < 3; v++)
-                        CHECK(render(dev, grids[v], tf, c, view, meth, shade, lo, hi, img[v]), "render: %s", lc_last_error());
+                        CHECK_QUIET(render(dev, grids[v], tf, c, view, meth, shade, lo, hi, img[v]), "render: %s", lc_last_error());
                     rendered++;
                     double amax = 0;
                     for (int i = 0; i < W * H; i++) amax = fmax(amax, img[0][4 * i + 3]);
-                    CHECK(amax > 0.3, "%s view %d: nearly empty image (max alpha %g) proves nothing",
+                    CHECK_QUIET(amax > 0.3, "%s view %d: nearly empty image (max alpha %g) proves nothing",
                           lc_target_name((lc_target)t), view, amax);
                     for (int v = 1; v < 3; v++) {
                         double md, ps;
                         compare(img[0], img[v], W * H, &md, &ps);
-                        CHECK(md <= 2.0 / 255 && ps >= 50, "%s view %d %s shade %d: borrowed vs owned %s max %.5f psnr %.1f",
+                        CHECK_QUIET(md <= 2.0 / 255 && ps >= 50, "%s view %d %s shade %d: borrowed vs owned %s max %.5f psnr %.1f",
                               lc_target_name((lc_target)t), view, m ? "brute" : "bvh", shade, v == 1 ? "linear" : "bricked",
                               md, ps);
                     }
                 }
         lc_device_destroy(dev);
     }
-    CHECK(rendered > 0, "no target rendered");
+    CHECK_QUIET(rendered > 0, "no target rendered");
     for (int v = 0; v < 3; v++) {
         lc_grid_destroy(grids[v]);
         free(img[v]);
@@ -169,7 +160,7 @@ static int run_case(const gcase *c)
     lc_tf_destroy(tf);
     lc_device_destroy(dev0);
     munmap(mem.map, mem.maplen);
-    fails += failures;
+    fails += check_failures;
     return fails;
 }
 
@@ -193,8 +184,8 @@ static int run_long(void)
         lc_grid *g = NULL;
         lc_grid_desc gd = {.size = {n0, 2, 2}, .type = LC_VALUE_UINT8, .data = mem.data, .borrow = 1, .brick = 16};
         lc_status s = lc_grid_create(dev0, &gd, &g);
-        if (c == 0) CHECK(s == LC_OK, "2^24 nodes on x: %s", lc_last_error());
-        else CHECK(s != LC_OK, "2^24 + 5 nodes on x must be refused");
+        if (c == 0) CHECK_QUIET(s == LC_OK, "2^24 nodes on x: %s", lc_last_error());
+        else CHECK_QUIET(s != LC_OK, "2^24 + 5 nodes on x must be refused");
         float color[] = {0, 1, 1, 1, 1, 1, 1, 1}, opacity[] = {0, 1, 1, 1};
         lc_tf_field tff = {.color = color, .ncolor = 2, .opacity = opacity, .nopacity = 2};
         lc_tf *tf = NULL;
@@ -214,10 +205,10 @@ static int run_long(void)
                     d.camera.at = (lc_vec3){(float)v.at[0], (float)v.at[1], (float)v.at[2] + (view ? 0.3f : 0.0f)};
                     d.camera.up = (lc_vec3){0, 1, 0};
                     d.camera.fovy = 60;
-                    CHECK(lc_render(dev, &d, img, NULL) == LC_OK, "long axis render: %s", lc_last_error());
+                    CHECK_QUIET(lc_render(dev, &d, img, NULL) == LC_OK, "long axis render: %s", lc_last_error());
                     double amax = 0;
                     for (int i = 0; i < 16 * 16; i++) amax = fmax(amax, img[4 * i + 3]);
-                    CHECK(amax > 0.3, "long axis %s view %d: nearly empty image (max alpha %g)", lc_target_name((lc_target)t),
+                    CHECK_QUIET(amax > 0.3, "long axis %s view %d: nearly empty image (max alpha %g)", lc_target_name((lc_target)t),
                           view, amax);
                 }
             lc_device_destroy(dev);
@@ -227,7 +218,7 @@ static int run_long(void)
         lc_device_destroy(dev0);
         munmap(mem.map, mem.maplen);
     }
-    fails += failures;
+    fails += check_failures;
     return fails;
 }
 
