@@ -1,7 +1,7 @@
 /* lanecast: CPU volume ray casting of particle data, structured grids and
  * RBF-encoded volumes with SIMD kernels compiled per instruction set.
  *
- * Conventions (see docs/API.md):
+ * Conventions (README.md "Library" shows a complete example):
  * - Opaque handles with create/destroy pairs; destroy accepts NULL.
  * - Descriptor structs in which zero means default: use designated
  *   initialisers and set only what you need.
