@@ -41,17 +41,34 @@ static inline vray dvr_camera_rays(const lc_kcamera *c, vint px, vint py)
     return r;
 }
 
-/* Slab test of rays against a box; t clipped to [0, inf). Lanes that miss
- * get t0 > t1. */
+/* 1/d with zero (and tiny) components replaced by 1e-30, so slab tests never
+ * form 0 * inf = NaN for axis-aligned rays whose origin lies on a slab plane. */
+static inline vfloat dvr_inv_dir(vfloat d)
+{
+    vfloat tiny = vf_set1(1e-30f);
+    d = vf_select(vf_lt(vf_abs(d), tiny), tiny, d);
+    return vf_div(vf_set1(1.0f), d);
+}
+
+/* Slab test with inverse directions against a box grown by g on every side:
+ * entry tn and exit tf (tn > tf: miss). Not clipped to t >= 0. */
+static inline void dvr_slab(vfloat ox, vfloat oy, vfloat oz, vfloat ix, vfloat iy, vfloat iz, const float lo[3],
+                            const float hi[3], float g, vfloat *tn, vfloat *tf)
+{
+    vfloat ax = vf_mul(vf_sub(vf_set1(lo[0] - g), ox), ix), bx = vf_mul(vf_sub(vf_set1(hi[0] + g), ox), ix);
+    vfloat ay = vf_mul(vf_sub(vf_set1(lo[1] - g), oy), iy), by = vf_mul(vf_sub(vf_set1(hi[1] + g), oy), iy);
+    vfloat az = vf_mul(vf_sub(vf_set1(lo[2] - g), oz), iz), bz = vf_mul(vf_sub(vf_set1(hi[2] + g), oz), iz);
+    *tn = vf_max(vf_max(vf_min(ax, bx), vf_min(ay, by)), vf_min(az, bz));
+    *tf = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
+}
+
+/* Rays against a box, t clipped to [0, inf). Lanes that miss get t0 > t1. */
 static inline void dvr_clip_box(const vray *r, const float lo[3], const float hi[3], vfloat *t0, vfloat *t1)
 {
-    vfloat ix = vf_div(vf_set1(1.0f), r->dx), iy = vf_div(vf_set1(1.0f), r->dy), iz = vf_div(vf_set1(1.0f), r->dz);
-    vfloat ax = vf_mul(vf_sub(vf_set1(lo[0]), r->ox), ix), bx = vf_mul(vf_sub(vf_set1(hi[0]), r->ox), ix);
-    vfloat ay = vf_mul(vf_sub(vf_set1(lo[1]), r->oy), iy), by = vf_mul(vf_sub(vf_set1(hi[1]), r->oy), iy);
-    vfloat az = vf_mul(vf_sub(vf_set1(lo[2]), r->oz), iz), bz = vf_mul(vf_sub(vf_set1(hi[2]), r->oz), iz);
-    vfloat n = vf_max(vf_max(vf_min(ax, bx), vf_min(ay, by)), vf_max(vf_min(az, bz), vf_zero()));
-    vfloat f = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
-    /* NaN (0 * inf on a slab boundary) must not open the interval */
+    vfloat n, f;
+    dvr_slab(r->ox, r->oy, r->oz, dvr_inv_dir(r->dx), dvr_inv_dir(r->dy), dvr_inv_dir(r->dz), lo, hi, 0.0f, &n, &f);
+    n = vf_max(n, vf_zero());
+    /* belt and braces: a NaN must never open the interval */
     vmask ok = vm_and(vf_eq(n, n), vf_eq(f, f));
     *t0 = vf_select(ok, n, vf_set1(1.0f));
     *t1 = vf_select(ok, f, vf_set1(-1.0f));

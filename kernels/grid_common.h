@@ -53,13 +53,6 @@ typedef struct gpk {
     vint pa, pb;  /* BVH: pending run of samples not yet integrated (empty: pa > pb) */
 } gpk;
 
-static inline vfloat grid_safe_inv(vfloat d)
-{
-    vfloat tiny = vf_set1(1e-30f);
-    d = vf_select(vf_lt(vf_abs(d), tiny), tiny, d);
-    return vf_div(vf_set1(1.0f), d);
-}
-
 /* Lattice parameter of index k: dt (k + rda k (k - 1) / 2) (differential
  * sampling: the step from k to k+1 is dt (1 + rda k)). */
 static inline vfloat grid_t_of_k(const lc_kgrid *g, float dt, vint k)
@@ -101,11 +94,8 @@ static inline void grid_lattice(const lc_kgrid *g, float dt, vfloat t0, vfloat t
 /* Slab test against a box with the packlet's inverse directions, t >= 0. */
 static inline void grid_box_t(const gpk *p, const float lo[3], const float hi[3], vfloat *t0, vfloat *t1)
 {
-    vfloat ax = vf_mul(vf_sub(vf_set1(lo[0]), p->ray.ox), p->ix), bx = vf_mul(vf_sub(vf_set1(hi[0]), p->ray.ox), p->ix);
-    vfloat ay = vf_mul(vf_sub(vf_set1(lo[1]), p->ray.oy), p->iy), by = vf_mul(vf_sub(vf_set1(hi[1]), p->ray.oy), p->iy);
-    vfloat az = vf_mul(vf_sub(vf_set1(lo[2]), p->ray.oz), p->iz), bz = vf_mul(vf_sub(vf_set1(hi[2]), p->ray.oz), p->iz);
-    *t0 = vf_max(vf_max(vf_min(ax, bx), vf_min(ay, by)), vf_max(vf_min(az, bz), vf_zero()));
-    *t1 = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
+    dvr_slab(p->ray.ox, p->ray.oy, p->ray.oz, p->ix, p->iy, p->iz, lo, hi, 0.0f, t0, t1);
+    *t0 = vf_max(*t0, vf_zero());
 }
 
 /* Rays of a packlet at pixel block (x, y); lanes outside the tile are dead. */
@@ -113,9 +103,9 @@ static inline void grid_packlet_init(const lc_kgrid *g, const lc_kframe *f, cons
 {
     dvr_packet_pixels(x, y, &p->px, &p->py);
     p->ray = dvr_camera_rays(&f->cam, p->px, p->py);
-    p->ix = grid_safe_inv(p->ray.dx);
-    p->iy = grid_safe_inv(p->ray.dy);
-    p->iz = grid_safe_inv(p->ray.dz);
+    p->ix = dvr_inv_dir(p->ray.dx);
+    p->iy = dvr_inv_dir(p->ray.dy);
+    p->iz = dvr_inv_dir(p->ray.dz);
     vfloat t0, t1;
     dvr_clip_box(&p->ray, g->lo, g->hi, &t0, &t1);
     grid_lattice(g, f->dt, t0, t1, &p->knext, &p->klast);

@@ -62,17 +62,6 @@ static inline vfloat perp2(vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat
     return vf_fma(qx, qx, vf_fma(qy, qy, vf_mul(qz, qz)));
 }
 
-/* Ray-box slab test; returns the entry/exit interval (entry > exit: miss). */
-static inline void slab(vfloat ox, vfloat oy, vfloat oz, vfloat ix, vfloat iy, vfloat iz, const float lo[3],
-                        const float hi[3], float g, vfloat *tn, vfloat *tf)
-{
-    vfloat ax = vf_mul(vf_sub(vf_set1(lo[0] - g), ox), ix), bx = vf_mul(vf_sub(vf_set1(hi[0] + g), ox), ix);
-    vfloat ay = vf_mul(vf_sub(vf_set1(lo[1] - g), oy), iy), by = vf_mul(vf_sub(vf_set1(hi[1] + g), oy), iy);
-    vfloat az = vf_mul(vf_sub(vf_set1(lo[2] - g), oz), iz), bz = vf_mul(vf_sub(vf_set1(hi[2] + g), oz), iz);
-    *tn = vf_max(vf_max(vf_min(ax, bx), vf_min(ay, by)), vf_min(az, bz));
-    *tf = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
-}
-
 /* Boxes grow a little more than sigma * rmax so float round-off in the slab
  * test never drops a sample that lies within the truncation radius. */
 static inline float grow(float sigma_r) { return sigma_r * 1.0001f + 1e-6f; }
@@ -84,7 +73,7 @@ static void trace_spheres(const lc_kparticles *s, const lc_kframe *f, const vray
 {
     vfloat inf = vf_set1(3.0e38f);
     vfloat best = inf, nx = vf_zero(), ny = vf_zero(), nz = vf_zero(), sr = vf_zero(), sg = vf_zero(), sb = vf_zero();
-    vfloat ix = vf_div(vf_set1(1.0f), ray->dx), iy = vf_div(vf_set1(1.0f), ray->dy), iz = vf_div(vf_set1(1.0f), ray->dz);
+    vfloat ix = dvr_inv_dir(ray->dx), iy = dvr_inv_dir(ray->dy), iz = dvr_inv_dir(ray->dz);
     float scale = s->sphere_scale;
     int sp = 0;
     stack[sp++] = 0;
@@ -92,7 +81,7 @@ static void trace_spheres(const lc_kparticles *s, const lc_kframe *f, const vray
         int32_t n = stack[--sp];
         const lc_kpnode *node = &s->nodes[n];
         vfloat tn, tf;
-        slab(ray->ox, ray->oy, ray->oz, ix, iy, iz, node->lo, node->hi, grow(scale * s->node_rmax[n]), &tn, &tf);
+        dvr_slab(ray->ox, ray->oy, ray->oz, ix, iy, iz, node->lo, node->hi, grow(scale * s->node_rmax[n]), &tn, &tf);
         vmask hit = vm_and(valid, vm_and(vf_le(vf_max(tn, vf_zero()), tf), vf_lt(tn, best)));
         st->nodes++;
         if (vm_none(hit)) continue;
@@ -302,7 +291,7 @@ static void traverse_pass(const lc_kparticles *s, const cscratch *c, int nv, int
             int o = v * LC_W;
             vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
             vfloat tn, tf;
-            slab(vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o), vf_load(c->ix + o), vf_load(c->iy + o),
+            dvr_slab(vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o), vf_load(c->ix + o), vf_load(c->iy + o),
                  vf_load(c->iz + o), node->lo, node->hi, g, &tn, &tf);
             hit = vm_any(vf_le(vf_max(tn, w0), vf_min(tf, w1)));
         }
@@ -347,9 +336,9 @@ void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *
                 }
                 vf_store(c.ox + o, r.ox), vf_store(c.oy + o, r.oy), vf_store(c.oz + o, r.oz);
                 vf_store(c.dx + o, r.dx), vf_store(c.dy + o, r.dy), vf_store(c.dz + o, r.dz);
-                vf_store(c.ix + o, vf_div(vf_set1(1.0f), r.dx));
-                vf_store(c.iy + o, vf_div(vf_set1(1.0f), r.dy));
-                vf_store(c.iz + o, vf_div(vf_set1(1.0f), r.dz));
+                vf_store(c.ix + o, dvr_inv_dir(r.dx));
+                vf_store(c.iy + o, dvr_inv_dir(r.dy));
+                vf_store(c.iz + o, dvr_inv_dir(r.dz));
                 vi_store(c.kf + o, kf), vi_store(c.kl + o, kl);
                 vf_store(c.cr + o, vf_zero()), vf_store(c.cg + o, vf_zero());
                 vf_store(c.cb + o, vf_zero()), vf_store(c.ca + o, vf_zero());

@@ -452,6 +452,9 @@ static void test_images(void)
         {"sigma 1.5 kappa 2", 0, 48, 40, 0, PERSP(2, 3, 16, 0, 0, 0, 35), 0, {0, 0}, 0.05f, A1, LC_SHADE_NONE, L0, 1.5f, 2.0f, 0},
         {"diffuse", 0, 48, 40, 0, PERSP(2, 3, 16, 0, 0, 0, 35), 0, {0, 0}, 0.05f, A1, LC_SHADE_DIFFUSE, L0, 0, 0, 0},
         {"orthographic", 0, 48, 40, 0, {LC_ORTHOGRAPHIC, {1, -2, 15}, {0, 0, 0}, {0, 1, 0}, 0, 12}, 0, {0, 0}, 0.05f, A1, LC_SHADE_DIFFUSE, L0, 0, 0, 0},
+        /* axis-aligned rays (dx = dy = 0 exactly): slab tests must not form 0 * inf */
+        {"ortho down -z", 0, 48, 40, 0, {LC_ORTHOGRAPHIC, {0, 0, 15}, {0, 0, 0}, {0, 1, 0}, 0, 12}, 0, {0, 0}, 0.05f, A1, LC_SHADE_DIFFUSE, L0, 0, 0, 0},
+        {"ortho down -z spheres", 4, 48, 40, 0, {LC_ORTHOGRAPHIC, {0, 0, 15}, {0, 0, 0}, {0, 1, 0}, 0, 12}, 0, {0, 0}, 0.05f, A1, LC_SHADE_DIFFUSE, L0, 0, 0, 0.6f},
         {"camera inside", 0, 48, 40, 0, PERSP(0.3f, 0.2f, 0.5f, -1, 0.5f, -3, 60), 2, {0, 1.5f}, 0.04f, A1, LC_SHADE_DIFFUSE, L0, 0, 0, 0},
         {"range 0.2,1.2", 0, 48, 40, 0, PERSP(-3, 1, 14, 0, 0, 0, 40), 0, {0.2f, 1.2f}, 0.05f, A1, LC_SHADE_NONE, L0, 0, 0, 0},
         {"multi-field", 1, 48, 40, 0, PERSP(0, 4, 15, 0, 0, 0, 40), 1, {0, 0}, 0.05f, A1, LC_SHADE_NONE, L0, 0, 0, 0},
