@@ -126,7 +126,6 @@ void lci_tf_eval(const lc_tf *tf, int field, double v, double rgb[3], double *ta
 
 void lci_tf_fill(const lc_tf *tf, int field, float lo, float hi, float *table, lc_ktf *out)
 {
-    float max_tau = 0.0f;
     for (int j = 0; j < LC_TF_TABLE_SIZE; j++) {
         double rgb[3], tau;
         lci_tf_eval(tf, field, (double)j / (LC_TF_TABLE_SIZE - 1), rgb, &tau);
@@ -134,12 +133,11 @@ void lci_tf_fill(const lc_tf *tf, int field, float lo, float hi, float *table, l
         table[4 * j + 1] = (float)rgb[1];
         table[4 * j + 2] = (float)rgb[2];
         table[4 * j + 3] = (float)tau;
-        if ((float)tau > max_tau) max_tau = (float)tau;
     }
     out->rgbt = table;
     out->lo = lo;
     out->inv_range = 1.0f / (hi - lo);
-    out->max_tau = max_tau;
+    out->pad = 0.0f;
     out->grad_eps = 0.0f;
 }
 

@@ -111,6 +111,20 @@ static void devices(void)
     lc_device_destroy(dev);
 }
 
+/* Transfer-function handles: counts, presets, destroy(NULL). */
+static void tfs(void)
+{
+    lc_tf *tf = NULL;
+    CHECK(lc_tf_field_count(NULL) == 0, "lc_tf_field_count(NULL) = 0");
+    CHECK(lc_tf_preset(NULL, "heat", 3, 1.0f, &tf) == LC_OK && lc_tf_field_count(tf) == 3,
+          "a 3-field preset has %d fields", lc_tf_field_count(tf));
+    lc_tf_destroy(tf);
+    lc_tf_destroy(NULL);
+    EXPECT_ERROR(lc_tf_preset(NULL, "heat", 9, 1.0f, &tf), LC_ERROR_INVALID_ARGUMENT, "9 fields");
+    EXPECT_ERROR(lc_tf_preset(NULL, "nosuch", 1, 1.0f, &tf), LC_ERROR_INVALID_ARGUMENT, "nosuch");
+    EXPECT_ERROR(lc_tf_parse(NULL, "{\"color\": [[0,1,1,1]]}", "t.json", &tf), LC_ERROR_FORMAT, "opacity");
+}
+
 int main(void)
 {
     unsetenv("LANECAST_TARGET");
@@ -120,5 +134,6 @@ int main(void)
     status_and_version();
     targets();
     devices();
+    tfs();
     return check_summary("test_api_errors");
 }

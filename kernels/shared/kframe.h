@@ -34,7 +34,7 @@ typedef struct lc_ktf {
     const float *rgbt; /* LC_TF_TABLE_SIZE * 4 floats */
     float lo;
     float inv_range; /* 1 / (hi - lo) */
-    float max_tau;   /* largest extinction in the table (0: transparent) */
+    float pad;
     float grad_eps;  /* no shading where |grad| < 1e-6 (hi - lo) / dt (SPEC.md) */
 } lc_ktf;
 _Static_assert(sizeof(lc_ktf) == 24, "lc_ktf layout");
