@@ -9,7 +9,6 @@
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
-#include "../host/internal.h"
 
 int lci_grid_bvh_default_brick(const int32_t size[3])
 {
@@ -93,7 +92,6 @@ int lci_grid_bvh_build(const void *data, int type, const int32_t size[3], const 
                        int L, lci_grid_bvh *out)
 {
     memset(out, 0, sizeof *out);
-    double t0 = lci_now();
     build b;
     memset(&b, 0, sizeof b);
     b.L = L;
@@ -159,7 +157,6 @@ int lci_grid_bvh_build(const void *data, int type, const int32_t size[3], const 
     out->depth = b.depth;
     out->brick = L;
     out->bytes = (uint64_t)b.used * sizeof *nodes;
-    out->seconds = lci_now() - t0;
     return 0;
 }
 

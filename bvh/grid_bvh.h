@@ -4,12 +4,12 @@
 #define LC_BVH_GRID_BVH_H
 
 #include <stdint.h>
-#include "../kernels/shared/kgrid.h"
+#include "kernels/shared/kgrid.h"
 
 typedef struct lci_grid_bvh {
     lc_kgrid_node *nodes; /* nnodes, root at 0, children adjacent */
     int32_t nnodes, nleaves, depth, brick;
-    double seconds;
+    double seconds; /* set by the caller, which times the build */
     uint64_t bytes;
 } lci_grid_bvh;
 

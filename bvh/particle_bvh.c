@@ -10,6 +10,7 @@
 #include <embree3/rtcore.h>
 #include <embree3/rtcore_builder.h>
 #include "particle_bvh.h"
+#include "embree.h"
 
 typedef struct bnode {
     int leaf;
@@ -121,7 +122,7 @@ int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float 
         snprintf(err, errlen, "%zu particles: at most %d supported", n, INT32_MAX / 2);
         return -1;
     }
-    RTCDevice dev = embree_device;
+    RTCDevice dev = lci_embree_rtc(embree_device);
     struct RTCBuildPrimitive *prims = NULL;
     if (posix_memalign((void **)&prims, 32, n * sizeof *prims) != 0) {
         snprintf(err, errlen, "out of memory for %zu build primitives", n);

@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "../kernels/shared/kparticles.h"
+#include "kernels/shared/kparticles.h"
 
 typedef struct lci_pbvh {
     lc_kpnode *nodes;

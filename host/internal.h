@@ -5,7 +5,9 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include "lanecast/lanecast.h"
-#include "../kernels/shared/ktable.h"
+#include "kernels/shared/ktable.h"
+
+_Static_assert(LC_KMAX_FIELDS == LC_MAX_FIELDS, "kernel and API field limits agree");
 
 #define LCI_MSG_MAX 1024
 
@@ -18,7 +20,7 @@ struct lc_device {
     lc_log_fn log;
     void *log_user;
     lci_pool *pool;
-    void *embree; /* RTCDevice, created on first use (host/particles.c) */
+    void *embree; /* RTCDevice, created on first use (bvh/embree.c) */
     char last_error[LCI_MSG_MAX];
 };
 
@@ -46,8 +48,19 @@ void lci_pool_run(lci_pool *pool, int ntasks, lci_task_fn fn, void *ctx);
 int lci_pool_threads(const lci_pool *pool);
 void lci_flush_denormals(void);
 
-void *lci_embree_device(lc_device *device); /* NULL + error recorded on failure */
+/* The device's Embree device, created on first use (bvh/embree.c); NULL +
+ * error recorded on failure. */
+void *lci_embree_device(lc_device *device);
 void lci_embree_release(lc_device *device);
+
+/* Strict parsing of lc_option values (host/api/options.c): each error names
+ * the file, the key and the value. */
+lc_status lci_option_int(lc_device *dev, const char *file, const lc_option *o, int lo, int hi, int *out);
+lc_status lci_option_size(lc_device *dev, const char *file, const lc_option *o, size_t hi, size_t *out);
+lc_status lci_option_float(lc_device *dev, const char *file, const lc_option *o, float lo, float hi, float *out);
+/* n comma-separated floats or ints */
+lc_status lci_option_floats(lc_device *dev, const char *file, const lc_option *o, int n, float *out);
+lc_status lci_option_ints(lc_device *dev, const char *file, const lc_option *o, int n, int lo, int hi, int *out);
 
 double lci_now(void);
 void *lci_aligned_alloc(size_t align, size_t bytes); /* zeroed; free with lci_aligned_free */

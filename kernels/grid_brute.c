@@ -4,14 +4,9 @@
 #include "grid_common.h"
 #include "kernels.h"
 
-uint64_t LC_KFN(grid_scratch_bytes)(const lc_kgrid *g, const lc_kframe *f)
+void LC_KFN(grid_brute)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
 {
-    (void)g;
-    return grid_scratch(f);
-}
-
-void LC_KFN(grid_brute)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
-{
+    const lc_kgrid *g = scene;
     (void)scratch;
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
         for (int x = t->x0; x < t->x1; x += DVR_PW) {

@@ -106,21 +106,28 @@ static inline node_tf node_quant(const lc_ktf *tf, const lc_kgrid_node *n)
 }
 
 static inline float preint_tau(const lc_kgrid *g, int a, int b) { return g->preint[((size_t)a * LC_PREINT_N + (size_t)b) * 4 + 3]; }
-static inline float rho(const lc_kgrid *g, float dt, int a, int b)
-{
-    (void)dt; /* the host tabulates 1 - exp(-tau_mean dt) per frame */
-    return g->preint_alpha[(size_t)a * LC_PREINT_N + (size_t)b];
-}
+/* Opacity of one step over the quantised range [a, b]: the host tabulates
+ * 1 - exp(-tau_mean dt) per frame (preint_alpha). */
+static inline float rho(int a, int b, const lc_kgrid *g) { return g->preint_alpha[(size_t)a * LC_PREINT_N + (size_t)b]; }
 
 /* eq. 5: a node is empty when the pre-integrated opacity over its range is at
  * most delta_c. The mean extinction being exactly zero is always used: it
  * means zero opacity at every sample, so skipping is exact. */
-static inline int node_empty(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
+static inline int node_transparent(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
 {
     node_tf q = node_quant(&f->tf[0], n);
     float tm = preint_tau(g, q.qlo, q.qhi);
     if (tm == 0.0f) return 1;
-    return (g->bvh_flags & LC_KGRID_CULL) && rho(g, f->dt, q.qlo, q.qhi) <= g->delta_c;
+    return (g->bvh_flags & LC_KGRID_CULL) && rho(q.qlo, q.qhi, g) <= g->delta_c;
+}
+
+/* A node is skipped when the mode says it cannot matter; the grid tells it
+ * the node's value range (which bounds the field) and its TF test above. */
+static inline int node_empty(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
+{
+    mnode mn = {n->vmin, n->vmax, 1, 0};
+    mn.transparent = f->mode == LC_KMODE_DVR && node_transparent(g, f, n);
+    return !mode_node_matters(f, &mn);
 }
 
 /* eq. 6: treat an inner node as a leaf when its opacity relative to its size
@@ -142,7 +149,7 @@ static inline int node_prune(const lc_kgrid *g, const lc_kframe *f, const lc_kgr
         if (dbox < footprint * dist) return 1;
     }
     node_tf q = node_quant(&f->tf[0], n);
-    return rho(g, f->dt, q.qlo, q.qhi) * g->diag_volume > g->delta_p * dbox;
+    return rho(q.qlo, q.qhi, g) * g->diag_volume > g->delta_p * dbox;
 }
 
 /* eq. 7: constant subvolume when the opacity over [min, max] differs from
@@ -157,7 +164,7 @@ static inline int node_constant(const lc_kgrid *g, const lc_kframe *f, const lc_
     if (f->shade != LC_KSHADE_NONE && n->vmin != n->vmax) return 0;
     if (n->vmin == n->vmax) return 1;
     node_tf q = node_quant(&f->tf[0], n);
-    float r = rho(g, f->dt, q.qlo, q.qhi), rl = rho(g, f->dt, q.qlo, q.qlo), rh = rho(g, f->dt, q.qhi, q.qhi);
+    float r = rho(q.qlo, q.qhi, g), rl = rho(q.qlo, q.qlo, g), rh = rho(q.qhi, q.qhi, g);
     if (!(fmaxf(fabsf(r - rl), fabsf(r - rh)) < g->delta_sv)) return 0;
     const float *cl = g->preint + ((size_t)q.qlo * LC_PREINT_N + (size_t)q.qlo) * 4;
     const float *ch = g->preint + ((size_t)q.qhi * LC_PREINT_N + (size_t)q.qhi) * 4;
@@ -282,8 +289,9 @@ static void traverse(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int npk, lc
     }
 }
 
-void LC_KFN(grid_bvh)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
+static void grid_bvh(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
 {
+    const lc_kgrid *g = scene;
     int pw, ph;
     grid_packet_dims(f, &pw, &ph);
     int nx = pw / DVR_PW, ny = ph / DVR_PH, npk = nx * ny;
@@ -303,3 +311,56 @@ void LC_KFN(grid_bvh)(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, 
         }
     }
 }
+
+static uint64_t scratch_bytes(const void *scene, const lc_kframe *f)
+{
+    (void)scene;
+    return grid_scratch(f);
+}
+
+/* The trilinear value and gradient (eqs. 8-9) at n points; 0 outside the
+ * domain (the field is undefined there, SPEC.md). */
+static void grid_points(const void *scene, const float *xyz, int64_t n, float *phi, float *grad, void *scratch)
+{
+    const lc_kgrid *g = scene;
+    (void)scratch;
+    for (int64_t base = 0; base < n; base += LC_W) {
+        int cnt = n - base < LC_W ? (int)(n - base) : LC_W;
+        float tx[LC_W], ty[LC_W], tz[LC_W];
+        for (int l = 0; l < LC_W; l++) {
+            int64_t q = base + (l < cnt ? l : 0);
+            tx[l] = xyz[3 * q], ty[l] = xyz[3 * q + 1], tz[l] = xyz[3 * q + 2];
+        }
+        vfloat x = vf_load(tx), y = vf_load(ty), z = vf_load(tz);
+        vmask in = vm_and(vm_and(vm_and(vf_ge(x, vf_set1(g->lo[0])), vf_le(x, vf_set1(g->hi[0]))),
+                                 vm_and(vf_ge(y, vf_set1(g->lo[1])), vf_le(y, vf_set1(g->hi[1])))),
+                          vm_and(vf_ge(z, vf_set1(g->lo[2])), vf_le(z, vf_set1(g->hi[2]))));
+        /* outside lanes sample the origin (a valid voxel), then read as 0 */
+        x = vf_select(in, x, vf_set1(g->lo[0])), y = vf_select(in, y, vf_set1(g->lo[1]));
+        z = vf_select(in, z, vf_set1(g->lo[2]));
+        vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
+        vfloat v = vf_select(in, grid_sample(g, x, y, z, grad != NULL, &gx, &gy, &gz), vf_zero());
+        for (int l = 0; l < cnt; l++) {
+            int64_t o = base + l;
+            phi[o] = vf_lane(v, l);
+            if (grad) {
+                grad[3 * o] = vf_lane(vf_select(in, gx, vf_zero()), l);
+                grad[3 * o + 1] = vf_lane(vf_select(in, gy, vf_zero()), l);
+                grad[3 * o + 2] = vf_lane(vf_select(in, gz, vf_zero()), l);
+            }
+        }
+    }
+}
+
+static uint64_t no_scratch(const void *scene)
+{
+    (void)scene;
+    return 0;
+}
+
+const lc_kkind LC_KFN(lc_kkind_grid) = {
+    .render = {[LC_KMETHOD_FAST] = grid_bvh, [LC_KMETHOD_BASE] = LC_KFN(grid_brute)},
+    .scratch_bytes = {[LC_KMETHOD_FAST] = scratch_bytes, [LC_KMETHOD_BASE] = scratch_bytes},
+    .sample = grid_points,
+    .sample_scratch_bytes = no_scratch,
+};

@@ -3,11 +3,11 @@
  * lattice t_k = k dt (independent of BVH and bricks, so both methods take the
  * same samples), trilinear reconstruction (eq. 8) with the analytic gradient
  * from the same weights (eq. 9), classification through the frame's TF table
- * or the pre-integrated table (eq. 4), dvr_shade and dvr_blend. */
+ * or the pre-integrated table (eq. 4), then the mode's consumer (mode.h). */
 #ifndef LC_GRID_COMMON_H
 #define LC_GRID_COMMON_H
 
-#include "dvr.h"
+#include "mode.h"
 #include "shared/kgrid.h"
 #include "shared/ktable.h"
 
@@ -76,8 +76,8 @@ static inline void grid_lattice(const lc_kgrid *g, float dt, vfloat t0, vfloat t
     vfloat x0 = vf_div(t0, vf_set1(dt)), x1 = vf_div(t1, vf_set1(dt));
     vfloat r0 = vf_div(vf_sub(vf_sqrt(vf_fma(x0, vf_set1(2.0f * a), vf_set1(b * b))), vf_set1(b)), vf_set1(a));
     vfloat r1 = vf_div(vf_sub(vf_sqrt(vf_fma(x1, vf_set1(2.0f * a), vf_set1(b * b))), vf_set1(b)), vf_set1(a));
-    vint k0 = vf_to_vi(vf_min(vf_max(vf_floor(r0), vf_zero()), vf_set1(1.6e7f)));
-    vint k1 = vf_to_vi(vf_min(vf_max(vf_floor(r1), vf_zero()), vf_set1(1.6e7f)));
+    vint k0 = vf_to_vi(vf_min(vf_max(vf_floor(r0), vf_zero()), vf_set1(LC_KLATTICE_MAX)));
+    vint k1 = vf_to_vi(vf_min(vf_max(vf_floor(r1), vf_zero()), vf_set1(LC_KLATTICE_MAX)));
     /* fix round-off exactly against grid_t_of_k, the definition */
     for (int it = 0; it < 2; it++) {
         k0 = vi_select(vf_lt(grid_t_of_k(g, dt, k0), t0), vi_add(k0, vi_set1(1)), k0);
@@ -262,6 +262,47 @@ static inline void grid_classify_preint(const lc_kgrid *g, vfloat va, vfloat vb,
     *tau = vf_gather(g->preint + 3, i);
 }
 
+/* Hands one sample to the mode: phi, or when pre-integrated (eq. 4) its
+ * segment's classification rgbt; shaded when the frame shades, with this
+ * sample's step dt (1 + rda k) under differential sampling. */
+static inline void grid_consume(const lc_kgrid *g, const lc_kframe *f, gpk *p, vmask m, vint k, vfloat phi,
+                                const vfloat *rgbt, vfloat gx, vfloat gy, vfloat gz)
+{
+    vgrad gr = {gx, gy, gz};
+    const vgrad *grad = f->shade != LC_KSHADE_NONE ? &gr : NULL;
+    vfloat scale = vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f));
+    const vfloat *step = g->rda != 0.0f ? &scale : NULL;
+    if (rgbt) mode_sample_rgbt(f, 0, &p->c, m, rgbt[0], rgbt[1], rgbt[2], rgbt[3], grad, &p->ray, step);
+    else mode_sample(f, 0, &p->c, m, phi, grad, &p->ray, step);
+}
+
+/* Stage-profile stand-ins (GRID_PROF, bench only) for classification,
+ * shading and blending, each replaced as its bit says. */
+static inline void grid_prof_consume(const lc_kgrid *g, const lc_kframe *f, gpk *p, vmask m, vint k, vfloat phi,
+                                     vfloat gx, vfloat gy, vfloat gz)
+{
+    const lc_ktf *tf = &f->tf[0];
+    const int shade = f->shade != LC_KSHADE_NONE;
+    vfloat r, gg, b, tau;
+    if (GRID_PROF & GP_CLASS) {
+        r = gg = b = phi;
+        tau = vf_mul(phi, vf_set1(1e-3f));
+    } else {
+        dvr_classify(tf, phi, &r, &gg, &b, &tau);
+    }
+    if (shade && !(GRID_PROF & GP_SHADE)) dvr_shade(f, tf->grad_eps, &p->ray, gx, gy, gz, &r, &gg, &b);
+    if (shade && (GRID_PROF & GP_SHADE)) r = vf_add(r, gx), gg = vf_add(gg, gy), b = vf_add(b, gz);
+    if (g->rda != 0.0f) tau = vf_mul(tau, vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f)));
+    if (GRID_PROF & GP_BLEND) {
+        p->c.r = vf_add(p->c.r, vf_select(m, r, vf_zero()));
+        p->c.g = vf_add(p->c.g, vf_select(m, gg, vf_zero()));
+        p->c.b = vf_add(p->c.b, vf_select(m, b, vf_zero()));
+        p->c.a = vf_add(p->c.a, vf_select(m, tau, vf_zero()));
+    } else {
+        dvr_blend(&p->c, m, r, gg, b, tau, f->dt);
+    }
+}
+
 /* Integrates lattice samples ka..kb (per lane) of the live lanes of p, front
  * to back, stopping lanes at alpha_stop. Both methods go through here. */
 static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p, vint ka, vint kb, lc_kstats *st)
@@ -282,30 +323,18 @@ static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p,
         vfloat z = vf_fma(t, p->ray.dz, p->ray.oz);
         vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
         vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
-        vfloat r, gg, b, tau;
-        if (GRID_PROF & GP_CLASS) {
-            r = gg = b = phi;
-            tau = vf_mul(phi, vf_set1(1e-3f));
+        if (GRID_PROF & (GP_CLASS | GP_SHADE | GP_BLEND)) {
+            grid_prof_consume(g, f, p, m, k, phi, gx, gy, gz);
         } else if (g->use_preint) {
             vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
             vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
-            grid_classify_preint(g, va, v, &r, &gg, &b, &tau);
+            vfloat rgbt[4];
+            grid_classify_preint(g, va, v, &rgbt[0], &rgbt[1], &rgbt[2], &rgbt[3]);
             p->prev = vf_select(m, v, p->prev);
             p->kprev = vi_select(m, k, p->kprev);
+            grid_consume(g, f, p, m, k, phi, rgbt, gx, gy, gz);
         } else {
-            dvr_classify(tf, phi, &r, &gg, &b, &tau);
-        }
-        if (shade && !(GRID_PROF & GP_SHADE)) dvr_shade(f, tf->grad_eps, &p->ray, gx, gy, gz, &r, &gg, &b);
-        if (shade && (GRID_PROF & GP_SHADE)) r = vf_add(r, gx), gg = vf_add(gg, gy), b = vf_add(b, gz);
-        if (g->rda != 0.0f) /* this sample's step is dt (1 + rda k) */
-            tau = vf_mul(tau, vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f)));
-        if (GRID_PROF & GP_BLEND) {
-            p->c.r = vf_add(p->c.r, vf_select(m, r, vf_zero()));
-            p->c.g = vf_add(p->c.g, vf_select(m, gg, vf_zero()));
-            p->c.b = vf_add(p->c.b, vf_select(m, b, vf_zero()));
-            p->c.a = vf_add(p->c.a, vf_select(m, tau, vf_zero()));
-        } else {
-            dvr_blend(&p->c, m, r, gg, b, tau, dt);
+            grid_consume(g, f, p, m, k, phi, NULL, gx, gy, gz);
         }
         n += (uint64_t)vm_popcnt(m);
         k = vi_add(k, vi_set1(1));
@@ -325,12 +354,11 @@ static inline void grid_integrate_const(const lc_kgrid *g, const lc_kframe *f, g
 {
     vmask m = vm_and(p->live, vm_not(vi_gt(ka, kb)));
     if (vm_none(m)) return;
-    vfloat r, gg, b, tau;
-    dvr_classify(&f->tf[0], vf_set1(phi), &r, &gg, &b, &tau);
     vint kend = vi_add(kb, vi_set1(1));
     vfloat len = vf_sub(grid_t_of_k(g, f->dt, kend), grid_t_of_k(g, f->dt, ka));
-    /* dvr_blend's a = 1 - exp(-tau' dt) with tau' = tau len / dt */
-    dvr_blend(&p->c, m, r, gg, b, vf_mul(tau, vf_div(len, vf_set1(f->dt))), f->dt);
+    /* one sample whose step is the run's length: a = 1 - exp(-tau len) */
+    vfloat scale = vf_div(len, vf_set1(f->dt));
+    mode_sample(f, 0, &p->c, m, vf_set1(phi), NULL, &p->ray, &scale);
     st->samples += (uint64_t)vm_popcnt(m);
     p->knext = vi_select(m, vi_max(p->knext, kend), p->knext);
     p->kprev = vi_select(m, vi_set1(-2), p->kprev);

@@ -1,15 +1,12 @@
-/* The one kernel table of this target. */
+/* The one kernel table of this target: a row per data kind. */
 #include "kernels.h"
 
 const lc_ktable LC_KFN(lc_ktable) = {
     .name = LC_TARGET_NAME,
     .lanes = LC_W,
     .lane_apply = LC_KFN(lc_lane_apply),
-    .particles_coherent = LC_KFN(particles_coherent),
-    .particles_direct = LC_KFN(particles_direct),
-    .particles_scratch_bytes = LC_KFN(particles_scratch_bytes),
-    .particles_sample = LC_KFN(particles_sample),
-    .grid_bvh = LC_KFN(grid_bvh),
-    .grid_brute = LC_KFN(grid_brute),
-    .grid_scratch_bytes = LC_KFN(grid_scratch_bytes),
+    .kind = {
+        [LC_KKIND_PARTICLES] = &LC_KFN(lc_kkind_particles),
+        [LC_KKIND_GRID] = &LC_KFN(lc_kkind_grid),
+    },
 };

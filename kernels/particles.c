@@ -10,7 +10,8 @@
  *   through the BVH, then classify and blend.
  * Both evaluate the field with the same arithmetic (sample_d2, gaussian), so they
  * differ only by summation order. */
-#include "dvr.h"
+#include <math.h>
+#include "mode.h"
 #include "shared/kparticles.h"
 #include "shared/ktable.h"
 #include "kernels.h"
@@ -128,7 +129,8 @@ static void trace_spheres(const lc_kparticles *s, const lc_kframe *f, const vray
 }
 
 /* Rays, lattice range and (with spheres) the opaque hit for one vector of the
- * group; returns the mask of rays with samples or a sphere hit. */
+ * group: the ray, its lattice range [kf, kl] (empty for rays outside the tile
+ * or the data) and the surface colour to composite behind the volume. */
 static inline void setup_vector(const lc_kparticles *s, const lc_kframe *f, const lc_ktile *t, int x, int y,
                                 int32_t *stack, vray *ray, vint *kf, vint *kl, vcolor *surf, lc_kstats *st)
 {
@@ -148,7 +150,7 @@ static inline void setup_vector(const lc_kparticles *s, const lc_kframe *f, cons
         vfloat kh = vf_floor(vf_div(thit, vf_set1(f->dt)));
         kh = vf_select(vf_lt(vf_mul(kh, vf_set1(f->dt)), thit), kh, vf_sub(kh, vf_set1(1.0f)));
         vmask h = vf_gt(surf->a, vf_zero());
-        *kl = vi_select(h, vi_min(*kl, vf_to_vi(vf_min(kh, vf_set1(1.6e7f)))), *kl);
+        *kl = vi_select(h, vi_min(*kl, vf_to_vi(vf_min(kh, vf_set1(LC_KLATTICE_MAX)))), *kl);
     }
     st->rays += (uint64_t)vm_popcnt(valid);
 }
@@ -207,10 +209,10 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     return off;
 }
 
-uint64_t LC_KFN(particles_scratch_bytes)(const struct lc_kparticles *s, const lc_kframe *f)
+static uint64_t particles_scratch_bytes(const void *scene, const lc_kframe *f)
 {
     cscratch c;
-    return coherent_layout(s, f, NULL, &c);
+    return coherent_layout(scene, f, NULL, &c);
 }
 
 /* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
@@ -275,8 +277,8 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
 
 /* Listing 2, lines 3-10: coherent traversal filling the buffer for samples
  * kp..kend. Node and stack are uniform, rays varying. */
-static void traverse_pass(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
-                          lc_kstats *st)
+static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscratch *c, int nv, int kp, int kend,
+                          float dt, int comps, lc_kstats *st)
 {
     int32_t *stack = c->stack;
     int sp = 0;
@@ -286,6 +288,10 @@ static void traverse_pass(const lc_kparticles *s, const cscratch *c, int nv, int
         const lc_kpnode *node = &s->nodes[n];
         float g = grow(s->sigma * s->node_rmax[n]);
         st->nodes++;
+        /* the mode's test on the node's own contribution (dvr: always) */
+        float vb = s->kappa * s->node_ksum[n];
+        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, 0};
+        if (!mode_node_matters(f, &mn)) continue;
         int hit = 0;
         for (int v = 0; v < nv && !hit; v++) {
             int o = v * LC_W;
@@ -306,9 +312,10 @@ static void traverse_pass(const lc_kparticles *s, const cscratch *c, int nv, int
     }
 }
 
-void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *f, const lc_ktile *t,
-                                       lc_kscratch *scratch, lc_kstats *st)
+static void particles_coherent(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
+                               lc_kstats *st)
 {
+    const lc_kparticles *s = scene;
     cscratch c;
     coherent_layout(s, f, scratch->mem, &c);
     pgroup g = group_dims(f);
@@ -383,7 +390,7 @@ void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *
                         for (int q = 0; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
                     }
                 for (int v = 0; v < nv; v++) c.touched[v] = 0;
-                traverse_pass(s, &c, nv, kp, kend, dt, comps, st);
+                traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);
                 /* Listing 2, lines 11-13: integrate the buffer front to back */
                 for (int v = 0; v < nv; v++) {
                     int o = v * LC_W;
@@ -405,12 +412,9 @@ void LC_KFN(particles_coherent)(const struct lc_kparticles *s, const lc_kframe *
                                                          (size_t)rays + (size_t)o;
                             vfloat phi = vf_load(p);
                             if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
-                            vfloat cr, cg, cb, tau;
-                            dvr_classify(&f->tf[fi], phi, &cr, &cg, &cb, &tau);
-                            if (comps == 4)
-                                dvr_shade(f, f->tf[fi].grad_eps, &r, vf_load(p + rays), vf_load(p + 2 * rays),
-                                          vf_load(p + 3 * rays), &cr, &cg, &cb);
-                            dvr_blend(&col, m, cr, cg, cb, tau, dt);
+                            vgrad gr;
+                            if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
+                            mode_sample(f, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL);
                         }
                         live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
                         if (vm_none(live)) break;
@@ -482,12 +486,11 @@ static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vf
 
 /* ---------------------------------------------------------------- direct */
 
-void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f, const lc_ktile *t,
-                                     lc_kscratch *scratch, lc_kstats *st)
+static void particles_direct(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
+                             lc_kstats *st)
 {
-    cscratch c;
-    coherent_layout(s, f, scratch->mem, &c);
-    int32_t *stack = c.stack;
+    const lc_kparticles *s = scene;
+    int32_t *stack = scratch->mem; /* direct needs only the traversal stack (direct_scratch_bytes) */
     const float dt = f->dt;
     const int nf = s->nfields, shade = f->shade != LC_KSHADE_NONE;
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
@@ -515,7 +518,7 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                     if (vm_none(m)) continue;
                     vfloat tk = vf_set1((float)k * dt);
                     vfloat px = vf_fma(r.dx, tk, r.ox), py = vf_fma(r.dy, tk, r.oy), pz = vf_fma(r.dz, tk, r.oz);
-                    vfloat phi[LC_MAX_FIELDS], gx[LC_MAX_FIELDS], gy[LC_MAX_FIELDS], gz[LC_MAX_FIELDS];
+                    vfloat phi[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
                     /* gather: every particle whose support contains a sample */
                     int found = gather_fields(s, px, py, pz, m, shade, stack, phi, gx, gy, gz, st);
                     if (!found && f->zero_transparent) continue; /* blends to exactly nothing */
@@ -523,10 +526,8 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
                     for (int fi = 0; fi < nf; fi++) {
                         /* tau(0) = 0 and this field is 0 on every lane: it blends to exactly nothing */
                         if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi[fi], vf_zero())))) continue;
-                        vfloat cr, cg, cb, tau;
-                        dvr_classify(&f->tf[fi], phi[fi], &cr, &cg, &cb, &tau);
-                        if (shade) dvr_shade(f, f->tf[fi].grad_eps, &r, gx[fi], gy[fi], gz[fi], &cr, &cg, &cb);
-                        dvr_blend(&col, m, cr, cg, cb, tau, dt);
+                        vgrad gr = {gx[fi], gy[fi], gz[fi]};
+                        mode_sample(f, fi, &col, m, phi[fi], shade ? &gr : NULL, &r, NULL);
                     }
                     live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
                     if (vm_none(live)) break;
@@ -541,9 +542,10 @@ void LC_KFN(particles_direct)(const struct lc_kparticles *s, const lc_kframe *f,
 
 /* Every field and its gradient at n points (xyz interleaved) through the BVH:
  * phi[i * nfields + f], grad[(i * nfields + f) * 3 + c]. grad may be NULL. */
-void LC_KFN(particles_sample)(const struct lc_kparticles *s, const float *xyz, int64_t n, float *phi, float *grad,
-                              int32_t *stack)
+static void particles_sample(const void *scene, const float *xyz, int64_t n, float *phi, float *grad, void *scratch)
 {
+    const lc_kparticles *s = scene;
+    int32_t *stack = scratch;
     const int nf = s->nfields;
     for (int64_t base = 0; base < n; base += LC_W) {
         int cnt = n - base < LC_W ? (int)(n - base) : LC_W;
@@ -554,7 +556,7 @@ void LC_KFN(particles_sample)(const struct lc_kparticles *s, const float *xyz, i
         }
         vfloat px = vf_load(tx), py = vf_load(ty), pz = vf_load(tz);
         vmask m = vm_first_n(cnt);
-        vfloat acc[LC_MAX_FIELDS], gx[LC_MAX_FIELDS], gy[LC_MAX_FIELDS], gz[LC_MAX_FIELDS];
+        vfloat acc[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
         gather_fields(s, px, py, pz, m, 1, stack, acc, gx, gy, gz, NULL);
         for (int fi = 0; fi < nf; fi++) {
             for (int l = 0; l < cnt; l++) {
@@ -569,3 +571,24 @@ void LC_KFN(particles_sample)(const struct lc_kparticles *s, const float *xyz, i
         }
     }
 }
+
+/* Traversal stack of depth + 4 entries: all point sampling needs. */
+static uint64_t stack_bytes(const void *scene)
+{
+    const lc_kparticles *s = scene;
+    return (uint64_t)(s->depth + 4) * sizeof(int32_t);
+}
+
+/* The direct method needs only the stack. */
+static uint64_t direct_scratch_bytes(const void *scene, const lc_kframe *f)
+{
+    (void)f;
+    return stack_bytes(scene);
+}
+
+const lc_kkind LC_KFN(lc_kkind_particles) = {
+    .render = {[LC_KMETHOD_FAST] = particles_coherent, [LC_KMETHOD_BASE] = particles_direct},
+    .scratch_bytes = {[LC_KMETHOD_FAST] = particles_scratch_bytes, [LC_KMETHOD_BASE] = direct_scratch_bytes},
+    .sample = particles_sample,
+    .sample_scratch_bytes = stack_bytes,
+};

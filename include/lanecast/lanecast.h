@@ -180,13 +180,48 @@ LC_API lc_status lc_tf_preset(lc_device *device, const char *name, int nfields, 
 LC_API void lc_tf_destroy(lc_tf *tf);
 LC_API int lc_tf_field_count(const lc_tf *tf);
 
-/* ---------------------------------------------------------------- scene objects */
+/* ---------------------------------------------------------------- volumes */
 
-typedef struct lc_particles lc_particles; /* particle data, see "particles" below */
-typedef struct lc_grid lc_grid;           /* structured volume, see "grids" below */
+/* Every kind of data renders as "a volume": one handle type that every kind's
+ * create call and lc_volume_load return, one lc_volume_destroy, one render
+ * descriptor field. Kind-specific calls (lc_particles_*, lc_grid_*) take the
+ * same handle and fail with LC_ERROR_INVALID_ARGUMENT on another kind. */
+typedef struct lc_volume lc_volume;
 
-/* ---------------------------------------------------------------- particles */
+typedef enum lc_kind {
+    LC_KIND_NONE = 0,
+    LC_KIND_PARTICLES = 1, /* sums of truncated Gaussians (Knoll et al. 2014) */
+    LC_KIND_GRID = 2,      /* structured volumes (Knoll et al. 2011) */
+    LC_KIND_COUNT = 3
+} lc_kind;
 
+/* "particles", "grid"; NULL for a value out of range. */
+LC_API const char *lc_kind_name(lc_kind kind);
+
+typedef struct lc_volume_info {
+    lc_kind kind;
+    lc_box3 bounds;   /* where the field may be non-zero with the current parameters */
+    int nfields;      /* fields (1..LC_MAX_FIELDS) */
+    float range[2];   /* the value range a TF maps by default (grids: the voxel range;
+                         particles: [0, |kappa|]) */
+} lc_volume_info;
+
+/* NULL is ignored. Objects are destroyed before their device. */
+LC_API void lc_volume_destroy(lc_volume *volume);
+/* LC_KIND_NONE for NULL. */
+LC_API lc_kind lc_volume_kind(const lc_volume *volume);
+LC_API lc_status lc_volume_get_info(const lc_volume *volume, lc_volume_info *out);
+
+/* Evaluates every field (and optionally its gradient) at n points (xyz
+ * interleaved) with the volume's current parameters, on the device's target:
+ * values[i * nfields + f], gradients[3 * (i * nfields + f) + c]. gradients may
+ * be NULL. Grids give 0 outside their domain. */
+LC_API lc_status lc_volume_sample(lc_device *device, const lc_volume *volume, size_t n, const float *points,
+                                  float *values, float *gradients);
+
+/* ---- particles (Knoll et al. 2014) */
+
+/* Per-render parameters of particles; they change without a rebuild. */
 typedef struct lc_particle_params {
     float sigma;        /* truncation radius in units of r_i; 0 = 2 */
     float kappa;        /* global density scale; 0 = 1 */
@@ -194,7 +229,7 @@ typedef struct lc_particle_params {
     float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
 } lc_particle_params;
 
-/* Particle data (Knoll 2014): a sum of truncated Gaussians per field,
+/* Particle data: a sum of truncated Gaussians per field,
  * Phi_f(x) = sum kappa k_i exp(-|x - x_i|^2 / (2 r_i^2)) over |x - x_i| < sigma r_i. */
 typedef struct lc_particles_desc {
     size_t count;
@@ -206,6 +241,7 @@ typedef struct lc_particles_desc {
     int nfields;            /* 0 = 1 + the largest field id; at most LC_MAX_FIELDS */
     int leaf_size;          /* particles per BVH leaf, 1..32; 0 = 4 */
     int drop_invalid;       /* 1: drop particles with non-finite or non-positive data (counted) instead of failing */
+    lc_particle_params params; /* initial parameters (lc_particles_set_params changes them) */
 } lc_particles_desc;
 
 typedef struct lc_particles_info {
@@ -215,9 +251,10 @@ typedef struct lc_particles_info {
     lc_box3 bounds;     /* of the centres */
     float min_radius, max_radius;
     double build_seconds; /* BVH build including flattening */
-    size_t bvh_bytes;   /* nodes and per-node radii */
+    size_t bvh_bytes;   /* nodes, per-node radii and value bounds */
     size_t data_bytes;  /* the particle arrays lanecast keeps */
     int bvh_nodes, bvh_depth, leaf_size;
+    lc_particle_params params; /* current, defaults filled in */
 } lc_particles_info;
 
 /* Copies the particles (the caller's arrays may be freed afterwards) and
@@ -226,38 +263,11 @@ typedef struct lc_particles_info {
  * LC_ERROR_INVALID_ARGUMENT and a message naming the first bad index and the
  * number of bad ones, unless drop_invalid is set. count = 0 is a valid empty
  * scene. */
-LC_API lc_status lc_particles_create(lc_device *device, const lc_particles_desc *desc, lc_particles **out);
-LC_API void lc_particles_destroy(lc_particles *particles);
-LC_API lc_status lc_particles_get_info(const lc_particles *particles, lc_particles_info *out);
-
-/* Evaluates every field (and optionally its gradient) at n points (xyz
- * interleaved) with the given sigma and kappa (0 = defaults):
- * values[i * nfields + f], gradients[3 * (i * nfields + f) + c]. gradients
- * may be NULL. Uses the device's target and the BVH. */
-LC_API lc_status lc_particles_sample(lc_device *device, const lc_particles *particles, const lc_particle_params *params,
-                                     size_t n, const float *points, float *values, float *gradients);
-
-typedef enum lc_particle_format {
-    LC_PFORMAT_AUTO = 0, /* by extension: .xyz, .pdb/.ent, .raw/.f32 */
-    LC_PFORMAT_XYZ = 1,  /* "element x y z" lines; the usual count and comment header is optional */
-    LC_PFORMAT_PDB = 2,  /* ATOM/HETATM records; element from columns 77-78 or the atom name */
-    LC_PFORMAT_RAW = 3   /* raw little-endian float32 x y z triples; raw_count of them */
-} lc_particle_format;
-
-typedef struct lc_particles_load_options {
-    lc_particle_format format;
-    size_t raw_count;   /* LC_PFORMAT_RAW: number of particles (the file must hold exactly 12 * raw_count bytes) */
-    float radius;       /* > 0: this radius for every particle (overrides element radii; required for raw) */
-    float radius_scale; /* multiplies element radii; 0 = 1 */
-    int fields_by_element; /* 1: one field per distinct element (up to LC_MAX_FIELDS, the rest share the last) */
-    int leaf_size;
-    int drop_invalid;
-} lc_particles_load_options;
-
-/* Reads a particle file and creates the particles. Molecules get covalent
- * radii by element (paper §3.1). The message names the file and line. */
-LC_API lc_status lc_particles_load(lc_device *device, const char *path, const lc_particles_load_options *options,
-                                   lc_particles **out);
+LC_API lc_status lc_particles_create(lc_device *device, const lc_particles_desc *desc, lc_volume **out);
+LC_API lc_status lc_particles_get_info(const lc_volume *particles, lc_particles_info *out);
+/* Sets sigma, kappa, buffer size and sphere scale (zero = default) without a
+ * rebuild. Not while the volume is being rendered. */
+LC_API lc_status lc_particles_set_params(lc_volume *particles, const lc_particle_params *params);
 
 /* ---- grids (structured volumes, Knoll et al. 2011) */
 
@@ -275,6 +285,15 @@ typedef enum lc_grid_layout {
     LC_LAYOUT_BRICKED = 2  /* 4^3-voxel bricks behind per-axis offset tables (paper §6.1) */
 } lc_grid_layout;
 
+/* Per-render parameters of grids; they change without a rebuild. */
+typedef struct lc_grid_params {
+    int preintegrated;  /* 1: classify with the pre-integrated table */
+    float rda;          /* differential sampling: step grows by rda*dt per sample; 0 = off */
+    float delta_c;      /* empty-space culling threshold (Knoll 2011 eq. 5); 0 = 1e-3, < 0 = off */
+    float delta_p;      /* pruning threshold (eq. 6); 0 = 1.5, < 0 = off */
+    float delta_sv;     /* constant-subvolume threshold (eq. 7); 0 = 1e-4, < 0 = off */
+} lc_grid_params;
+
 /* A grid of size[0] x size[1] x size[2] nodes (each >= 2); node (i, j, k) at
  * origin + (i sx, j sy, k sz); values x fastest. */
 typedef struct lc_grid_desc {
@@ -287,19 +306,8 @@ typedef struct lc_grid_desc {
                              0: copy it */
     lc_grid_layout layout;
     int brick;            /* BVH leaf side L in voxels: 1, 2, 4, 8 or 16; 0 = by size */
+    lc_grid_params params; /* initial parameters (lc_grid_set_params changes them) */
 } lc_grid_desc;
-
-/* Options for lc_grid_load; zero means "from the file". For raw files (no
- * header) size and type are required. */
-typedef struct lc_grid_load_options {
-    int size[3];
-    lc_value_type type;
-    lc_vec3 spacing;      /* zero = the header's spacing, else (1, 1, 1) */
-    lc_vec3 origin;
-    int big_endian;       /* raw files only: 1 = big-endian values */
-    lc_grid_layout layout;
-    int brick;
-} lc_grid_load_options;
 
 typedef struct lc_grid_info {
     int size[3];
@@ -316,6 +324,7 @@ typedef struct lc_grid_info {
     uint64_t bvh_nodes, bvh_leaves, bvh_bytes;
     int bvh_depth;
     double bvh_build_seconds;
+    lc_grid_params params;   /* current */
 } lc_grid_info;
 
 /* Creates a grid from caller memory, builds its implicit min-max BVH.
@@ -324,21 +333,73 @@ typedef struct lc_grid_info {
  * an unknown type, a bad spacing or brick,
  * borrow with LC_LAYOUT_BRICKED, or non-finite float values. *out = NULL on
  * failure. Thread safety: as the device. */
-LC_API lc_status lc_grid_create(lc_device *device, const lc_grid_desc *desc, lc_grid **out);
-/* Loads a volume: NRRD (.nrrd, .nhdr with a detached data file; raw or gzip
- * encoding; little or big endian), MetaImage (.mhd/.mha) or a raw file (any
- * other extension; options give size and type). options may be NULL. Errors
- * (LC_ERROR_IO, LC_ERROR_FORMAT, LC_ERROR_INVALID_ARGUMENT) name the file and,
- * for headers, the line. */
-LC_API lc_status lc_grid_load(lc_device *device, const char *path, const lc_grid_load_options *options, lc_grid **out);
-/* NULL is ignored. */
-LC_API void lc_grid_destroy(lc_grid *grid);
-LC_API lc_status lc_grid_get_info(const lc_grid *grid, lc_grid_info *out);
+LC_API lc_status lc_grid_create(lc_device *device, const lc_grid_desc *desc, lc_volume **out);
+LC_API lc_status lc_grid_get_info(const lc_volume *grid, lc_grid_info *out);
+/* Not while the volume is being rendered. */
+LC_API lc_status lc_grid_set_params(lc_volume *grid, const lc_grid_params *params);
+
+/* ---------------------------------------------------------------- files */
+
+/* One option of a file format or of the kind it makes, as text: "radius" =
+ * "1.5", "size" = "64,64,32". lc_format_get lists each format's keys; an
+ * unknown key or a bad value fails, naming the key. */
+typedef struct lc_option {
+    const char *key;
+    const char *value;
+} lc_option;
+
+typedef struct lc_load_desc {
+    const char *format;    /* NULL or "" = detect (magic bytes, then extension); else a format name */
+    const char *companion; /* a second file: topology for coordinates, data for a header;
+                              NULL = none, or as the file names it */
+    int64_t frame;         /* trajectory frame, 0 = the first */
+    const lc_option *options;
+    int noptions;
+} lc_load_desc;
+
+typedef struct lc_format_info {
+    const char *name;        /* "pdb", "nrrd", "raw-particles", ... */
+    lc_kind kind;            /* what the format makes */
+    const char *extensions;  /* space-separated, with the dot: ".pdb .ent" */
+    const char *options;     /* space-separated option keys it takes (besides the kind's) */
+    const char *description;
+    int available;           /* 0: compiled out of this build */
+    const char *package;     /* the Debian package whose -dev files enable it when unavailable, or "" */
+} lc_format_info;
+
+/* Formats are numbered 0 .. lc_format_count() - 1. */
+LC_API int lc_format_count(void);
+LC_API lc_status lc_format_get(int index, lc_format_info *out);
+
+typedef struct lc_file_info {
+    const char *format;  /* a format name (static string) */
+    lc_kind kind;
+    int64_t frames;      /* 1 unless the file is a trajectory */
+    int gzip;            /* 1: the file is gzip-compressed */
+} lc_file_info;
+
+/* Decides a file's format and kind without reading its data: desc->format if
+ * given, else the magic bytes, else the extension (".gz" looked through).
+ * device may be NULL. */
+LC_API lc_status lc_file_probe(lc_device *device, const char *path, const lc_load_desc *desc, lc_file_info *out);
+/* Reads a file through its format's reader and creates the volume of its
+ * kind. desc may be NULL (detect, frame 0, no options). Errors
+ * (LC_ERROR_IO, LC_ERROR_FORMAT, LC_ERROR_INVALID_ARGUMENT, and
+ * LC_ERROR_UNSUPPORTED for a format compiled out, naming the Debian package)
+ * name the file and the line or byte offset. */
+LC_API lc_status lc_volume_load(lc_device *device, const char *path, const lc_load_desc *desc, lc_volume **out);
 
 /* ---------------------------------------------------------------- rendering */
 
 typedef enum lc_shading { LC_SHADE_NONE = 0, LC_SHADE_DIFFUSE = 1, LC_SHADE_PHONG = 2 } lc_shading;
 
+/* What a ray computes from the field samples (SPEC.md). */
+typedef enum lc_mode {
+    LC_MODE_DVR = 0,  /* emission-absorption volume rendering */
+    LC_MODE_COUNT = 1
+} lc_mode;
+
+/* How a kind walks its data; each kind takes its own (DEFAULT = the fast one). */
 typedef enum lc_method {
     LC_METHOD_DEFAULT = 0,  /* coherent for particles, bvh for grids */
     LC_METHOD_COHERENT = 1, /* particles: coherent packet traversal with sample buffers (Knoll 2014) */
@@ -353,23 +414,16 @@ typedef struct lc_lighting {
     int phong_exp; /* integer exponent, 1..256 */
 } lc_lighting;
 
-
-typedef struct lc_grid_params {
-    int preintegrated;  /* 1: classify with the pre-integrated table */
-    float rda;          /* differential sampling: step grows by rda*dt per sample; 0 = off */
-    float delta_c;      /* empty-space culling threshold (Knoll 2011 eq. 5); 0 = 1e-3, < 0 = off */
-    float delta_p;      /* pruning threshold (eq. 6); 0 = 1.5, < 0 = off */
-    float delta_sv;     /* constant-subvolume threshold (eq. 7); 0 = 1e-4, < 0 = off */
-} lc_grid_params;
+/* Largest image side lc_render and lc_image_write take. */
+#define LC_MAX_IMAGE_SIDE 32768
 
 typedef struct lc_render_desc {
-    int width, height;         /* pixels, 1..32768 each */
+    int width, height;         /* pixels, 1..LC_MAX_IMAGE_SIDE each */
     lc_camera camera;
     const lc_tf *tf;           /* NULL = a default ("heat") TF */
     float range[2];            /* value range [lo, hi]; both 0 = the TF's range or the data's */
-    /* exactly one scene object */
-    const lc_particles *particles;
-    const lc_grid *grid;
+    const lc_volume *volume;   /* required: what to render (any kind) */
+    lc_mode mode;              /* LC_MODE_DVR (0) */
     float dt;                  /* sampling step in world units; 0 = a default from the data */
     float alpha_stop;          /* early termination; 0 = 0.97, 1 = never */
     lc_shading shading;
@@ -377,8 +431,6 @@ typedef struct lc_render_desc {
     lc_method method;
     int packet;                /* packet side in rays (8 = 8x8 groups); 0 = 8, 1 = lane-width packets */
     int tile;                  /* tile side in pixels for threads; 0 = 32 */
-    lc_particle_params particle;
-    lc_grid_params grid_params;
     /* Called on the calling thread as tiles complete, with the fraction done
      * in [0, 1]; NULL = none. */
     void (*progress)(void *user, float fraction);
@@ -399,7 +451,7 @@ typedef struct lc_render_stats {
 
 /* Renders into rgba: width * height * 4 floats, row 0 at the top, holding
  * premultiplied colour C and opacity A (the background is not applied; see
- * lc_image_write). stats may be NULL. The scene object and TF are only read. */
+ * lc_image_write). stats may be NULL. The volume and TF are only read. */
 LC_API lc_status lc_render(lc_device *device, const lc_render_desc *desc, float *rgba, lc_render_stats *stats);
 
 /* ---------------------------------------------------------------- images */

@@ -1,13 +1,14 @@
 /* Plain structs every ray-casting kernel reads: camera, transfer functions,
- * shading, sampling parameters, tiles, counters. Built by host/frame.c from
- * the public descriptors (one implementation for every data kind). Fixed-width
+ * shading, the render mode, sampling parameters, tiles, counters. Built by
+ * lci_frame_build (host/api/render.c) from the public descriptors, one
+ * implementation for every data kind. Fixed-width
  * types only; sizes are asserted so every target re-checks the layout. */
 #ifndef LC_KFRAME_H
 #define LC_KFRAME_H
 
 #include <stdint.h>
 
-#define LC_MAX_FIELDS 8
+#define LC_KMAX_FIELDS 8 /* = LC_MAX_FIELDS of the API (asserted in host/internal.h) */
 #define LC_TF_TABLE_SIZE 1024
 
 /* Ray for pixel (px, py), SPEC.md "Camera and rays":
@@ -41,22 +42,29 @@ _Static_assert(sizeof(lc_ktf) == 24, "lc_ktf layout");
 
 enum { LC_KSHADE_NONE = 0, LC_KSHADE_DIFFUSE = 1, LC_KSHADE_PHONG = 2 };
 
+/* Render modes (lc_mode): what the per-sample consumer (kernels/mode.h) does. */
+enum { LC_KMODE_DVR = 0 };
+
+/* Lattice indices are clamped below this so k * dt stays exact in float and
+ * k fits an int32 (2^24 = 16777216 > LC_KLATTICE_MAX). */
+#define LC_KLATTICE_MAX 1.6e7f
+
 typedef struct lc_kframe {
     lc_kcamera cam;
-    lc_ktf tf[LC_MAX_FIELDS];
+    lc_ktf tf[LC_KMAX_FIELDS];
     int32_t nfields;
     int32_t shade;       /* LC_KSHADE_* */
     float ka, kd, ks;
     int32_t phong_exp;   /* integer Phong exponent p */
     float dt;
     float alpha_stop;    /* stop a ray once A >= alpha_stop; 1 = never */
-    float pad0;
+    int32_t mode;        /* LC_KMODE_* */
     int32_t packet;      /* rays per packet group side (e.g. 8 for 8x8); 0 = lane width */
     int32_t zero_transparent; /* 1: every field's TF has tau = 0 at value 0, so samples where no
                                  particle (or nothing) contributes may be skipped exactly */
     int32_t pad1;
 } lc_kframe;
-_Static_assert(sizeof(lc_kframe) == 80 + 24 * LC_MAX_FIELDS + 48, "lc_kframe layout");
+_Static_assert(sizeof(lc_kframe) == 80 + 24 * LC_KMAX_FIELDS + 48, "lc_kframe layout");
 
 /* A rectangle of pixels [x0, x1) x [y0, y1) and where its result goes: the
  * kernel writes premultiplied (C, A) into rgba[(y * stride + x) * 4 ...]. */

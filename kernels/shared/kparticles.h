@@ -1,7 +1,7 @@
 /* The particle scene as kernels read it (Knoll 2014): a flat binary BVH whose
  * node boxes bound the particle centres, a per-node maximum radius so the box
  * grows by sigma * rmax at traversal time (sigma and kappa change without a
- * rebuild, paper §5.3), and structure-of-arrays particle data in leaf order. */
+ * rebuild, paper §5.3), a per-node value bound for the mode's culling test, and structure-of-arrays particle data in leaf order. */
 #ifndef LC_KPARTICLES_H
 #define LC_KPARTICLES_H
 
@@ -20,6 +20,8 @@ _Static_assert(sizeof(lc_kpnode) == 32, "lc_kpnode layout");
 typedef struct lc_kparticles {
     const lc_kpnode *nodes; /* nodes[0] is the root; NULL when empty */
     const float *node_rmax; /* per node: largest radius below it */
+    const float *node_ksum; /* per node: sum of |k_i| below it, so |kappa| * node_ksum bounds the
+                               node's own contribution to any field (others add to it) */
     const float *px, *py, *pz;
     const float *r;
     const float *neg_inv_2r2; /* -1 / (2 r^2) */
@@ -35,6 +37,6 @@ typedef struct lc_kparticles {
     float max_radius;
     float lo[4], hi[4];    /* centre bounds grown by max(sigma, sphere_scale) * max radius */
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 9 * 8 + 8 + 4 * 8 + 32, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 10 * 8 + 8 + 4 * 8 + 32, "lc_kparticles layout");
 
 #endif

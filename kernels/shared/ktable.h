@@ -8,29 +8,34 @@
 #include "lane_ops.h"
 #include "kframe.h"
 
-struct lc_kparticles;
-struct lc_kgrid;
+/* Renders one tile of a prepared kind scene (lc_kparticles, lc_kgrid, ...). */
+typedef void (*lc_ktile_fn)(const void *scene, const lc_kframe *frame, const lc_ktile *tile, lc_kscratch *scratch,
+                            lc_kstats *stats);
 
-typedef void (*lc_particles_tile_fn)(const struct lc_kparticles *scene, const lc_kframe *frame,
-                                     const lc_ktile *tile, lc_kscratch *scratch, lc_kstats *stats);
-typedef void (*lc_grid_tile_fn)(const struct lc_kgrid *scene, const lc_kframe *frame,
-                                const lc_ktile *tile, lc_kscratch *scratch, lc_kstats *stats);
+/* A kind's methods: the accelerated one (particles: coherent packets, grids:
+ * the min-max BVH) and the baseline (particles: per-sample gather, grids:
+ * brute force). The host maps lc_method onto these. */
+enum { LC_KMETHOD_FAST = 0, LC_KMETHOD_BASE = 1, LC_KMETHOD_COUNT = 2 };
+
+/* One data kind's kernels on this target. */
+typedef struct lc_kkind {
+    lc_ktile_fn render[LC_KMETHOD_COUNT];
+    /* per-worker scratch bytes render[method] needs for this scene and frame */
+    uint64_t (*scratch_bytes[LC_KMETHOD_COUNT])(const void *scene, const lc_kframe *frame);
+    /* every field and its gradient at n points: phi[i * nf + f], grad[3 (i * nf + f) + c]
+       (grad may be NULL); scratch of sample_scratch_bytes */
+    void (*sample)(const void *scene, const float *xyz, int64_t n, float *phi, float *grad, void *scratch);
+    uint64_t (*sample_scratch_bytes)(const void *scene);
+} lc_kkind;
+
+/* Rows of lc_ktable.kind, one per data kind. */
+enum { LC_KKIND_PARTICLES = 0, LC_KKIND_GRID = 1, LC_KKIND_COUNT = 2 };
 
 typedef struct lc_ktable {
     const char *name;
     int32_t lanes;
     void (*lane_apply)(const lc_lane_args *args);
-    /* particle path (Knoll 2014) */
-    lc_particles_tile_fn particles_coherent;
-    lc_particles_tile_fn particles_direct;
-    uint64_t (*particles_scratch_bytes)(const struct lc_kparticles *scene, const lc_kframe *frame);
-    /* fields and gradients at points; stack holds depth + 2 ints */
-    void (*particles_sample)(const struct lc_kparticles *scene, const float *xyz, int64_t n, float *phi, float *grad,
-                             int32_t *stack);
-    /* structured grid path (Knoll 2011) */
-    lc_grid_tile_fn grid_bvh;
-    lc_grid_tile_fn grid_brute;
-    uint64_t (*grid_scratch_bytes)(const struct lc_kgrid *scene, const lc_kframe *frame);
+    const lc_kkind *kind[LC_KKIND_COUNT];
 } lc_ktable;
 
 #define LC_DECLARE_KTABLE(t) extern const lc_ktable lc_ktable_##t;

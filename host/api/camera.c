@@ -2,7 +2,7 @@
  * basis. cglm types stay in this file. */
 #include <math.h>
 #include <cglm/cglm.h>
-#include "scene.h"
+#include "host/kinds/kind.h"
 
 static int finite3(lc_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 

@@ -5,7 +5,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include "internal.h"
+#include "host/internal.h"
 
 typedef struct cpu_caps {
     int sse42, avx, avx2, fma, f16c, avx512f, avx512dq, avx512bw, avx512vl, os_avx, os_avx512;

@@ -3,7 +3,7 @@
 #include <string.h>
 #include <stdlib.h>
 #include <time.h>
-#include "internal.h"
+#include "host/internal.h"
 
 static _Thread_local char thread_error[LCI_MSG_MAX];
 

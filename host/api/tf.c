@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <json-c/json.h>
-#include "tf.h"
+#include "host/api/tf.h"
 
 static void free_points(lc_tf *tf)
 {

@@ -10,7 +10,14 @@
 #include <string.h>
 #include <strings.h>
 #include <zlib.h>
-#include "internal.h"
+#include "host/formats/format.h"
+
+/* The options these readers take (lci_format.options). */
+typedef struct popts {
+    size_t raw_count;
+    float radius, radius_scale;
+    int fields_by_element;
+} popts;
 
 typedef struct element {
     const char *sym;
@@ -90,7 +97,7 @@ static uint8_t field_of(plist *p, const char *sym, int by_element)
 typedef struct reader {
     lc_device *dev;
     const char *path;
-    const lc_particles_load_options *o;
+    const popts *o;
     gzFile gz;
     char line[4096];
     long lineno;
@@ -279,74 +286,87 @@ static lc_status read_raw(reader *r, plist *p)
     return LC_OK;
 }
 
-static lc_particle_format guess(const char *path)
+static lc_status parse_options(lc_device *dev, const lci_read_args *a, popts *o)
 {
-    char buf[512];
-    snprintf(buf, sizeof buf, "%s", path);
-    size_t len = strlen(buf);
-    if (len > 3 && !strcasecmp(buf + len - 3, ".gz")) buf[len - 3] = '\0';
-    const char *dot = strrchr(buf, '.');
-    if (!dot) return LC_PFORMAT_AUTO;
-    if (!strcasecmp(dot, ".xyz")) return LC_PFORMAT_XYZ;
-    if (!strcasecmp(dot, ".pdb") || !strcasecmp(dot, ".ent")) return LC_PFORMAT_PDB;
-    if (!strcasecmp(dot, ".raw") || !strcasecmp(dot, ".f32") || !strcasecmp(dot, ".bin")) return LC_PFORMAT_RAW;
-    return LC_PFORMAT_AUTO;
+    memset(o, 0, sizeof *o);
+    const lc_option *x;
+    lc_status s = LC_OK;
+    if ((x = lci_option_find(a, "radius"))) s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius);
+    if (s == LC_OK && (x = lci_option_find(a, "radius_scale")))
+        s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius_scale);
+    if (s == LC_OK && (x = lci_option_find(a, "count")))
+        s = lci_option_size(dev, a->path, x, (size_t)INT32_MAX / 2, &o->raw_count);
+    if (s == LC_OK && (x = lci_option_find(a, "fields"))) {
+        if (!strcmp(x->value, "element")) o->fields_by_element = 1;
+        else if (strcmp(x->value, "none"))
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected none or element", a->path,
+                          x->value);
+    }
+    return s;
 }
 
-lc_status lc_particles_load(lc_device *dev, const char *path, const lc_particles_load_options *opt,
-                            lc_particles **out)
+typedef lc_status (*read_fn)(reader *r, plist *p);
+
+/* Reads with fn and hands the lists over as an lc_particles_desc. */
+static lc_status read_with(lc_device *dev, const lci_read_args *a, lci_loaded *out, read_fn fn)
 {
-    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_particles_load: device is NULL");
-    if (!out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_load: out is NULL");
-    *out = NULL;
-    if (!path) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_load: path is NULL");
-    lc_particles_load_options o;
-    memset(&o, 0, sizeof o);
-    if (opt) o = *opt;
-    if (!(o.radius >= 0.0f) || !isfinite(o.radius) || !(o.radius_scale >= 0.0f) || !isfinite(o.radius_scale))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_load: radius and radius_scale must be >= 0");
-    lc_particle_format fmt = o.format == LC_PFORMAT_AUTO ? guess(path) : o.format;
-    if (o.format == LC_PFORMAT_AUTO && o.raw_count > 0) fmt = LC_PFORMAT_RAW;
-    if (fmt == LC_PFORMAT_AUTO)
-        return lci_error(dev, LC_ERROR_UNSUPPORTED,
-                         "%s: unknown particle format (known: .xyz, .pdb, .ent, raw float32 with a count; optionally .gz)",
-                         path);
-    if ((int)fmt < 0 || fmt > LC_PFORMAT_RAW)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_load: format %d is not valid", (int)fmt);
+    popts o;
+    lc_status s = parse_options(dev, a, &o);
+    if (s != LC_OK) return s;
     reader r;
     memset(&r, 0, sizeof r);
     r.dev = dev;
-    r.path = path;
+    r.path = a->path;
     r.o = &o;
-    FILE *probe = fopen(path, "rb");
-    if (!probe) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    fclose(probe);
-    r.gz = gzopen(path, "rb");
-    if (!r.gz) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    r.gz = gzopen(a->path, "rb");
+    if (!r.gz) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", a->path, strerror(errno));
     gzbuffer(r.gz, 1 << 18);
     plist p;
     memset(&p, 0, sizeof p);
-    lc_status s = fmt == LC_PFORMAT_XYZ ? read_xyz(&r, &p) : fmt == LC_PFORMAT_PDB ? read_pdb(&r, &p) : read_raw(&r, &p);
+    s = fn(&r, &p);
     gzclose(r.gz);
     if (s == LC_OK && r.unknown_elements)
-        lci_log(dev, LC_LOG_WARNING, "%s: %d atoms of unknown elements (first '%s') got radius %.2f", path,
+        lci_log(dev, LC_LOG_WARNING, "%s: %d atoms of unknown elements (first '%s') got radius %.2f", a->path,
                 r.unknown_elements, r.first_unknown, (double)DEFAULT_RADIUS);
-    if (s == LC_OK) {
-        lc_particles_desc d = {.count = p.n,
-                               .positions = p.xyz,
-                               .radii = p.r,
-                               .fields = p.field,
-                               .nfields = o.fields_by_element ? (p.nnames ? p.nnames : 1) : 1,
-                               .leaf_size = o.leaf_size,
-                               .drop_invalid = o.drop_invalid};
-        s = lc_particles_create(dev, &d, out);
-        if (s != LC_OK) {
-            /* the message names the file */
-            char msg[LCI_MSG_MAX];
-            snprintf(msg, sizeof msg, "%s", lc_last_error());
-            lci_error(dev, s, "%s: %s", path, msg);
-        }
+    lc_particles_desc *d = s == LC_OK ? calloc(1, sizeof *d) : NULL;
+    if (s == LC_OK && !d) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", a->path);
+    if (s != LC_OK) {
+        plist_free(&p);
+        return s;
     }
-    plist_free(&p);
-    return s;
+    d->count = p.n;
+    d->positions = p.xyz;
+    d->radii = p.r;
+    d->fields = p.field;
+    d->nfields = o.fields_by_element ? (p.nnames ? p.nnames : 1) : 1;
+    out->desc = d;
+    lci_loaded_keep(out, p.xyz);
+    lci_loaded_keep(out, p.r);
+    lci_loaded_keep(out, p.field);
+    return LC_OK;
 }
+
+static lc_status xyz_read(lc_device *dev, const lci_read_args *a, lci_loaded *out) { return read_with(dev, a, out, read_xyz); }
+static lc_status pdb_read(lc_device *dev, const lci_read_args *a, lci_loaded *out) { return read_with(dev, a, out, read_pdb); }
+static lc_status raw_read(lc_device *dev, const lci_read_args *a, lci_loaded *out) { return read_with(dev, a, out, read_raw); }
+
+/* A PDB file starts with one of its record names in columns 1-6. */
+static int pdb_magic(const unsigned char *h, size_t n)
+{
+    static const char *const rec[] = {"HEADER", "ATOM  ", "HETATM", "CRYST1", "REMARK", "MODEL ", "TITLE ", "COMPND"};
+    if (n < 6) return 0;
+    for (size_t i = 0; i < sizeof rec / sizeof rec[0]; i++)
+        if (!memcmp(h, rec[i], 6)) return 1;
+    return 0;
+}
+
+const lci_format lci_format_xyz = {
+    .name = "xyz", .kind = LC_KIND_PARTICLES, .extensions = ".xyz", .options = "radius radius_scale fields",
+    .description = "XYZ: element x y z lines; the count and comment header is optional", .read = xyz_read};
+const lci_format lci_format_pdb = {
+    .name = "pdb", .kind = LC_KIND_PARTICLES, .extensions = ".pdb .ent", .options = "radius radius_scale fields",
+    .description = "Protein Data Bank: ATOM/HETATM records, element from columns 77-78 or the atom name",
+    .magic = pdb_magic, .read = pdb_read};
+const lci_format lci_format_raw_particles = {
+    .name = "raw-particles", .kind = LC_KIND_PARTICLES, .extensions = ".f32", .options = "count radius",
+    .description = "raw little-endian float32 x y z triples; count and radius required", .read = raw_read};

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <strings.h>
 #include <unistd.h>
-#include "internal.h"
+#include "host/internal.h"
 
 int lci_oiio_write(const char *path, int width, int height, int channels, int is_float, const void *pixels,
                    char *err, size_t errlen);

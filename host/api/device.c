@@ -3,7 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "internal.h"
+#include "host/internal.h"
+#include "bvh/embree.h"
 
 #define LCI_MAX_THREADS 1024
 
@@ -120,4 +121,25 @@ const char *lc_device_last_error(const lc_device *device)
 {
     if (!device) return "lc_device_last_error: device is NULL";
     return device->last_error;
+}
+
+static void embree_log(void *user, int code, const char *message)
+{
+    lci_log(user, LC_LOG_WARNING, "Embree error %d: %s", code, message);
+}
+
+void *lci_embree_device(lc_device *dev)
+{
+    if (!dev->embree) {
+        char err[256];
+        dev->embree = lci_embree_new(dev->threads, embree_log, dev, err, sizeof err);
+        if (!dev->embree) lci_error(dev, LC_ERROR_INTERNAL, "%s", err);
+    }
+    return dev->embree;
+}
+
+void lci_embree_release(lc_device *dev)
+{
+    lci_embree_free(dev->embree);
+    dev->embree = NULL;
 }

@@ -8,7 +8,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
-#include "grid.h"
+#include "host/kinds/grid.h"
 
 #define NT LC_TF_TABLE_SIZE
 

@@ -1,10 +1,10 @@
 /* Structured grids (Knoll et al. 2011): the lc_grid object (voxels in the
  * caller's linear array or our 4^3-bricked copy behind offset tables, §6.1),
- * its implicit min-max BVH (bvh/grid_bvh.c), and the hooks lc_render calls. */
+ * its implicit min-max BVH (bvh/grid_bvh.c), and its row of kind operations. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "grid.h"
+#include "host/kinds/grid.h"
 
 /* kernels index voxels with int32 element offsets */
 #define MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
@@ -57,32 +57,36 @@ static void linear_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t 
     for (int32_t k = 0; k < n[2]; k++) zo[k] = k * n[0] * n[1];
 }
 
-lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, const char *name, lc_grid **out)
+static void destroy(lc_volume *v);
+
+/* What create decides from a valid desc. */
+typedef struct shape {
+    int es;             /* bytes per value */
+    int64_t count;      /* values */
+    int32_t n[3];
+    lc_vec3 sp;         /* spacing, defaults filled in */
+    int L;              /* BVH leaf side */
+    lc_grid_layout layout;
+    int borrow;
+} shape;
+
+/* Checks a desc (one message naming what is wrong) and fills the shape. */
+static lc_status validate(lc_device *dev, const lc_grid_desc *d, const char *name, shape *sh)
 {
     lc_status s = LC_OK;
-    lc_grid *g = NULL;
-    if (out) *out = NULL;
-    if (!dev) {
-        free(take);
-        return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_grid_create: device is NULL");
-    }
-    if (!d || !out || (!d->data && !take)) {
-        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_grid_create: desc, data and out must not be NULL");
-        goto fail;
-    }
-    const void *src = take ? take : d->data;
+    const void *src = d->data;
     int es = lci_value_size(d->type);
     if (!es) {
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: value type %d is not uint8, uint16, int16 or float32", name,
                       (int)d->type);
-        goto fail;
+        return s;
     }
     int64_t count = 1;
     for (int a = 0; a < 3; a++) {
         if (d->size[a] < 2) {
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: size %d x %d x %d: every size must be at least 2 nodes",
                           name, d->size[0], d->size[1], d->size[2]);
-            goto fail;
+            return s;
         }
         /* the kernels locate samples in float32 node coordinates: past 2^24
          * nodes an axis has cells float cannot address, and the clamp of the
@@ -93,13 +97,13 @@ lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, con
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                           "%s: size %d x %d x %d: at most %d nodes per axis (float32 sample coordinates)", name,
                           d->size[0], d->size[1], d->size[2], MAX_AXIS);
-            goto fail;
+            return s;
         }
         if (count > MAX_ELEMENTS / d->size[a]) {
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                           "%s: size %d x %d x %d has more than 2^31 values (the kernels index voxels with 32 bits)",
                           name, d->size[0], d->size[1], d->size[2]);
-            goto fail;
+            return s;
         }
         count *= d->size[a];
     }
@@ -108,42 +112,64 @@ lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, con
     if (!(sp.x > 0.0f && sp.y > 0.0f && sp.z > 0.0f && isfinite(sp.x) && isfinite(sp.y) && isfinite(sp.z))) {
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: spacing (%g, %g, %g): each must be finite and > 0", name,
                       (double)sp.x, (double)sp.y, (double)sp.z);
-        goto fail;
+        return s;
     }
     if (!(isfinite(d->origin.x) && isfinite(d->origin.y) && isfinite(d->origin.z))) {
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: origin must be finite", name);
-        goto fail;
+        return s;
     }
     int L = d->brick;
     int32_t n[3] = {d->size[0], d->size[1], d->size[2]};
     if (L == 0) L = lci_grid_bvh_default_brick(n);
     if (L != 1 && L != 2 && L != 4 && L != 8 && L != 16) {
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: brick %d, expected 1, 2, 4, 8 or 16", name, d->brick);
-        goto fail;
+        return s;
     }
     lc_grid_layout layout = d->layout;
-    int borrow = d->borrow && !take;
+    int borrow = d->borrow != 0;
     if (layout == LC_LAYOUT_DEFAULT) layout = borrow ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED;
     if (layout != LC_LAYOUT_LINEAR && layout != LC_LAYOUT_BRICKED) {
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: layout %d is not linear or bricked", name, (int)layout);
-        goto fail;
+        return s;
     }
     if (borrow && layout == LC_LAYOUT_BRICKED) {
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: a borrowed array is used in place, so it cannot be bricked",
                       name);
-        goto fail;
+        return s;
     }
     if (d->type == LC_VALUE_FLOAT32) {
         const float *f = src;
         for (int64_t i = 0; i < count; i++)
             if (!isfinite(f[i])) {
                 s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: value %lld is not finite", name, (long long)i);
-                goto fail;
+                return s;
             }
     }
+    sh->es = es, sh->count = count, sh->sp = sp, sh->L = L, sh->layout = layout, sh->borrow = borrow;
+    memcpy(sh->n, n, sizeof n);
+    return LC_OK;
+}
+
+static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
+{
+    const lc_grid_desc *d = desc;
+    const char *name = "lc_grid_create";
+    shape sh;
+    memset(&sh, 0, sizeof sh);
+    lc_status s = validate(dev, d, name, &sh);
+    if (s != LC_OK) return s;
+    grid *g = NULL;
+    const void *src = d->data;
+    int es = sh.es, L = sh.L, borrow = sh.borrow;
+    int64_t count = sh.count;
+    int32_t n[3] = {sh.n[0], sh.n[1], sh.n[2]};
+    lc_vec3 sp = sh.sp;
+    lc_grid_layout layout = sh.layout;
     g = calloc(1, sizeof *g);
     if (!g) goto oom;
-    g->dev = dev;
+    g->base.ops = &lci_grid_ops;
+    g->base.device = dev;
+    g->info.params = d->params;
     g->offsets = malloc(sizeof(int32_t) * ((size_t)n[0] + (size_t)n[1] + (size_t)n[2]));
     if (!g->offsets) goto oom;
     int32_t *xo = g->offsets, *yo = xo + n[0], *zo = yo + n[1];
@@ -178,7 +204,9 @@ lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, con
         data = g->owned;
     }
     float origin[3] = {d->origin.x, d->origin.y, d->origin.z}, spacing[3] = {sp.x, sp.y, sp.z};
+    double t0 = lci_now();
     if (lci_grid_bvh_build(src, kval(d->type), n, origin, spacing, L, &g->bvh) != 0) goto oom;
+    g->bvh.seconds = lci_now() - t0;
     lc_kgrid *k = &g->kg;
     k->data = data;
     k->xoff = xo, k->yoff = yo, k->zoff = zo;
@@ -192,9 +220,8 @@ lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, con
     }
     k->type = kval(d->type);
     k->bricked = layout == LC_LAYOUT_BRICKED;
-    k->ystride = k->bricked ? yo[4 < n[1] ? 4 : 0] : n[0];
+    k->ystride = k->bricked ? 64 * ((n[0] + 3) / 4) : n[0];
     k->zstride = k->bricked ? 64 * ((n[0] + 3) / 4) * ((n[1] + 3) / 4) : n[0] * n[1];
-    if (k->bricked) k->ystride = 64 * ((n[0] + 3) / 4);
     k->wide_safe = borrow ? (d->type == LC_VALUE_UINT8 ? count - 3 : count - 1) : INT64_MAX;
     k->nodes = g->bvh.nodes;
     k->nnodes = g->bvh.nnodes;
@@ -226,29 +253,32 @@ lc_status lci_grid_create(lc_device *dev, const lc_grid_desc *d, void *take, con
         s = lci_error(dev, LC_ERROR_INTERNAL, "%s: BVH depth %d exceeds the traversal stack", name, g->bvh.depth);
         goto fail;
     }
-    free(take);
     lci_log(dev, LC_LOG_INFO, "%s: %dx%dx%d %s, %s layout (+%llu bytes), BVH L=%d: %d nodes, %llu bytes, depth %d, %.3f s",
             name, n[0], n[1], n[2], type_name(d->type), layout == LC_LAYOUT_BRICKED ? "bricked" : "linear",
             (unsigned long long)in->layout_overhead_bytes, L, g->bvh.nnodes, (unsigned long long)g->bvh.bytes,
             g->bvh.depth, g->bvh.seconds);
-    *out = g;
+    *out = &g->base;
     return LC_OK;
 oom:
     s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d x %d grid", name, d->size[0], d->size[1],
                   d->size[2]);
 fail:
-    free(take);
-    lc_grid_destroy(g);
+    destroy(g ? &g->base : NULL);
     return s;
 }
 
-lc_status lc_grid_create(lc_device *dev, const lc_grid_desc *desc, lc_grid **out)
+lc_status lc_grid_create(lc_device *dev, const lc_grid_desc *desc, lc_volume **out)
 {
-    return lci_grid_create(dev, desc, NULL, "lc_grid_create", out);
+    if (out) *out = NULL;
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_grid_create: device is NULL");
+    if (!desc || !out || !desc->data)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_grid_create: desc, data and out must not be NULL");
+    return create(dev, desc, out);
 }
 
-void lc_grid_destroy(lc_grid *g)
+static void destroy(lc_volume *v)
 {
+    grid *g = (grid *)v;
     if (!g) return;
     lci_grid_bvh_free(&g->bvh);
     lci_aligned_free(g->owned);
@@ -256,16 +286,38 @@ void lc_grid_destroy(lc_grid *g)
     free(g);
 }
 
-lc_status lc_grid_get_info(const lc_grid *g, lc_grid_info *out)
+lc_status lc_grid_get_info(const lc_volume *v, lc_grid_info *out)
 {
-    if (!g || !out) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_grid_get_info: grid and out must not be NULL");
+    const grid *g = lci_volume_as(v, LC_KIND_GRID, "lc_grid_get_info");
+    if (!g) return LC_ERROR_INVALID_ARGUMENT;
+    if (!out) return lci_error(v->device, LC_ERROR_INVALID_ARGUMENT, "lc_grid_get_info: out is NULL");
     *out = g->info;
     return LC_OK;
 }
 
-lc_status lci_grid_info(lc_device *dev, const lc_grid *g, const lc_render_desc *desc, lci_scene_info *out)
+static lc_status check_params(lc_device *dev, const lc_grid_params *p)
 {
-    (void)dev, (void)desc;
+    if (!(isfinite(p->rda) && p->rda >= 0.0f && p->rda <= 1.0f))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "rda = %g, expected 0 (off) to 1", (double)p->rda);
+    if (!isfinite(p->delta_c) || !isfinite(p->delta_p) || !isfinite(p->delta_sv))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grid heuristics: delta_c, delta_p, delta_sv must be finite");
+    return LC_OK;
+}
+
+lc_status lc_grid_set_params(lc_volume *v, const lc_grid_params *params)
+{
+    grid *g = lci_volume_as(v, LC_KIND_GRID, "lc_grid_set_params");
+    if (!g) return LC_ERROR_INVALID_ARGUMENT;
+    lc_grid_params p = params ? *params : (lc_grid_params){0};
+    lc_status s = check_params(v->device, &p);
+    if (s == LC_OK) g->info.params = p;
+    return s;
+}
+
+static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *out)
+{
+    (void)dev;
+    const grid *g = (const grid *)v;
     out->bounds = g->info.bounds;
     float sp = fminf(g->info.spacing.x, fminf(g->info.spacing.y, g->info.spacing.z));
     out->default_dt = 0.5f * sp;
@@ -277,20 +329,16 @@ lc_status lci_grid_info(lc_device *dev, const lc_grid *g, const lc_render_desc *
 
 static float param(float v, float def) { return v == 0.0f ? def : v; }
 
-lc_status lci_grid_prepare(lc_device *dev, const lc_grid *g, const lc_render_desc *desc, const lc_kframe *frame,
-                           lci_prepared *out)
+static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *desc, const lc_kframe *frame,
+                         lci_prepared *out)
 {
-    const lc_grid_params *p = &desc->grid_params;
+    const grid *g = (const grid *)v;
+    const lc_grid_params *p = &g->info.params;
     lc_method m = desc->method;
     if (m != LC_METHOD_DEFAULT && m != LC_METHOD_BVH && m != LC_METHOD_BRUTE)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grids render with method bvh or brute, not %d", (int)m);
-    if (!(isfinite(p->rda) && p->rda >= 0.0f && p->rda <= 1.0f))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "rda = %g, expected 0 (off) to 1", (double)p->rda);
-    if (!isfinite(p->delta_c) || !isfinite(p->delta_p) || !isfinite(p->delta_sv))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grid heuristics: delta_c, delta_p, delta_sv must be finite");
-    const lc_ktable *kt = dev->kt;
-    if (!kt->grid_bvh || !kt->grid_brute || !kt->grid_scratch_bytes)
-        return lci_error(dev, LC_ERROR_UNSUPPORTED, "target %s has no grid kernels", kt->name);
+    lc_status s = check_params(dev, p);
+    if (s != LC_OK) return s;
     size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * LC_PREINT_N * LC_PREINT_N * 5;
     unsigned char *mem = malloc(bytes);
     if (!mem) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the pre-integrated table");
@@ -313,9 +361,50 @@ lc_status lci_grid_prepare(lc_device *dev, const lc_grid *g, const lc_render_des
     k->delta_sv = param(p->delta_sv, 1e-4f);
     k->bvh_flags = (k->delta_c >= 0.0f ? LC_KGRID_CULL : 0) | (k->delta_p >= 0.0f ? LC_KGRID_PRUNE : 0) |
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
-    out->grid_fn = m == LC_METHOD_BRUTE ? kt->grid_brute : kt->grid_bvh;
-    out->grid = k;
-    out->scratch_bytes = kt->grid_scratch_bytes(k, frame);
+    int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
+    const lc_kkind *kk = dev->kt->kind[LC_KKIND_GRID];
+    out->tile = kk->render[km];
+    out->kscene = k;
+    out->scratch_bytes = kk->scratch_bytes[km](k, frame);
     out->owned = mem;
     return LC_OK;
 }
+
+static lc_status sample_scene(lc_device *dev, const lc_volume *v, void **ks, uint64_t *scratch_bytes)
+{
+    lc_kgrid *k = lci_aligned_alloc(64, sizeof *k);
+    if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_volume_sample: out of memory");
+    *k = ((const grid *)v)->kg;
+    *ks = k;
+    *scratch_bytes = dev->kt->kind[LC_KKIND_GRID]->sample_scratch_bytes(k);
+    return LC_OK;
+}
+
+/* Build options a file load may carry (lc_load_desc), applied to the desc. */
+static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, const char *file)
+{
+    lc_grid_desc *d = desc;
+    if (!strcmp(o->key, "brick")) return lci_option_int(dev, file, o, 1, 16, &d->brick);
+    if (!strcmp(o->key, "layout")) {
+        if (!strcmp(o->value, "linear")) d->layout = LC_LAYOUT_LINEAR;
+        else if (!strcmp(o->value, "bricked")) d->layout = LC_LAYOUT_BRICKED;
+        else
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option layout = '%s', expected linear or bricked",
+                             file, o->value);
+        return LC_OK;
+    }
+    return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to grids", file, o->key);
+}
+
+const lci_kind_ops lci_grid_ops = {
+    .kind = LC_KIND_GRID,
+    .name = "grid",
+    .krow = LC_KKIND_GRID,
+    .option_keys = "brick layout",
+    .create = create,
+    .set_option = set_option,
+    .destroy = destroy,
+    .frame_info = frame_info,
+    .prepare = prepare,
+    .sample_scene = sample_scene,
+};

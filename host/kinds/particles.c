@@ -4,49 +4,24 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <embree3/rtcore.h>
-#include "scene.h"
-#include "../bvh/particle_bvh.h"
+#include "host/kinds/kind.h"
+#include "bvh/particle_bvh.h"
 
-struct lc_particles {
-    lc_device *device;
+typedef struct particles {
+    lc_volume base; /* first: the kind-neutral handle */
     lc_particles_info info;
     lci_pbvh bvh;
+    float *node_ksum; /* per node: sum of |k_i| below it */
     float *px, *py, *pz, *r, *nir, *k; /* leaf order */
     uint8_t *field;
-};
+} particles;
 
-static void embree_error(void *user, enum RTCError code, const char *str)
+static void destroy(lc_volume *v)
 {
-    lci_log(user, LC_LOG_WARNING, "Embree error %d: %s", (int)code, str ? str : "");
-}
-
-void *lci_embree_device(lc_device *dev)
-{
-    if (!dev->embree) {
-        char cfg[64];
-        snprintf(cfg, sizeof cfg, "threads=%d", dev->threads);
-        RTCDevice e = rtcNewDevice(cfg);
-        if (!e) {
-            lci_error(dev, LC_ERROR_INTERNAL, "Embree: rtcNewDevice failed (error %d)", (int)rtcGetDeviceError(NULL));
-            return NULL;
-        }
-        rtcSetDeviceErrorFunction(e, embree_error, dev);
-        dev->embree = e;
-    }
-    return dev->embree;
-}
-
-void lci_embree_release(lc_device *dev)
-{
-    if (dev->embree) rtcReleaseDevice(dev->embree);
-    dev->embree = NULL;
-}
-
-void lc_particles_destroy(lc_particles *p)
-{
+    particles *p = (particles *)v;
     if (!p) return;
     lci_pbvh_free(&p->bvh);
+    free(p->node_ksum);
     free(p->px);
     free(p->py);
     free(p->pz);
@@ -57,12 +32,54 @@ void lc_particles_destroy(lc_particles *p)
     free(p);
 }
 
-lc_status lc_particles_get_info(const lc_particles *p, lc_particles_info *out)
+/* Zero fields become SPEC.md's defaults; the ranges are checked. */
+static lc_status fill_params(lc_device *dev, const char *fn, const lc_particle_params *in, lc_particle_params *out)
 {
-    if (!p) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_particles_get_info: particles is NULL");
-    if (!out) return lci_error(p->device, LC_ERROR_INVALID_ARGUMENT, "lc_particles_get_info: out is NULL");
+    lc_particle_params q = in ? *in : (lc_particle_params){0};
+    q.sigma = q.sigma == 0.0f ? 2.0f : q.sigma;
+    q.kappa = q.kappa == 0.0f ? 1.0f : q.kappa;
+    if (!(q.sigma > 0.0f && q.sigma <= 100.0f))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: sigma = %g, expected (0, 100]", fn, (double)q.sigma);
+    if (!isfinite(q.kappa))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: kappa = %g, expected a finite value", fn, (double)q.kappa);
+    if (!(q.sphere_scale >= 0.0f && q.sphere_scale <= 100.0f))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: sphere scale = %g, expected [0, 100]", fn,
+                         (double)q.sphere_scale);
+    if (q.buffer_samples < 0 || q.buffer_samples > 4096)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: buffer samples = %d, expected 0 (default) to 4096", fn,
+                         q.buffer_samples);
+    *out = q;
+    return LC_OK;
+}
+
+lc_status lc_particles_get_info(const lc_volume *v, lc_particles_info *out)
+{
+    const particles *p = lci_volume_as(v, LC_KIND_PARTICLES, "lc_particles_get_info");
+    if (!p) return LC_ERROR_INVALID_ARGUMENT;
+    if (!out) return lci_error(v->device, LC_ERROR_INVALID_ARGUMENT, "lc_particles_get_info: out is NULL");
     *out = p->info;
     return LC_OK;
+}
+
+lc_status lc_particles_set_params(lc_volume *v, const lc_particle_params *params)
+{
+    particles *p = lci_volume_as(v, LC_KIND_PARTICLES, "lc_particles_set_params");
+    if (!p) return LC_ERROR_INVALID_ARGUMENT;
+    return fill_params(v->device, "lc_particles_set_params", params, &p->info.params);
+}
+
+/* Sum of |k_i| under every node: children follow their parent in the flat
+ * array, so one backward sweep sees children first. */
+static void node_sums(particles *p)
+{
+    for (int32_t n = p->bvh.nnodes - 1; n >= 0; n--) {
+        const lc_kpnode *node = &p->bvh.nodes[n];
+        double s = 0.0;
+        if (node->count == 0) s = (double)p->node_ksum[node->first] + (double)p->node_ksum[node->first + 1];
+        else
+            for (int32_t i = node->first; i < node->first + node->count; i++) s += fabs((double)p->k[i]);
+        p->node_ksum[n] = (float)s * (1.0f + 1e-6f); /* round up: a bound */
+    }
 }
 
 /* Why particle i is invalid, or NULL. */
@@ -77,12 +94,10 @@ static const char *invalid(const lc_particles_desc *d, size_t i, int nfields)
     return NULL;
 }
 
-lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_particles **out)
+static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
 {
-    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_particles_create: device is NULL");
-    if (!out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_create: out is NULL");
+    const lc_particles_desc *d = desc;
     *out = NULL;
-    if (!d) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_create: desc is NULL");
     if (d->count > 0 && !d->positions)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_create: %zu particles but positions is NULL",
                          d->count);
@@ -125,8 +140,11 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                          "lc_particles_create: %zu of %zu particles are invalid; the first is particle %zu (%s)", bad,
                          d->count, first_bad, why);
+    lc_particle_params params;
+    lc_status ps = fill_params(dev, "lc_particles_create", &d->params, &params);
+    if (ps != LC_OK) return ps;
     size_t n = d->count - bad;
-    lc_particles *p = calloc(1, sizeof *p);
+    particles *p = calloc(1, sizeof *p);
     if (!p) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory");
     /* With nothing dropped the BVH is built straight from the caller's arrays;
      * otherwise from compacted copies (src maps them back). */
@@ -149,8 +167,10 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
         }
         xyz = own_xyz, rad = own_rad;
     }
-    p->device = dev;
+    p->base.ops = &lci_particles_ops;
+    p->base.device = dev;
     lc_particles_info *info = &p->info;
+    info->params = params;
     info->count = n;
     info->dropped = bad;
     info->nfields = nfields;
@@ -185,7 +205,8 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
         p->px = malloc(sizeof(float) * m), p->py = malloc(sizeof(float) * m), p->pz = malloc(sizeof(float) * m);
         p->r = malloc(sizeof(float) * m), p->nir = malloc(sizeof(float) * m), p->k = malloc(sizeof(float) * m);
         p->field = malloc(m);
-        if (!p->px || !p->py || !p->pz || !p->r || !p->nir || !p->k || !p->field)
+        p->node_ksum = malloc(sizeof(float) * (size_t)(p->bvh.nnodes > 0 ? p->bvh.nnodes : 1));
+        if (!p->px || !p->py || !p->pz || !p->r || !p->nir || !p->k || !p->field || !p->node_ksum)
             s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
     }
     if (s == LC_OK) {
@@ -201,10 +222,11 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
         }
         free(p->bvh.order);
         p->bvh.order = NULL;
+        node_sums(p);
         info->build_seconds = lci_now() - t0;
         info->bvh_nodes = p->bvh.nnodes;
         info->bvh_depth = p->bvh.depth;
-        info->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + sizeof(float));
+        info->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + 2 * sizeof(float));
         info->data_bytes = n * (6 * sizeof(float) + 1);
         lci_log(dev, LC_LOG_INFO, "particles: %zu (%zu dropped), %d fields, BVH %d nodes depth %d, %.1f MB, %.3f s", n,
                 bad, nfields, p->bvh.nnodes, p->bvh.depth, (double)info->bvh_bytes / 1e6, info->build_seconds);
@@ -213,81 +235,54 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *d, lc_par
     free(own_rad);
     free(src);
     if (s != LC_OK) {
-        lc_particles_destroy(p);
+        destroy(&p->base);
         return s;
     }
-    *out = p;
+    *out = &p->base;
     return LC_OK;
 }
 
-static void pparams(const lc_render_desc *d, float *sigma, float *kappa)
+lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *desc, lc_volume **out)
 {
-    *sigma = d->particle.sigma == 0.0f ? 2.0f : d->particle.sigma;
-    *kappa = d->particle.kappa == 0.0f ? 1.0f : d->particle.kappa;
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_particles_create: device is NULL");
+    if (!out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_create: out is NULL");
+    *out = NULL;
+    if (!desc) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_create: desc is NULL");
+    return create(dev, desc, out);
 }
 
-lc_status lci_particles_info(lc_device *dev, const lc_particles *p, const lc_render_desc *d, lci_scene_info *out)
+/* The centre bounds grown by the larger of the support and the spheres. */
+static lc_box3 grown_bounds(const particles *p)
 {
-    float sigma, kappa;
-    pparams(d, &sigma, &kappa);
-    if (!(sigma > 0.0f && sigma <= 100.0f))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "sigma = %g, expected (0, 100]", (double)d->particle.sigma);
-    if (!isfinite(kappa))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "kappa = %g, expected a finite value", (double)kappa);
-    float ss = d->particle.sphere_scale;
-    if (!(ss >= 0.0f && ss <= 100.0f))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "sphere scale = %g, expected [0, 100]", (double)ss);
-    float g = fmaxf(sigma, ss) * p->info.max_radius;
-    out->bounds = p->info.bounds;
-    out->bounds.lo.x -= g, out->bounds.lo.y -= g, out->bounds.lo.z -= g;
-    out->bounds.hi.x += g, out->bounds.hi.y += g, out->bounds.hi.z += g;
+    const lc_particle_params *q = &p->info.params;
+    float g = fmaxf(q->sigma, q->sphere_scale) * p->info.max_radius;
+    lc_box3 b = p->info.bounds;
+    b.lo.x -= g, b.lo.y -= g, b.lo.z -= g;
+    b.hi.x += g, b.hi.y += g, b.hi.z += g;
+    return b;
+}
+
+static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *out)
+{
+    (void)dev;
+    const particles *p = (const particles *)v;
+    out->bounds = grown_bounds(p);
     /* a quarter of the smallest radius resolves every Gaussian */
     out->default_dt = p->info.count ? 0.25f * p->info.min_radius : 1.0f;
     out->default_range[0] = 0.0f;
-    out->default_range[1] = fabsf(kappa);
+    out->default_range[1] = fabsf(p->info.params.kappa);
     out->nfields = p->info.nfields;
     return LC_OK;
 }
 
-lc_status lci_particles_prepare(lc_device *dev, const lc_particles *p, const lc_render_desc *d, const lc_kframe *frame,
-                                lci_prepared *out)
+/* The kernel view of the particles under the current parameters. */
+static void kscene(const particles *p, lc_kparticles *k)
 {
-    lc_kparticles *k = lci_aligned_alloc(64, sizeof *k);
-    if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
-    float sigma, kappa;
-    pparams(d, &sigma, &kappa);
-    int nf = p->info.nfields;
-    int bk = d->particle.buffer_samples == 0 ? (nf > 1 ? 64 / nf : 32) : d->particle.buffer_samples;
-    if (bk < 1 || bk > 4096) {
-        lci_aligned_free(k);
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "buffer samples = %d, expected 1 to 4096",
-                         d->particle.buffer_samples);
-    }
-    lci_particles_kscene(p, sigma, kappa, k);
-    k->buffer_k = bk;
-    k->sphere_scale = d->particle.sphere_scale;
-    float g = fmaxf(sigma, k->sphere_scale) * p->info.max_radius;
-    const lc_box3 *b = &p->info.bounds;
-    k->lo[0] = b->lo.x - g, k->lo[1] = b->lo.y - g, k->lo[2] = b->lo.z - g, k->lo[3] = 0.0f;
-    k->hi[0] = b->hi.x + g, k->hi[1] = b->hi.y + g, k->hi[2] = b->hi.z + g, k->hi[3] = 0.0f;
-    lc_method m = d->method == LC_METHOD_DEFAULT ? LC_METHOD_COHERENT : d->method;
-    if (m != LC_METHOD_COHERENT && m != LC_METHOD_DIRECT) {
-        lci_aligned_free(k);
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %d does not apply to particles (coherent or direct)",
-                         (int)d->method);
-    }
-    out->particles_fn = m == LC_METHOD_COHERENT ? dev->kt->particles_coherent : dev->kt->particles_direct;
-    out->particles = k;
-    out->scratch_bytes = dev->kt->particles_scratch_bytes(k, frame);
-    out->owned = k; /* freed with free(): posix_memalign memory */
-    return LC_OK;
-}
-
-void lci_particles_kscene(const lc_particles *p, float sigma, float kappa, lc_kparticles *k)
-{
+    const lc_particle_params *q = &p->info.params;
     memset(k, 0, sizeof *k);
     k->nodes = p->bvh.nodes;
     k->node_rmax = p->bvh.rmax;
+    k->node_ksum = p->node_ksum;
     k->px = p->px, k->py = p->py, k->pz = p->pz;
     k->r = p->r;
     k->neg_inv_2r2 = p->nir;
@@ -297,34 +292,64 @@ void lci_particles_kscene(const lc_particles *p, float sigma, float kappa, lc_kp
     k->nnodes = p->bvh.nnodes;
     k->depth = p->bvh.depth;
     k->nfields = p->info.nfields;
-    k->sigma = sigma;
-    k->kappa = kappa;
+    k->sigma = q->sigma;
+    k->kappa = q->kappa;
     k->max_radius = p->info.max_radius;
+    int nf = p->info.nfields;
+    k->buffer_k = q->buffer_samples == 0 ? (nf > 1 ? 64 / nf : 32) : q->buffer_samples;
+    k->sphere_scale = q->sphere_scale;
+    lc_box3 b = grown_bounds(p);
+    k->lo[0] = b.lo.x, k->lo[1] = b.lo.y, k->lo[2] = b.lo.z, k->lo[3] = 0.0f;
+    k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;
 }
 
-lc_status lc_particles_sample(lc_device *dev, const lc_particles *p, const lc_particle_params *params, size_t n,
-                              const float *points, float *values, float *gradients)
+static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *d, const lc_kframe *frame,
+                         lci_prepared *out)
 {
-    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_particles_sample: device is NULL");
-    if (!p) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_sample: particles is NULL");
-    if (n > 0 && (!points || !values))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_sample: points or values is NULL");
-    lc_render_desc d;
-    memset(&d, 0, sizeof d);
-    if (params) d.particle = *params;
-    float sigma, kappa;
-    pparams(&d, &sigma, &kappa);
-    if (!(sigma > 0.0f && sigma <= 100.0f) || !isfinite(kappa))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_sample: sigma %g or kappa %g out of range",
-                         (double)sigma, (double)kappa);
-    lc_kparticles k;
-    lci_particles_kscene(p, sigma, kappa, &k);
-    int32_t *stack = malloc(sizeof(int32_t) * (size_t)(k.depth + 4));
-    if (!stack) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_sample: out of memory");
-    unsigned int csr = __builtin_ia32_stmxcsr();
-    lci_flush_denormals();
-    dev->kt->particles_sample(&k, points, (int64_t)n, values, gradients, stack);
-    __builtin_ia32_ldmxcsr(csr);
-    free(stack);
+    lc_method m = d->method == LC_METHOD_DEFAULT ? LC_METHOD_COHERENT : d->method;
+    if (m != LC_METHOD_COHERENT && m != LC_METHOD_DIRECT)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %d does not apply to particles (coherent or direct)",
+                         (int)d->method);
+    lc_kparticles *k = lci_aligned_alloc(64, sizeof *k);
+    if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
+    kscene((const particles *)v, k);
+    int km = m == LC_METHOD_COHERENT ? LC_KMETHOD_FAST : LC_KMETHOD_BASE;
+    const lc_kkind *kk = dev->kt->kind[LC_KKIND_PARTICLES];
+    out->tile = kk->render[km];
+    out->kscene = k;
+    out->scratch_bytes = kk->scratch_bytes[km](k, frame);
+    out->owned = k; /* freed with free(): posix_memalign memory */
     return LC_OK;
 }
+
+static lc_status sample_scene(lc_device *dev, const lc_volume *v, void **ks, uint64_t *scratch_bytes)
+{
+    lc_kparticles *k = lci_aligned_alloc(64, sizeof *k);
+    if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_volume_sample: out of memory");
+    kscene((const particles *)v, k);
+    *ks = k;
+    *scratch_bytes = dev->kt->kind[LC_KKIND_PARTICLES]->sample_scratch_bytes(k);
+    return LC_OK;
+}
+
+/* Build options a file load may carry (lc_load_desc), applied to the desc. */
+static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, const char *file)
+{
+    lc_particles_desc *d = desc;
+    if (!strcmp(o->key, "leaf_size")) return lci_option_int(dev, file, o, 1, 32, &d->leaf_size);
+    if (!strcmp(o->key, "drop_invalid")) return lci_option_int(dev, file, o, 0, 1, &d->drop_invalid);
+    return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to particles", file, o->key);
+}
+
+const lci_kind_ops lci_particles_ops = {
+    .kind = LC_KIND_PARTICLES,
+    .name = "particles",
+    .krow = LC_KKIND_PARTICLES,
+    .option_keys = "leaf_size drop_invalid",
+    .create = create,
+    .set_option = set_option,
+    .destroy = destroy,
+    .frame_info = frame_info,
+    .prepare = prepare,
+    .sample_scene = sample_scene,
+};

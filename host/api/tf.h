@@ -2,7 +2,7 @@
 #ifndef LC_HOST_TF_H
 #define LC_HOST_TF_H
 
-#include "internal.h"
+#include "host/internal.h"
 
 typedef struct lci_tf_points {
     float *color; /* [v, r, g, b] */

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <xmmintrin.h>
 #include <pmmintrin.h>
-#include "internal.h"
+#include "host/internal.h"
 
 struct lci_pool {
     int nthreads; /* including the caller */

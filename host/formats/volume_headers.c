@@ -1,4 +1,4 @@
-/* Volume files for lc_grid_load: NRRD (.nrrd with attached data, .nhdr with
+/* Volume files: NRRD (.nrrd with attached data, .nhdr with
  * a detached data file; raw or gzip encoding; either endianness), MetaImage
  * (.mhd/.mha; raw or zlib-compressed) and headerless raw files. Every error
  * is one line naming the file (and the header line); nothing is created. */
@@ -10,7 +10,16 @@
 #include <string.h>
 #include <strings.h>
 #include <zlib.h>
-#include "grid.h"
+#include "host/formats/format.h"
+#include "host/kinds/grid.h"
+
+/* What these readers take from their options (lci_format.options). */
+typedef struct gopts {
+    int size[3];
+    lc_value_type type;
+    lc_vec3 spacing, origin;
+    int big_endian;
+} gopts;
 
 typedef struct hdr {
     int ndim;
@@ -26,12 +35,6 @@ typedef struct hdr {
     long long byte_skip;
     long data_offset;   /* attached: where the header ends */
 } hdr;
-
-static const char *ext_of(const char *path)
-{
-    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-    return dot && (!slash || dot > slash) ? dot + 1 : "";
-}
 
 static char *trim(char *s)
 {
@@ -313,19 +316,44 @@ static void swap_bytes(void *p, uint64_t n, int es)
     }
 }
 
-lc_status lc_grid_load(lc_device *dev, const char *path, const lc_grid_load_options *opt, lc_grid **out)
+static lc_status parse_type(lc_device *dev, const char *file, const lc_option *x, lc_value_type *t)
 {
-    if (out) *out = NULL;
-    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_grid_load: device is NULL");
-    if (!path || !out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_grid_load: path and out must not be NULL");
-    lc_grid_load_options o0;
-    memset(&o0, 0, sizeof o0);
-    const lc_grid_load_options *o = opt ? opt : &o0;
+    static const char *const names[] = {"", "uint8", "uint16", "int16", "float32"};
+    for (int i = 1; i <= 4; i++)
+        if (!strcmp(x->value, names[i])) return *t = (lc_value_type)i, LC_OK;
+    return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option type = '%s', expected uint8, uint16, int16 or float32",
+                     file, x->value);
+}
+
+static lc_status parse_options(lc_device *dev, const lci_read_args *a, gopts *o)
+{
+    memset(o, 0, sizeof *o);
+    const lc_option *x;
+    lc_status s = LC_OK;
+    if ((x = lci_option_find(a, "size"))) s = lci_option_ints(dev, a->path, x, 3, 2, INT32_MAX, o->size);
+    if (s == LC_OK && (x = lci_option_find(a, "type"))) s = parse_type(dev, a->path, x, &o->type);
+    if (s == LC_OK && (x = lci_option_find(a, "spacing"))) s = lci_option_floats(dev, a->path, x, 3, &o->spacing.x);
+    if (s == LC_OK && (x = lci_option_find(a, "origin"))) s = lci_option_floats(dev, a->path, x, 3, &o->origin.x);
+    if (s == LC_OK && (x = lci_option_find(a, "endian"))) {
+        if (!strcmp(x->value, "big")) o->big_endian = 1;
+        else if (strcmp(x->value, "little"))
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option endian = '%s', expected little or big", a->path,
+                          x->value);
+    }
+    return s;
+}
+
+/* Reads a volume as format `which` (0 raw, 1 NRRD, 2 MetaImage). */
+static lc_status read_volume(lc_device *dev, const lci_read_args *args, int which, lci_loaded *out)
+{
+    const char *path = args->path;
+    gopts o0;
+    lc_status os = parse_options(dev, args, &o0);
+    if (os != LC_OK) return os;
+    const gopts *o = &o0;
     hdr h;
     memset(&h, 0, sizeof h);
-    const char *ext = ext_of(path);
-    int nrrd = !strcasecmp(ext, "nrrd") || !strcasecmp(ext, "nhdr");
-    int meta = !strcasecmp(ext, "mhd") || !strcasecmp(ext, "mha");
+    int nrrd = which == 1, meta = which == 2;
     char data_path[2048];
     long long offset = 0;
     if (nrrd || meta) {
@@ -378,14 +406,38 @@ lc_status lc_grid_load(lc_device *dev, const char *path, const lc_grid_load_opti
     }
     if (h.big_endian) swap_bytes(data, count, es);
     lc_grid_desc d;
-    memset(&d, 0, sizeof d);
+    memset(&d, 0, sizeof d); /* copied by the grid, which owns its voxels */
     for (int a = 0; a < 3; a++) d.size[a] = (int)h.size[a];
     d.type = h.type;
     d.spacing = h.have_spacing ? (lc_vec3){(float)h.spacing[0], (float)h.spacing[1], (float)h.spacing[2]} : (lc_vec3){1, 1, 1};
     if (o->spacing.x != 0 || o->spacing.y != 0 || o->spacing.z != 0) d.spacing = o->spacing;
     if (h.have_origin) d.origin = (lc_vec3){(float)h.origin[0], (float)h.origin[1], (float)h.origin[2]};
     if (o->origin.x != 0 || o->origin.y != 0 || o->origin.z != 0) d.origin = o->origin;
-    d.layout = o->layout;
-    d.brick = o->brick;
-    return lci_grid_create(dev, &d, data, path, out);
+    lc_grid_desc *dp = malloc(sizeof *dp);
+    if (!dp) {
+        free(data);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    d.data = data;
+    *dp = d;
+    out->desc = dp;
+    lci_loaded_keep(out, data);
+    return LC_OK;
 }
+static lc_status raw_read(lc_device *dev, const lci_read_args *a, lci_loaded *out) { return read_volume(dev, a, 0, out); }
+static lc_status nrrd_read(lc_device *dev, const lci_read_args *a, lci_loaded *out) { return read_volume(dev, a, 1, out); }
+static lc_status mhd_read(lc_device *dev, const lci_read_args *a, lci_loaded *out) { return read_volume(dev, a, 2, out); }
+
+static int nrrd_magic(const unsigned char *h, size_t n) { return n >= 7 && !memcmp(h, "NRRD000", 7); }
+
+const lci_format lci_format_nrrd = {
+    .name = "nrrd", .kind = LC_KIND_GRID, .extensions = ".nrrd .nhdr", .options = "type spacing origin",
+    .description = "NRRD: attached or detached data, raw or gzip, either endianness", .magic = nrrd_magic,
+    .read = nrrd_read};
+const lci_format lci_format_metaimage = {
+    .name = "metaimage", .kind = LC_KIND_GRID, .extensions = ".mhd .mha", .options = "type spacing origin",
+    .description = "MetaImage: .mhd with a data file or .mha with attached data", .read = mhd_read};
+const lci_format lci_format_raw_volume = {
+    .name = "raw-volume", .kind = LC_KIND_GRID, .extensions = ".raw", .options = "size type spacing origin endian",
+    .description = "headerless voxels, x fastest; size and type required", .read = raw_read};
+

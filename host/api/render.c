@@ -1,15 +1,19 @@
-/* lc_render: validation, the frame (camera, TFs, shading), tiles over the
- * device's threads, stats. One implementation for every data kind. */
+/* lc_render: validation, the frame (camera, TFs, shading, mode), tiles over
+ * the device's threads, stats. One implementation for every data kind: the
+ * volume's row (host/kinds/kind.h) supplies its frame info and kernel. */
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include "scene.h"
+#include "host/kinds/kind.h"
+#include "host/api/tf.h"
 
-#define MAX_SIDE 32768
 
-lc_status lci_frame_build(lc_device *dev, const lc_render_desc *d, const lci_scene_info *info, const lc_tf *tf,
-                          float *tables, lc_kframe *f)
+/* Everything in lc_kframe from the desc, the data's frame info and the TF;
+ * the TF tables go into `tables` (LC_MAX_FIELDS * LC_TF_TABLE_SIZE * 4
+ * floats). One implementation for every kind and mode. */
+static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_frame_info *info, const lc_tf *tf,
+                             float *tables, lc_kframe *f)
 {
     memset(f, 0, sizeof *f);
     lc_status s = lci_camera_build(dev, &d->camera, d->width, d->height, &info->bounds, &f->cam);
@@ -23,6 +27,9 @@ lc_status lci_frame_build(lc_device *dev, const lc_render_desc *d, const lci_sce
     if ((int)d->shading < LC_SHADE_NONE || (int)d->shading > LC_SHADE_PHONG)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "shading = %d is not none, diffuse or phong", (int)d->shading);
     f->shade = (int32_t)d->shading;
+    if ((int)d->mode < 0 || d->mode >= LC_MODE_COUNT)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "mode = %d is not a render mode (dvr)", (int)d->mode);
+    f->mode = (int32_t)d->mode;
     const lc_lighting *l = &d->lighting;
     int custom = l->ka != 0.0f || l->kd != 0.0f || l->ks != 0.0f || l->phong_exp != 0;
     f->ka = custom ? l->ka : 0.2f;
@@ -99,8 +106,7 @@ static void run_tile(void *ctx, int task, int worker)
     t.pad = 0;
     t.rgba = j->rgba;
     lc_kscratch sc = {j->scratch + (size_t)worker * j->scratch_bytes, j->scratch_bytes};
-    if (j->prep->particles_fn) j->prep->particles_fn(j->prep->particles, j->frame, &t, &sc, &j->stats[worker].s);
-    else j->prep->grid_fn(j->prep->grid, j->frame, &t, &sc, &j->stats[worker].s);
+    j->prep->tile(j->prep->kscene, j->frame, &t, &sc, &j->stats[worker].s);
     int done = atomic_fetch_add_explicit(&j->done, 1, memory_order_relaxed) + 1;
     if (j->progress && worker == 0) j->progress(j->progress_user, (float)done / (float)j->ntasks);
 }
@@ -110,20 +116,18 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
     if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_render: device is NULL");
     if (!d) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: desc is NULL");
     if (!rgba) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: rgba is NULL");
-    if (d->width < 1 || d->height < 1 || d->width > MAX_SIDE || d->height > MAX_SIDE)
+    if (d->width < 1 || d->height < 1 || d->width > LC_MAX_IMAGE_SIDE || d->height > LC_MAX_IMAGE_SIDE)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: image size %dx%d, expected 1 to %d per side",
-                         d->width, d->height, MAX_SIDE);
-    if (!!d->particles + !!d->grid != 1)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
-                         "lc_render: give exactly one scene object (particles or grid), got %d",
-                         !!d->particles + !!d->grid);
+                         d->width, d->height, LC_MAX_IMAGE_SIDE);
+    if (!d->volume) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: desc->volume is NULL");
+    const lc_volume *vol = d->volume;
     int tile = d->tile == 0 ? 32 : d->tile;
     if (tile < 1 || tile > 4096)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: tile = %d pixels, expected 1 to 4096", d->tile);
     double t0 = lci_now();
-    lci_scene_info info;
+    lci_frame_info info;
     memset(&info, 0, sizeof info);
-    lc_status s = d->particles ? lci_particles_info(dev, d->particles, d, &info) : lci_grid_info(dev, d->grid, d, &info);
+    lc_status s = vol->ops->frame_info(dev, vol, &info);
     if (s != LC_OK) return s;
     lc_tf *own_tf = NULL;
     const lc_tf *tf = d->tf;
@@ -142,10 +146,9 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
         goto done;
     }
-    s = lci_frame_build(dev, d, &info, tf, tables, frame);
+    s = frame_build(dev, d, &info, tf, tables, frame);
     if (s != LC_OK) goto done;
-    s = d->particles ? lci_particles_prepare(dev, d->particles, d, frame, &prep)
-                     : lci_grid_prepare(dev, d->grid, d, frame, &prep);
+    s = vol->ops->prepare(dev, vol, d, frame, &prep);
     if (s != LC_OK) goto done;
     int nthreads = lci_pool_threads(dev->pool);
     uint64_t sb = (prep.scratch_bytes + 63) & ~(uint64_t)63;

@@ -1,0 +1,56 @@
+/* File formats as registry entries (STYLE.md "A format is a registry
+ * entry"): each maps extensions and magic bytes to a kind and a reader that
+ * turns bytes into that kind's public descriptor and nothing more. The
+ * registry (registry.c) decides the format once, splits the options between
+ * the format and the kind, and creates the volume through the kind's row.
+ * Adding a format: one file here with its reader and one row in registry.c
+ * (docs/DEVELOPERS.md "A new file format"). */
+#ifndef LC_HOST_FORMAT_H
+#define LC_HOST_FORMAT_H
+
+#include "host/kinds/kind.h"
+
+/* What a reader gets: the file, the load request (frame, companion) and the
+ * options meant for the format (the kind's build options are kept apart). */
+typedef struct lci_read_args {
+    const char *path;
+    const lc_load_desc *desc; /* never NULL */
+    const lc_option *options;
+    int noptions;
+} lci_read_args;
+
+/* What a reader returns: the kind's descriptor (lc_particles_desc,
+ * lc_grid_desc, ...) in desc, pointing into buffers listed in mem; the
+ * registry frees both after creating the volume. */
+#define LCI_LOADED_MEM 8
+typedef struct lci_loaded {
+    void *desc;
+    void *mem[LCI_LOADED_MEM];
+} lci_loaded;
+
+/* Adds a buffer to free with the loaded data; returns p, or NULL (and frees
+ * p) when the list is full. */
+void *lci_loaded_keep(lci_loaded *l, void *p);
+void lci_loaded_free(lci_loaded *l);
+
+typedef struct lci_format {
+    const char *name;        /* "pdb" */
+    lc_kind kind;
+    const char *extensions;  /* ".pdb .ent": space-separated, lower case, matched case-insensitively
+                                after a ".gz" is looked through */
+    const char *options;     /* keys the reader takes, space-separated */
+    const char *description;
+    /* 1 if the first bytes (after gunzip when gzip) say this format; NULL: by extension only */
+    int (*magic)(const unsigned char *head, size_t n);
+    lc_status (*read)(lc_device *dev, const lci_read_args *a, lci_loaded *out);
+    const char *package;     /* Debian package enabling it when compiled out, else NULL */
+} lci_format;
+
+/* The option of the given key, or NULL. */
+const lc_option *lci_option_find(const lci_read_args *a, const char *key);
+
+/* The readers (one file each family) */
+extern const lci_format lci_format_xyz, lci_format_pdb, lci_format_raw_particles;
+extern const lci_format lci_format_nrrd, lci_format_metaimage, lci_format_raw_volume;
+
+#endif

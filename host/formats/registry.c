@@ -1,0 +1,219 @@
+/* The formats registry: every format lanecast reads, how a file is matched
+ * to one (the load request's name, else magic bytes, else the extension),
+ * and lc_volume_load, which reads through the format and creates the volume
+ * through its kind's row. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <zlib.h>
+#include "host/formats/format.h"
+
+/* Magic-byte formats first: a file that says what it is wins over its name. */
+static const lci_format *const formats[] = {
+    &lci_format_nrrd, &lci_format_metaimage, &lci_format_pdb, &lci_format_xyz,
+    &lci_format_raw_particles, &lci_format_raw_volume,
+};
+#define NFORMATS ((int)(sizeof formats / sizeof formats[0]))
+
+int lc_format_count(void) { return NFORMATS; }
+
+const lc_option *lci_option_find(const lci_read_args *a, const char *key)
+{
+    for (int i = 0; i < a->noptions; i++)
+        if (!strcmp(a->options[i].key, key)) return &a->options[i];
+    return NULL;
+}
+
+lc_status lc_format_get(int index, lc_format_info *out)
+{
+    if (index < 0 || index >= NFORMATS || !out)
+        return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_format_get: index %d is not in [0, %d) or out is NULL",
+                         index, NFORMATS);
+    const lci_format *f = formats[index];
+    out->name = f->name;
+    out->kind = f->kind;
+    out->extensions = f->extensions;
+    out->options = f->options;
+    out->description = f->description;
+    out->available = f->read != NULL;
+    out->package = f->package ? f->package : "";
+    return LC_OK;
+}
+
+void *lci_loaded_keep(lci_loaded *l, void *p)
+{
+    for (int i = 0; i < LCI_LOADED_MEM; i++)
+        if (!l->mem[i]) return l->mem[i] = p;
+    free(p);
+    return NULL;
+}
+
+void lci_loaded_free(lci_loaded *l)
+{
+    for (int i = 0; i < LCI_LOADED_MEM; i++) free(l->mem[i]);
+    free(l->desc);
+    memset(l, 0, sizeof *l);
+}
+
+/* Is word a member of the space-separated list? */
+static int in_list(const char *list, const char *word, size_t len)
+{
+    for (const char *p = list; p && *p;) {
+        while (*p == ' ') p++;
+        const char *e = strchr(p, ' ');
+        size_t n = e ? (size_t)(e - p) : strlen(p);
+        if (n == len && n && !strncasecmp(p, word, len)) return 1;
+        p = e;
+    }
+    return 0;
+}
+
+static const lci_format *by_name(const char *name)
+{
+    for (int i = 0; i < NFORMATS; i++)
+        if (!strcmp(formats[i]->name, name)) return formats[i];
+    return NULL;
+}
+
+/* The extension of path with a trailing ".gz" looked through, or "". */
+static void extension(const char *path, char *ext, size_t n, int *gz)
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    size_t len = strlen(base);
+    *gz = len > 3 && !strcasecmp(base + len - 3, ".gz");
+    if (*gz) len -= 3;
+    const char *dot = NULL;
+    for (size_t i = 0; i < len; i++)
+        if (base[i] == '.') dot = base + i;
+    ext[0] = '\0';
+    if (dot && (size_t)(base + len - dot) < n) snprintf(ext, n, "%.*s", (int)(base + len - dot), dot);
+}
+
+/* The first bytes of the file (inflated when gzip) and whether it is gzip. */
+static lc_status head_of(lc_device *dev, const char *path, unsigned char *head, size_t cap, size_t *n, int *gzip)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    unsigned char m[2] = {0, 0};
+    *gzip = fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
+    fclose(f);
+    gzFile gz = gzopen(path, "rb");
+    if (!gz) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    int k = gzread(gz, head, (unsigned)cap);
+    gzclose(gz);
+    *n = k > 0 ? (size_t)k : 0;
+    return LC_OK;
+}
+
+static lc_status decide(lc_device *dev, const char *path, const lc_load_desc *d, const lci_format **out, int *gzip)
+{
+    *out = NULL;
+    unsigned char head[512];
+    size_t n = 0;
+    lc_status s = head_of(dev, path, head, sizeof head, &n, gzip);
+    if (s != LC_OK) return s;
+    if (d->format && d->format[0]) {
+        *out = by_name(d->format);
+        if (!*out) {
+            char names[512] = "";
+            for (int i = 0; i < NFORMATS; i++)
+                snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "", formats[i]->name);
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: unknown format '%s' (known: %s)", path, d->format,
+                             names);
+        }
+        return LC_OK;
+    }
+    for (int i = 0; i < NFORMATS; i++)
+        if (formats[i]->magic && formats[i]->magic(head, n)) return *out = formats[i], LC_OK;
+    char ext[32];
+    int gz;
+    extension(path, ext, sizeof ext, &gz);
+    for (int i = 0; i < NFORMATS; i++)
+        if (ext[0] && in_list(formats[i]->extensions, ext, strlen(ext))) return *out = formats[i], LC_OK;
+    return lci_error(dev, LC_ERROR_UNSUPPORTED,
+                     "%s: unknown file format (extension '%s'; `lanecast formats` lists what lanecast reads; raw data "
+                     "needs its format named)",
+                     path, ext);
+}
+
+lc_status lc_file_probe(lc_device *dev, const char *path, const lc_load_desc *desc, lc_file_info *out)
+{
+    if (!path || !out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_file_probe: path and out must not be NULL");
+    lc_load_desc none = {0};
+    const lci_format *f;
+    int gzip;
+    lc_status s = decide(dev, path, desc ? desc : &none, &f, &gzip);
+    if (s != LC_OK) return s;
+    out->format = f->name;
+    out->kind = f->kind;
+    out->frames = 1;
+    out->gzip = gzip;
+    return LC_OK;
+}
+
+/* Splits the options: the format's to the reader (in fopts), the kind's
+ * applied to the descriptor after reading; anything else is an error. */
+static lc_status split_options(lc_device *dev, const char *path, const lci_format *f, const lc_load_desc *d,
+                               lc_option *fopts, int *nf)
+{
+    const lci_kind_ops *k = lci_kind(f->kind);
+    *nf = 0;
+    for (int i = 0; i < d->noptions; i++) {
+        const lc_option *o = &d->options[i];
+        if (!o->key || !o->value)
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option %d has no key or value", path, i);
+        if (in_list(f->options, o->key, strlen(o->key))) fopts[(*nf)++] = *o;
+        else if (!in_list(k->option_keys, o->key, strlen(o->key)))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "%s: option '%s' does not apply to %s files (they take: %s%s%s)", path, o->key, f->name,
+                             f->options, f->options[0] ? " " : "", k->option_keys);
+    }
+    return LC_OK;
+}
+
+lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *desc, lc_volume **out)
+{
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: device is NULL");
+    if (!out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: out is NULL");
+    *out = NULL;
+    if (!path) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: path is NULL");
+    lc_load_desc none = {0};
+    const lc_load_desc *d = desc ? desc : &none;
+    if (d->noptions < 0 || (d->noptions > 0 && !d->options) || d->frame < 0)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: bad options list or frame");
+    const lci_format *f;
+    int gzip;
+    lc_status s = decide(dev, path, d, &f, &gzip);
+    if (s != LC_OK) return s;
+    if (!f->read)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: %s files are not supported by this build (install %s and rebuild)",
+                         path, f->name, f->package ? f->package : "its library");
+    lc_option *fopts = malloc(sizeof *fopts * (size_t)(d->noptions + 1));
+    if (!fopts) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_volume_load: out of memory");
+    int nf;
+    s = split_options(dev, path, f, d, fopts, &nf);
+    lci_loaded l;
+    memset(&l, 0, sizeof l);
+    if (s == LC_OK) {
+        lci_read_args a = {path, d, fopts, nf};
+        s = f->read(dev, &a, &l);
+    }
+    const lci_kind_ops *k = lci_kind(f->kind);
+    for (int i = 0; s == LC_OK && i < d->noptions; i++)
+        if (in_list(k->option_keys, d->options[i].key, strlen(d->options[i].key)))
+            s = k->set_option(dev, l.desc, &d->options[i], path);
+    if (s == LC_OK) {
+        s = k->create(dev, l.desc, out);
+        if (s != LC_OK) { /* the message names the file */
+            char msg[LCI_MSG_MAX];
+            snprintf(msg, sizeof msg, "%s", lc_last_error());
+            lci_error(dev, s, "%s: %s", path, msg);
+        }
+    }
+    lci_loaded_free(&l);
+    free(fopts);
+    return s;
+}

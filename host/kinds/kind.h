@@ -1,0 +1,66 @@
+/* A data kind as lc_render, lc_volume_* and the file loaders see it: one row
+ * of operations per kind (Open VKL's volume interface in C). Every kind's
+ * object starts with struct lc_volume, whose ops point at its row; the
+ * renderer, the volume calls and the loaders never ask which kind they hold.
+ * Adding a kind: one host file with its row, one kernel file with its
+ * kernel sub-table, one shared struct, a row in kinds.c and in the kernel
+ * table (docs/DEVELOPERS.md "A new data kind"). */
+#ifndef LC_HOST_KIND_H
+#define LC_HOST_KIND_H
+
+#include "host/internal.h"
+
+/* What a frame needs to know of the data before it is prepared. */
+typedef struct lci_frame_info {
+    lc_box3 bounds;         /* where samples may be non-zero (SPEC.md lattice clip box) */
+    float default_dt;
+    float default_range[2]; /* value range when neither the desc nor the TF gives one */
+    int nfields;            /* fields the data has */
+} lci_frame_info;
+
+/* A volume prepared for one frame: the kernel to run per tile and its scene. */
+typedef struct lci_prepared {
+    lc_ktile_fn tile;
+    const void *kscene;
+    uint64_t scratch_bytes; /* per worker */
+    void *owned;            /* freed with free() after the frame */
+} lci_prepared;
+
+typedef struct lci_kind_ops {
+    lc_kind kind;
+    const char *name;  /* lc_kind_name */
+    int krow;          /* its sub-table in lc_ktable.kind[] (LC_KKIND_*) */
+    /* option keys the kind's build takes from lc_load_desc (space-separated) */
+    const char *option_keys;
+    /* creates the volume from the kind's public descriptor (lc_*_desc) */
+    lc_status (*create)(lc_device *dev, const void *desc, lc_volume **out);
+    /* applies one build option (one of option_keys) to a descriptor a reader filled */
+    lc_status (*set_option)(lc_device *dev, void *desc, const lc_option *opt, const char *file);
+    void (*destroy)(lc_volume *v);
+    /* bounds, default step and range, fields under the current parameters */
+    lc_status (*frame_info)(lc_device *dev, const lc_volume *v, lci_frame_info *out);
+    /* the kernel scene and tile function for one frame */
+    lc_status (*prepare)(lc_device *dev, const lc_volume *v, const lc_render_desc *desc, const lc_kframe *frame,
+                         lci_prepared *out);
+    /* the kernel scene for point sampling (lc_volume_sample), with its scratch */
+    lc_status (*sample_scene)(lc_device *dev, const lc_volume *v, void **kscene, uint64_t *scratch_bytes);
+} lci_kind_ops;
+
+struct lc_volume {
+    const lci_kind_ops *ops;
+    lc_device *device;
+};
+
+/* host/kinds/kinds.c: the rows, indexed by lc_kind (NULL for none). */
+const lci_kind_ops *lci_kind(lc_kind kind);
+extern const lci_kind_ops lci_particles_ops;
+extern const lci_kind_ops lci_grid_ops;
+
+/* The volume as kind k, or NULL (with an error naming fn) if it is another kind. */
+void *lci_volume_as(const lc_volume *v, lc_kind k, const char *fn);
+
+/* host/api/camera.c: the kernel camera for the desc (default framing of bounds). */
+lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int height, const lc_box3 *bounds,
+                           lc_kcamera *out);
+
+#endif

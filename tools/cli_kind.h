@@ -1,0 +1,42 @@
+/* One data kind's part of `lanecast render`: its flags (which become load
+ * options of lc_volume_load and parameters of the volume), its help section
+ * with its own defaults, its default transfer function and its --stats
+ * lines. cmd_render.c knows no kind: it decides the kind once from the
+ * input (lc_file_probe) and loops over the rows of cli_kinds. A new kind adds
+ * one file like cli_particles.c and a row in cli_kinds (cmd_render.c). */
+#ifndef LC_CLI_KIND_H
+#define LC_CLI_KIND_H
+
+#include <stdio.h>
+#include "lanecast/lanecast.h"
+
+/* Load options the flags collect: values are copied here. */
+#define CLI_MAX_OPTIONS 16
+typedef struct cli_load {
+    const char *format; /* NULL = detect */
+    lc_option opt[CLI_MAX_OPTIONS];
+    char val[CLI_MAX_OPTIONS][96];
+    int n;
+} cli_load;
+
+/* Adds option key = value; -1 (message printed) when full. */
+int cli_load_add(cli_load *l, const char *cmd, const char *key, const char *value);
+
+typedef struct cli_kind {
+    lc_kind kind;
+    const char *help; /* the kind's section of `lanecast render --help` */
+    /* Parses argv[*i] if it is this kind's flag: 1 consumed (advancing *i past
+     * its value), 0 not this kind's, -1 bad value (message printed). Records
+     * the first flag seen in *first (for "does not apply" errors). */
+    int (*parse_flag)(const char *cmd, int argc, char **argv, int *i, cli_load *load, const char **first);
+    /* After loading: the kind's parameters onto the volume and the desc. */
+    lc_status (*apply)(lc_volume *v, lc_render_desc *rd);
+    /* The default TF for a preset name (NULL = the kind's default) and the
+     * --tau value (0 = the kind's default). */
+    lc_status (*default_tf)(lc_device *dev, const lc_volume *v, const char *preset, float tau, lc_tf **out);
+    void (*print_stats)(const lc_volume *v, double load_seconds, FILE *f);
+} cli_kind;
+
+extern const cli_kind cli_particles, cli_grid;
+
+#endif
