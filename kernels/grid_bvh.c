@@ -88,9 +88,9 @@ static inline int first_hit(const gpk *pk, int fa, int npk, const frustum *fr, c
     return npk;
 }
 
-/* Transfer-function view of a node's value range [vmin, vmax] through the
- * pre-integrated table: quantised bounds (widened by one level so the table
- * covers every value the trilinear interpolant can take) and opacities. */
+/* A node's value range [vmin, vmax] as indices into the pre-integrated
+ * table: quantised bounds, widened by one level so the table covers every
+ * value the trilinear interpolant can take. */
 typedef struct node_tf {
     int qlo, qhi;
 } node_tf;

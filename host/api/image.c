@@ -68,9 +68,9 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
     if (!path) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_image_write: path is NULL");
     if (!d) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_image_write: desc is NULL");
     if (!d->rgba) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_image_write: rgba is NULL");
-    if (d->width < 1 || d->height < 1 || d->width > 65536 || d->height > 65536)
-        return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_image_write: size %dx%d out of range", d->width,
-                         d->height);
+    if (d->width < 1 || d->height < 1 || d->width > LC_MAX_IMAGE_SIDE || d->height > LC_MAX_IMAGE_SIDE)
+        return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_image_write: size %dx%d, expected 1 to %d per side",
+                         d->width, d->height, LC_MAX_IMAGE_SIDE);
     lc_status s = lc_image_check(device, path);
     if (s != LC_OK) return s;
     const char *ext = extension(path);
