@@ -1,0 +1,152 @@
+/* Field evaluators of SPEC.md "Fields" (see ref_fields.h): brute force over
+ * every term, exp from libm, analytic gradients. */
+#include "ref_fields.h"
+
+#include <math.h>
+
+static void box_empty(ref_source *src)
+{
+    for (int a = 0; a < 3; a++) src->lo[a] = INFINITY, src->hi[a] = -INFINITY;
+}
+
+static void box_grow(ref_source *src, const double c[3], double r)
+{
+    for (int a = 0; a < 3; a++) {
+        src->lo[a] = fmin(src->lo[a], c[a] - r);
+        src->hi[a] = fmax(src->hi[a], c[a] + r);
+    }
+}
+
+/* ---------------------------------------------------------------- particles */
+
+static double psigma(const ref_particle_set *ps) { return ps->sigma == 0.0 ? 2.0 : ps->sigma; }
+static double pkappa(const ref_particle_set *ps) { return ps->kappa == 0.0 ? 1.0 : ps->kappa; }
+static int pnfields(const ref_particle_set *ps) { return ps->nfields < 1 ? 1 : ps->nfields; }
+
+void ref_particles_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+{
+    const ref_particle_set *ps = user;
+    const double sigma = psigma(ps), kappa = pkappa(ps);
+    const int nf = pnfields(ps);
+    for (int f = 0; f < nf; f++) {
+        phi[f] = 0.0;
+        if (grad) grad[f][0] = grad[f][1] = grad[f][2] = 0.0;
+    }
+    for (size_t i = 0; i < ps->count; i++) {
+        const double *c = ps->pos + 3 * i, r = ps->radius[i];
+        double e[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+        double d2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        if (!(d2 < sigma * r * sigma * r)) continue;
+        int f = ps->field ? ps->field[i] : 0;
+        double ph = kappa * (ps->value ? ps->value[i] : 1.0) * exp(-d2 / (2.0 * r * r));
+        phi[f] += ph;
+        /* grad phi_i = -(x - x_i) / r_i^2 phi_i */
+        if (grad)
+            for (int a = 0; a < 3; a++) grad[f][a] -= e[a] / (r * r) * ph;
+    }
+}
+
+int ref_particles_source(const ref_particle_set *ps, ref_source *src)
+{
+    const int nf = pnfields(ps);
+    if (nf > REF_MAX_FIELDS || (ps->count && (!ps->pos || !ps->radius))) return -1;
+    double rmax = 0.0;
+    for (size_t i = 0; i < ps->count; i++) {
+        if (!(ps->radius[i] > 0.0) || (ps->field && (ps->field[i] < 0 || ps->field[i] >= nf))) return -1;
+        rmax = fmax(rmax, ps->radius[i]);
+    }
+    src->eval = ref_particles_eval, src->user = ps, src->nfields = nf;
+    box_empty(src);
+    for (size_t i = 0; i < ps->count; i++) box_grow(src, ps->pos + 3 * i, 0.0);
+    if (ps->count)
+        for (int a = 0; a < 3; a++) src->lo[a] -= psigma(ps) * rmax, src->hi[a] += psigma(ps) * rmax;
+    return 0;
+}
+
+/* ---------------------------------------------------------------- structured grid */
+
+static double node(const ref_grid_field *g, int i, int j, int k)
+{
+    return g->values[((size_t)k * (size_t)g->n[1] + (size_t)j) * (size_t)g->n[0] + (size_t)i];
+}
+
+void ref_grid_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+{
+    const ref_grid_field *g = user;
+    int c[3];
+    double w[3];
+    for (int a = 0; a < 3; a++) {
+        /* cell by floor, clamped to the domain (the lattice never leaves it but for round-off) */
+        double u = (p[a] - g->origin[a]) / g->spacing[a], f = floor(u);
+        f = f < 0.0 ? 0.0 : f > g->n[a] - 2 ? g->n[a] - 2 : f;
+        c[a] = (int)f;
+        w[a] = u - f;
+        w[a] = w[a] < 0.0 ? 0.0 : w[a] > 1.0 ? 1.0 : w[a];
+    }
+    double v = 0.0, gr[3] = {0.0, 0.0, 0.0};
+    for (int dk = 0; dk < 2; dk++)
+        for (int dj = 0; dj < 2; dj++)
+            for (int di = 0; di < 2; di++) {
+                double val = node(g, c[0] + di, c[1] + dj, c[2] + dk);
+                double wx = di ? w[0] : 1.0 - w[0], wy = dj ? w[1] : 1.0 - w[1], wz = dk ? w[2] : 1.0 - w[2];
+                v += wx * wy * wz * val;
+                gr[0] += (di ? 1.0 : -1.0) * wy * wz * val;
+                gr[1] += wx * (dj ? 1.0 : -1.0) * wz * val;
+                gr[2] += wx * wy * (dk ? 1.0 : -1.0) * val;
+            }
+    phi[0] = v;
+    if (grad)
+        for (int a = 0; a < 3; a++) grad[0][a] = gr[a] / g->spacing[a];
+}
+
+int ref_grid_source(const ref_grid_field *g, ref_source *src)
+{
+    if (!g->values) return -1;
+    for (int a = 0; a < 3; a++)
+        if (g->n[a] < 2 || !(g->spacing[a] > 0.0) || !isfinite(g->origin[a])) return -1;
+    src->eval = ref_grid_eval, src->user = g, src->nfields = 1;
+    for (int a = 0; a < 3; a++) {
+        src->lo[a] = g->origin[a];
+        src->hi[a] = g->origin[a] + (g->n[a] - 1) * g->spacing[a];
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------- RBF set */
+
+double ref_rbf_support(double width, double weight, double eps)
+{
+    double q = fabs(weight) / eps;
+    return q > 1.0 ? width * sqrt(2.0 * log(q)) : 0.0;
+}
+
+void ref_rbf_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+{
+    const ref_rbf_set *s = user;
+    double v = s->bias, gr[3] = {0.0, 0.0, 0.0};
+    for (size_t i = 0; i < s->count; i++) {
+        const double *c = s->centre + 3 * i, sw = s->width[i];
+        double R = ref_rbf_support(sw, s->weight[i], s->eps);
+        double e[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+        double d2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        if (!(d2 < R * R)) continue;
+        double ph = s->weight[i] * exp(-d2 / (2.0 * sw * sw));
+        v += ph;
+        for (int a = 0; a < 3; a++) gr[a] -= e[a] / (sw * sw) * ph;
+    }
+    phi[0] = v;
+    if (grad) grad[0][0] = gr[0], grad[0][1] = gr[1], grad[0][2] = gr[2];
+}
+
+int ref_rbf_source(const ref_rbf_set *s, ref_source *src)
+{
+    if (!(s->eps > 0.0) || (s->count && (!s->centre || !s->width || !s->weight))) return -1;
+    src->eval = ref_rbf_eval, src->user = s, src->nfields = 1;
+    box_empty(src);
+    for (size_t i = 0; i < s->count; i++) {
+        if (!(s->width[i] > 0.0)) return -1;
+        double R = ref_rbf_support(s->width[i], s->weight[i], s->eps);
+        if (R > 0.0) box_grow(src, s->centre + 3 * i, R);
+    }
+    return 0;
+}
