@@ -13,16 +13,14 @@
 #include "lanecast/lanecast.h"
 
 /* Stage-profile kernel variants (bench/grid_prof.c, meson prof_masks): each
- * replaces one more stage than the one before. */
-#define PROF_DECL(i)                                                                                                   \
-    void grid_bvh_prof##i(const struct lc_kgrid *, const lc_kframe *, const lc_ktile *, lc_kscratch *, lc_kstats *);  \
-    void grid_brute_prof##i(const struct lc_kgrid *, const lc_kframe *, const lc_ktile *, lc_kscratch *, lc_kstats *);
+ * replaces one more stage than the one before. Each variant library defines
+ * the grid kind's kernel sub-table lc_kkind_grid_prof<i> (BVH and brute). */
+#define PROF_DECL(i) extern const lc_kkind lc_kkind_grid_prof##i;
 PROF_DECL(0) PROF_DECL(1) PROF_DECL(2) PROF_DECL(3) PROF_DECL(4) PROF_DECL(5) PROF_DECL(6)
 #define NPROF 7
-static const lc_grid_tile_fn prof_bvh[NPROF] = {grid_bvh_prof0, grid_bvh_prof1, grid_bvh_prof2, grid_bvh_prof3,
-                                                grid_bvh_prof4, grid_bvh_prof5, grid_bvh_prof6};
-static const lc_grid_tile_fn prof_brute[NPROF] = {grid_brute_prof0, grid_brute_prof1, grid_brute_prof2, grid_brute_prof3,
-                                                  grid_brute_prof4, grid_brute_prof5, grid_brute_prof6};
+static const lc_kkind *const prof_kind[NPROF] = {&lc_kkind_grid_prof0, &lc_kkind_grid_prof1, &lc_kkind_grid_prof2,
+                                                 &lc_kkind_grid_prof3, &lc_kkind_grid_prof4, &lc_kkind_grid_prof5,
+                                                 &lc_kkind_grid_prof6};
 /* stage removed between variant i-1 and i (variant 0: all stages, no early termination) */
 static const char *const prof_stage[NPROF] = {"total", "fetch", "interpolation", "classification", "shading", "blending",
                                               "sample_loop"};
@@ -54,7 +52,7 @@ static void split(list *l, char *s)
 
 static lc_grid_layout layout = LC_LAYOUT_DEFAULT;
 
-static lc_status procedural(lc_device *dev, int n, lc_grid **out)
+static lc_status procedural(lc_device *dev, int n, lc_volume **out)
 {
     uint8_t *v = malloc((size_t)n * n * n);
     float *s = malloc(sizeof(float) * n * 3), *c = s + n, *q = c + n;
@@ -113,7 +111,7 @@ static void run_profile(lc_device *dev, const lc_render_desc *d0, const char *vn
     d.alpha_stop = 1.0f;
     for (int r = -1; r < n; r++) /* r = -1: warm-up round */
         for (int v = 0; v < NPROF; v++) {
-            kt.grid_bvh = prof_bvh[v], kt.grid_brute = prof_brute[v];
+            kt.kind[LC_KKIND_GRID] = prof_kind[v];
             dev->kt = &kt;
             double a = now();
             lc_render(dev, &d, rgba, &st);
@@ -208,7 +206,7 @@ int main(int argc, char **argv)
     lc_device *dev0 = NULL;
     if (lc_device_create(&(lc_device_desc){.threads = 1}, &dev0) != LC_OK) return 1;
     for (int vi = 0; vi < vols.n; vi++) {
-        lc_grid *g = NULL;
+        lc_volume *g = NULL;
         const char *vn = vols.v[vi];
         double t0 = now();
         lc_status s;
@@ -216,8 +214,8 @@ int main(int argc, char **argv)
         else {
             char p[1024];
             snprintf(p, sizeof p, "%s/volumes/%s.%s", data, vn, strcmp(vn, "HeadMRVolume") ? "nhdr" : "mhd");
-            lc_grid_load_options lo_ = {.layout = layout};
-            s = lc_grid_load(dev0, p, &lo_, &g);
+            lc_option lo_ = {"layout", layout == LC_LAYOUT_LINEAR ? "linear" : "bricked"};
+            s = lc_volume_load(dev0, p, &(lc_load_desc){.options = &lo_, .noptions = layout != LC_LAYOUT_DEFAULT}, &g);
         }
         if (s != LC_OK) {
             printf("# skip volume=%s: %s\n", vn, lc_last_error());
@@ -225,6 +223,8 @@ int main(int argc, char **argv)
         }
         lc_grid_info in;
         lc_grid_get_info(g, &in);
+        /* heuristics: the grid's parameters (default deltas, or eqs. 5-7 off) */
+        if (!heur) lc_grid_set_params(g, &(lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1});
         printf("# volume=%s dims=%dx%dx%d load_s=%.3f bvh_L=%d bvh_nodes=%llu bvh_MB=%.2f bvh_build_s=%.3f "
                "layout_overhead_MB=%.3f\n",
                vn, in.size[0], in.size[1], in.size[2], now() - t0, in.brick, (unsigned long long)in.bvh_nodes,
@@ -260,14 +260,13 @@ int main(int argc, char **argv)
                                     const char *view = views.v[wi];
                                     float dist = !strcmp(view, "far") ? 2.5f : !strcmp(view, "close") ? 0.75f : 1.3f;
                                     float dir[3] = {0.5f, 0.4f, 0.767f};
-                                    lc_render_desc d = {.width = W, .height = W, .tf = tf, .grid = g, .packet = atoi(pks.v[pi])};
+                                    lc_render_desc d = {.width = W, .height = W, .tf = tf, .volume = g, .packet = atoi(pks.v[pi])};
                                     d.camera.at = (lc_vec3){0.5f * (lo[0] + hi[0]), 0.5f * (lo[1] + hi[1]), 0.5f * (lo[2] + hi[2])};
                                     d.camera.eye = (lc_vec3){d.camera.at.x + dist * diag * dir[0], d.camera.at.y + dist * diag * dir[1],
                                                              d.camera.at.z + dist * diag * dir[2]};
                                     d.shading = !strcmp(shades.v[shi], "phong") ? LC_SHADE_PHONG
                                                 : !strcmp(shades.v[shi], "diffuse") ? LC_SHADE_DIFFUSE : LC_SHADE_NONE;
                                     d.method = !strcmp(meths.v[mi], "brute") ? LC_METHOD_BRUTE : LC_METHOD_BVH;
-                                    if (!heur) d.grid_params = (lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1};
                                     if (profile) {
                                         run_profile(dev, &d, vn, W, view, shades.v[shi], meths.v[mi], nth, repeats);
                                         continue;
@@ -302,7 +301,7 @@ int main(int argc, char **argv)
                 lc_device_destroy(dev);
             }
         lc_tf_destroy(tf);
-        lc_grid_destroy(g);
+        lc_volume_destroy(g);
     }
     lc_device_destroy(dev0);
     return prof_bad;

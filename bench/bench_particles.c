@@ -59,7 +59,7 @@ static int in_list(const char *list, const char *item)
 
 /* Uniform random particles in a cube at roughly liquid-atom density (one per
  * 8 cubic units, radius 0.6..1.2): the field looks alike at every size. */
-static lc_status procedural(lc_device *dev, size_t n, lc_particles **out, double *gen_s)
+static lc_status procedural(lc_device *dev, size_t n, lc_volume **out, double *gen_s)
 {
     double t0 = now();
     float *xyz = malloc(sizeof(float) * 3 * n), *r = malloc(sizeof(float) * n);
@@ -129,9 +129,9 @@ static void run_set(const cfg *c, const char *set)
                 fprintf(stderr, "bench_particles: %s\n", lc_last_error());
                 continue;
             }
-            lc_particles *p = NULL;
+            lc_volume *p = NULL;
             double gen = 0;
-            lc_status s = path[0] ? lc_particles_load(dev, path, NULL, &p) : procedural(dev, n, &p, &gen);
+            lc_status s = path[0] ? lc_volume_load(dev, path, NULL, &p) : procedural(dev, n, &p, &gen);
             if (s != LC_OK) {
                 printf("# skip set=%s: %s\n", set, lc_last_error());
                 lc_device_destroy(dev);
@@ -161,7 +161,7 @@ static void run_set(const cfg *c, const char *set)
                         if (!in_list(c->packets, pks)) continue;
                         if (mi == 1 && pk != 8 && in_list(c->packets, "8")) continue; /* direct ignores packets */
                         lc_render_desc d = {.width = c->width, .height = c->height, .camera = cam, .tf = tf,
-                                            .particles = p, .method = mi ? LC_METHOD_DIRECT : LC_METHOD_COHERENT,
+                                            .volume = p, .method = mi ? LC_METHOD_DIRECT : LC_METHOD_COHERENT,
                                             .packet = pk};
                         lc_render_stats st;
                         for (int w = 0; w < c->warmup; w++) lc_render(dev, &d, rgba, &st);
@@ -195,7 +195,7 @@ static void run_set(const cfg *c, const char *set)
             }
             free(rgba);
             lc_tf_destroy(tf);
-            lc_particles_destroy(p);
+            lc_volume_destroy(p);
             lc_device_destroy(dev);
         }
     }

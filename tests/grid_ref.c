@@ -2,7 +2,7 @@
  * "Shading", evaluated in double with the exact piecewise-linear TF. */
 #include "grid_ref.h"
 #include <math.h>
-#include "host/tf.h"
+#include "host/api/tf.h"
 
 static double at(const ref_grid *g, int i, int j, int k) { return g->v[((size_t)k * g->n[1] + j) * g->n[0] + i]; }
 

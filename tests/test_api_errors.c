@@ -1,7 +1,10 @@
 /* Bad input to every implemented public function: the right lc_status, a
  * non-empty message (per thread and per device), the log callback called,
- * never an abort. lc_tf_*, lc_render and lc_image_write are not implemented
- * yet and are not called here. */
+ * never an abort; destroying NULL is a no-op that raises no error. The volume
+ * calls (lc_volume_*, lc_particles_*, lc_grid_*, lc_volume_load,
+ * lc_file_probe, lc_format_get) with NULL and wrong-kind handles. lc_render
+ * and lc_image_write are not called here. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "lanecast/lanecast.h"
@@ -93,8 +96,15 @@ static void devices(void)
     EXPECT_ERROR(lc_device_threads(NULL, &n), LC_ERROR_INVALID_ARGUMENT, "NULL");
     const char *m = lc_device_last_error(NULL);
     CHECK(m && m[0], "lc_device_last_error(NULL) is a message: \"%s\"", m ? m : "(null)");
+    /* destroy(NULL) is a no-op: it returns, and records and logs no error */
+    char before[1024];
+    snprintf(before, sizeof before, "%s", lc_last_error());
     lc_device_destroy(NULL);
-    CHECK(1, "lc_device_destroy(NULL) returns");
+    lc_volume_destroy(NULL);
+    lc_tf_destroy(NULL);
+    CHECK(before[0] && strcmp(lc_last_error(), before) == 0,
+          "lc_device_destroy(NULL), lc_volume_destroy(NULL), lc_tf_destroy(NULL) return and leave the last error "
+          "\"%s\" alone", lc_last_error());
 
     log.calls = 0;
     lc_status s = lc_device_create(&(lc_device_desc){.threads = 2, .log = capture, .log_user = &log}, &dev);
@@ -125,6 +135,106 @@ static void tfs(void)
     EXPECT_ERROR(lc_tf_parse(NULL, "{\"color\": [[0,1,1,1]]}", "t.json", &tf), LC_ERROR_FORMAT, "opacity");
 }
 
+/* The volume calls: NULL arguments, wrong kinds, bad names and indices. */
+static void volumes(void)
+{
+    log_capture log = {0};
+    lc_device *dev = NULL;
+    if (lc_device_create(&(lc_device_desc){.threads = 1, .log = capture, .log_user = &log}, &dev) != LC_OK) {
+        CHECK(0, "lc_device_create: %s", lc_last_error());
+        return;
+    }
+    CHECK(lc_volume_kind(NULL) == LC_KIND_NONE, "lc_volume_kind(NULL) = LC_KIND_NONE");
+    CHECK(!strcmp(lc_kind_name(LC_KIND_PARTICLES), "particles") && !strcmp(lc_kind_name(LC_KIND_GRID), "grid") &&
+              lc_kind_name(LC_KIND_NONE) == NULL && lc_kind_name(LC_KIND_COUNT) == NULL &&
+              lc_kind_name((lc_kind)-1) == NULL,
+          "lc_kind_name: particles, grid; NULL for NONE, COUNT, -1");
+    lc_volume_info vi;
+    lc_particles_info pi;
+    lc_grid_info gi;
+    float pt[3] = {0, 0, 0}, val[1];
+    EXPECT_ERROR(lc_volume_get_info(NULL, &vi), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_particles_get_info(NULL, &pi), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_grid_get_info(NULL, &gi), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_particles_set_params(NULL, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_grid_set_params(NULL, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_volume_sample(dev, NULL, 1, pt, val, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL");
+
+    /* one volume of each kind */
+    lc_volume *p = NULL, *g = NULL;
+    CHECK(lc_particles_create(dev, &(lc_particles_desc){.count = 1, .positions = pt, .radius = 1.0f}, &p) == LC_OK,
+          "a particle volume");
+    uint8_t vox[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    CHECK(lc_grid_create(dev, &(lc_grid_desc){.size = {2, 2, 2}, .type = LC_VALUE_UINT8, .data = vox}, &g) == LC_OK,
+          "a grid volume");
+    if (!p || !g) {
+        lc_volume_destroy(p);
+        lc_volume_destroy(g);
+        lc_device_destroy(dev);
+        return;
+    }
+    EXPECT_ERROR(lc_volume_get_info(p, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_particles_get_info(p, NULL), LC_ERROR_INVALID_ARGUMENT, "out is NULL");
+    EXPECT_ERROR(lc_grid_get_info(g, NULL), LC_ERROR_INVALID_ARGUMENT, "out is NULL");
+    /* a kind-specific call on the other kind fails, naming the function and both kinds */
+    log.calls = 0;
+    EXPECT_ERROR(lc_grid_get_info(p, &gi), LC_ERROR_INVALID_ARGUMENT, "lc_grid_get_info: the volume holds particles, not grid");
+    CHECK(log.calls == 1 && log.level == LC_LOG_ERROR && strcmp(lc_device_last_error(dev), lc_last_error()) == 0,
+          "the wrong-kind error goes to the volume's device and its log: \"%s\"", lc_device_last_error(dev));
+    EXPECT_ERROR(lc_particles_get_info(g, &pi), LC_ERROR_INVALID_ARGUMENT, "the volume holds grid, not particles");
+    EXPECT_ERROR(lc_particles_set_params(g, &(lc_particle_params){.sigma = 3}), LC_ERROR_INVALID_ARGUMENT,
+                 "lc_particles_set_params");
+    EXPECT_ERROR(lc_grid_set_params(p, &(lc_grid_params){.delta_c = -1}), LC_ERROR_INVALID_ARGUMENT,
+                 "lc_grid_set_params");
+    /* bad parameters are refused and leave the current ones */
+    EXPECT_ERROR(lc_particles_set_params(p, &(lc_particle_params){.sigma = -1}), LC_ERROR_INVALID_ARGUMENT, "sigma");
+    EXPECT_ERROR(lc_particles_set_params(p, &(lc_particle_params){.kappa = NAN}), LC_ERROR_INVALID_ARGUMENT, "kappa");
+    EXPECT_ERROR(lc_particles_set_params(p, &(lc_particle_params){.buffer_samples = -2}), LC_ERROR_INVALID_ARGUMENT,
+                 "buffer");
+    EXPECT_ERROR(lc_particles_set_params(p, &(lc_particle_params){.sphere_scale = -1}), LC_ERROR_INVALID_ARGUMENT,
+                 "sphere");
+    CHECK(lc_particles_get_info(p, &pi) == LC_OK && pi.params.sigma == 2.0f && pi.params.kappa == 1.0f,
+          "after refused parameters the defaults remain (sigma %g, kappa %g)", (double)pi.params.sigma,
+          (double)pi.params.kappa);
+    EXPECT_ERROR(lc_grid_set_params(g, &(lc_grid_params){.rda = -0.5f}), LC_ERROR_INVALID_ARGUMENT, "rda");
+    EXPECT_ERROR(lc_grid_set_params(g, &(lc_grid_params){.delta_p = INFINITY}), LC_ERROR_INVALID_ARGUMENT, "finite");
+    CHECK(lc_grid_get_info(g, &gi) == LC_OK && gi.params.rda == 0.0f && gi.params.delta_p == 0.0f,
+          "after refused grid parameters the old ones remain");
+    EXPECT_ERROR(lc_volume_sample(NULL, g, 1, pt, val, NULL), LC_ERROR_INVALID_ARGUMENT, "device");
+    EXPECT_ERROR(lc_volume_sample(dev, g, 1, NULL, val, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_volume_sample(dev, g, 1, pt, NULL, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    CHECK(lc_volume_sample(dev, g, 0, NULL, NULL, NULL) == LC_OK, "lc_volume_sample of 0 points with NULL arrays");
+    /* creation */
+    lc_volume *out = (lc_volume *)&log;
+    EXPECT_ERROR(lc_grid_create(NULL, &(lc_grid_desc){.size = {2, 2, 2}, .type = LC_VALUE_UINT8, .data = vox}, &out),
+                 LC_ERROR_INVALID_ARGUMENT, "device is NULL");
+    CHECK(out == NULL, "failed lc_grid_create leaves *out NULL");
+    EXPECT_ERROR(lc_grid_create(dev, NULL, &out), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_grid_create(dev, &(lc_grid_desc){.size = {2, 1, 2}, .type = LC_VALUE_UINT8, .data = vox}, &out),
+                 LC_ERROR_INVALID_ARGUMENT, "at least 2");
+    EXPECT_ERROR(lc_particles_create(NULL, &(lc_particles_desc){0}, &out), LC_ERROR_INVALID_ARGUMENT, "device is NULL");
+    /* files */
+    EXPECT_ERROR(lc_volume_load(NULL, "x.xyz", NULL, &out), LC_ERROR_INVALID_ARGUMENT, "device is NULL");
+    EXPECT_ERROR(lc_volume_load(dev, NULL, NULL, &out), LC_ERROR_INVALID_ARGUMENT, "path is NULL");
+    EXPECT_ERROR(lc_volume_load(dev, "x.xyz", NULL, NULL), LC_ERROR_INVALID_ARGUMENT, "out is NULL");
+    EXPECT_ERROR(lc_volume_load(dev, "/nonexistent/x.xyz", NULL, &out), LC_ERROR_IO, "/nonexistent/x.xyz");
+    CHECK(out == NULL, "failed lc_volume_load leaves *out NULL");
+    EXPECT_ERROR(lc_volume_load(dev, "x.xyz", &(lc_load_desc){.noptions = 2}, &out), LC_ERROR_INVALID_ARGUMENT,
+                 "options");
+    lc_file_info fi;
+    EXPECT_ERROR(lc_file_probe(NULL, NULL, NULL, &fi), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_file_probe(NULL, "x.xyz", NULL, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    EXPECT_ERROR(lc_file_probe(NULL, "/nonexistent/x.xyz", NULL, &fi), LC_ERROR_IO, "cannot open");
+    lc_format_info fmt;
+    int nformats = lc_format_count();
+    EXPECT_ERROR(lc_format_get(-1, &fmt), LC_ERROR_INVALID_ARGUMENT, "-1");
+    EXPECT_ERROR(lc_format_get(nformats, &fmt), LC_ERROR_INVALID_ARGUMENT, "index");
+    EXPECT_ERROR(lc_format_get(0, NULL), LC_ERROR_INVALID_ARGUMENT, "NULL");
+    lc_volume_destroy(p);
+    lc_volume_destroy(g);
+    lc_device_destroy(dev);
+}
+
 int main(void)
 {
     unsetenv("LANECAST_TARGET");
@@ -135,5 +245,6 @@ int main(void)
     targets();
     devices();
     tfs();
+    volumes();
     return check_summary("test_api_errors");
 }

@@ -44,8 +44,8 @@ int main(int argc, char **argv)
     float opacity[] = {0, 0, 0.25f, 0, 0.6f, 0.4f, 1, 1.0f};
     for (size_t v = 0; v < sizeof vols / sizeof *vols; v++) {
         snprintf(p, sizeof p, "%s/volumes/%s", data, vols[v]);
-        lc_grid *g = NULL;
-        lc_status s = lc_grid_load(dev, p, NULL, &g);
+        lc_volume *g = NULL;
+        lc_status s = lc_volume_load(dev, p, NULL, &g);
         CHECK_QUIET(s == LC_OK, "%s: %s", vols[v], lc_last_error());
         if (!g) continue;
         lc_grid_info in;
@@ -60,7 +60,9 @@ int main(int argc, char **argv)
         lc_tf *tf = NULL;
         lc_tf_create(dev, &f, 1, &tf);
         for (int shade = 0; shade <= 1; shade++) {
-            lc_render_desc d = {.width = W, .height = H, .tf = tf, .grid = g, .shading = (lc_shading)shade};
+            /* heuristics on: the default deltas */
+            CHECK_QUIET(lc_grid_set_params(g, &(lc_grid_params){0}) == LC_OK, "%s", lc_last_error());
+            lc_render_desc d = {.width = W, .height = H, .tf = tf, .volume = g, .shading = (lc_shading)shade};
             d.camera.eye = (lc_vec3){in.bounds.hi.x + 0.6f * diag, in.bounds.hi.y + 0.4f * diag, in.bounds.hi.z + 0.8f * diag};
             d.camera.at = (lc_vec3){0.5f * (in.bounds.lo.x + in.bounds.hi.x), 0.5f * (in.bounds.lo.y + in.bounds.hi.y),
                                     0.5f * (in.bounds.lo.z + in.bounds.hi.z)};
@@ -72,7 +74,8 @@ int main(int argc, char **argv)
             double md, ps;
             compare(a, b, W * H, &md, &ps);
             CHECK_QUIET(ps >= 40.0, "%s shade %d: heuristics on, PSNR %.1f dB vs brute force (< 40)", vols[v], shade, ps);
-            d.grid_params = (lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1};
+            CHECK_QUIET(lc_grid_set_params(g, &(lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1}) == LC_OK,
+                        "%s", lc_last_error());
             d.alpha_stop = 1.0f;
             CHECK_QUIET(lc_render(dev, &d, a, &so) == LC_OK, "%s", lc_last_error());
             d.method = LC_METHOD_BRUTE;
@@ -85,7 +88,7 @@ int main(int argc, char **argv)
                    ps0, md0);
         }
         lc_tf_destroy(tf);
-        lc_grid_destroy(g);
+        lc_volume_destroy(g);
     }
     free(a), free(b);
     lc_device_destroy(dev);

@@ -7,7 +7,9 @@
  * brute force, unlit and Phong, camera outside and inside, all four value
  * types; owned linear and bricked copies made from the same guarded source
  * (creation reads it: copy, brick copy, BVH build) are rendered too and must
- * agree with the borrowed image within SPEC.md's tolerances. Every case runs
+ * agree with the borrowed image within SPEC.md's tolerances. lc_volume_sample
+ * reads the same voxels: points in the last cells of the borrowed grid must
+ * give what the owned copies give, and the last node its voxel. Every case runs
  * in a child process so that an over-read shows as "killed by signal 11" for
  * the case that did it instead of ending the suite. */
 #include <math.h>
@@ -82,10 +84,10 @@ typedef struct gcase {
 
 enum { W = 24, H = 20 };
 
-static int render(lc_device *dev, lc_grid *g, const lc_tf *tf, const gcase *c, int view, lc_method m, int shade,
+static int render(lc_device *dev, const lc_volume *g, const lc_tf *tf, const gcase *c, int view, lc_method m, int shade,
                   double lo, double hi, float *out)
 {
-    lc_render_desc d = {.width = W, .height = H, .tf = tf, .grid = g, .alpha_stop = 1.0f, .shading = (lc_shading)shade,
+    lc_render_desc d = {.width = W, .height = H, .tf = tf, .volume = g, .alpha_stop = 1.0f, .shading = (lc_shading)shade,
                         .method = m};
     d.camera.eye = (lc_vec3){(float)c->eye[view][0], (float)c->eye[view][1], (float)c->eye[view][2]};
     d.camera.at = (lc_vec3){(float)c->at[0], (float)c->at[1], (float)c->at[2]};
@@ -114,7 +116,7 @@ static int run_case(const gcase *c)
     lc_tf *tf = NULL;
     CHECK_QUIET(lc_tf_create(dev0, &tff, 1, &tf) == LC_OK, "tf: %s", lc_last_error());
     /* 0: borrowed (linear, in place); 1: owned linear copy; 2: owned bricked copy */
-    lc_grid *grids[3] = {NULL, NULL, NULL};
+    lc_volume *grids[3] = {NULL, NULL, NULL};
     for (int v = 0; v < 3; v++) {
         lc_grid_desc gd = {.size = {c->n[0], c->n[1], c->n[2]}, .type = c->type, .data = mem.data, .borrow = v == 0,
                            .layout = v == 2 ? LC_LAYOUT_BRICKED : LC_LAYOUT_LINEAR, .brick = 4};
@@ -122,7 +124,7 @@ static int run_case(const gcase *c)
     }
     lc_grid_desc bad = {.size = {c->n[0], c->n[1], c->n[2]}, .type = c->type, .data = mem.data, .borrow = 1,
                         .layout = LC_LAYOUT_BRICKED};
-    lc_grid *gb = NULL;
+    lc_volume *gb = NULL;
     CHECK_QUIET(lc_grid_create(dev0, &bad, &gb) != LC_OK && !gb, "borrowed bricked grid must be refused (it has no padding)");
     float *img[3];
     for (int v = 0; v < 3; v++) img[v] = malloc(sizeof(float) * W * H * 4);
@@ -131,6 +133,37 @@ static int run_case(const gcase *c)
         if (!lc_target_compiled((lc_target)t) || !lc_target_supported((lc_target)t)) continue;
         lc_device *dev = NULL;
         if (lc_device_create(&(lc_device_desc){.target = (lc_target)t, .threads = 2}, &dev) != LC_OK) continue;
+        {
+            /* point samples in the last cell (its corners, the last node itself and points inside)
+               and along the far x edge: the wide gathers must not pass the array's end here either */
+            enum { NP = 40 };
+            float pts[3 * NP], val[3][NP], grad[3][3 * NP];
+            for (int i = 0; i < NP; i++)
+                for (int a = 0; a < 3; a++) {
+                    /* 0-7: the cell's corners (7 = the last node), 8-23: inside it, 24-39: the far x edge */
+                    double f = i < 8 ? (double)((i >> a) & 1) : i < 24 ? (double)((i * (a + 3)) % 7) / 6.0 : 1.0;
+                    pts[3 * i + a] = (float)(a == 0 && i >= 24 ? (double)(c->n[0] - 1) * (i - 24) / 15.0 : c->n[a] - 2 + f);
+                }
+            int ok = 1;
+            for (int v = 0; v < 3; v++)
+                ok &= lc_volume_sample(dev, grids[v], NP, pts, val[v], grad[v]) == LC_OK;
+            CHECK_QUIET(ok, "%s: lc_volume_sample: %s", lc_target_name((lc_target)t), lc_last_error());
+            double md = 0;
+            for (int v = 1; v < 3; v++)
+                for (int i = 0; i < NP; i++) {
+                    md = fmax(md, fabs((double)val[v][i] - val[0][i]));
+                    for (int a = 0; a < 3; a++) md = fmax(md, fabs((double)grad[v][3 * i + a] - grad[0][3 * i + a]));
+                }
+            double scale = c->type == LC_VALUE_FLOAT32 ? 1.0 : c->type == LC_VALUE_UINT8 ? 255.0 : 4000.0;
+            CHECK_QUIET(md <= 1e-5 * scale, "%s: borrowed vs owned samples differ by %g", lc_target_name((lc_target)t), md);
+            size_t last = count - 1;
+            double want = c->type == LC_VALUE_UINT8 ? ((const uint8_t *)mem.data)[last]
+                          : c->type == LC_VALUE_UINT16 ? ((const uint16_t *)mem.data)[last]
+                          : c->type == LC_VALUE_INT16 ? ((const int16_t *)mem.data)[last]
+                                                      : ((const float *)mem.data)[last];
+            CHECK_QUIET(val[0][7] == (float)want, "%s: the last node samples %g, its voxel is %g", lc_target_name((lc_target)t),
+                        (double)val[0][7], want);
+        }
         for (int view = 0; view < 2; view++)
             for (int m = 0; m < 2; m++)
                 for (int shade = 0; shade <= 2; shade += 2) {
@@ -154,7 +187,7 @@ static int run_case(const gcase *c)
     }
     CHECK_QUIET(rendered > 0, "no target rendered");
     for (int v = 0; v < 3; v++) {
-        lc_grid_destroy(grids[v]);
+        lc_volume_destroy(grids[v]);
         free(img[v]);
     }
     lc_tf_destroy(tf);
@@ -181,7 +214,7 @@ static int run_long(void)
         memset(mem.data, 200, count);
         lc_device *dev0 = NULL;
         if (lc_device_create(&(lc_device_desc){.target = LC_TARGET_SCALAR, .threads = 1}, &dev0) != LC_OK) return 1;
-        lc_grid *g = NULL;
+        lc_volume *g = NULL;
         lc_grid_desc gd = {.size = {n0, 2, 2}, .type = LC_VALUE_UINT8, .data = mem.data, .borrow = 1, .brick = 16};
         lc_status s = lc_grid_create(dev0, &gd, &g);
         if (c == 0) CHECK_QUIET(s == LC_OK, "2^24 nodes on x: %s", lc_last_error());
@@ -199,7 +232,7 @@ static int run_long(void)
                 continue;
             for (int view = 0; view < 2; view++)
                 for (int m = 0; m < 2; m++) {
-                    lc_render_desc d = {.width = 16, .height = 16, .tf = tf, .grid = g, .alpha_stop = 1.0f,
+                    lc_render_desc d = {.width = 16, .height = 16, .tf = tf, .volume = g, .alpha_stop = 1.0f,
                                         .method = m ? LC_METHOD_BRUTE : LC_METHOD_BVH, .range = {0, 255}};
                     d.camera.eye = (lc_vec3){(float)v.eye[view][0], (float)v.eye[view][1], (float)v.eye[view][2]};
                     d.camera.at = (lc_vec3){(float)v.at[0], (float)v.at[1], (float)v.at[2] + (view ? 0.3f : 0.0f)};
@@ -213,7 +246,7 @@ static int run_long(void)
                 }
             lc_device_destroy(dev);
         }
-        lc_grid_destroy(g);
+        lc_volume_destroy(g);
         lc_tf_destroy(tf);
         lc_device_destroy(dev0);
         munmap(mem.map, mem.maplen);

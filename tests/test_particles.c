@@ -1,5 +1,5 @@
-/* Particle path correctness (issue 3, Tests): lc_particles_sample against
- * brute force in double, BVH structure, and images of every supported target
+/* Particle path correctness (issue 3, Tests): lc_volume_sample (with sigma and
+ * kappa set by lc_particles_set_params) against brute force in double, BVH structure, and images of every supported target
  * and method (coherent 8x8 groups, coherent lane-width packets, direct)
  * against the double-precision reference renderer (ref_particles.c) within
  * SPEC.md's tolerances: max per-channel difference <= 2/255 and PSNR >= 50 dB
@@ -10,7 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "lanecast/lanecast.h"
-#include "host/scene.h"
+#include "host/kinds/kind.h"
+#include "kernels/shared/kparticles.h"
 #include "check.h"
 #include "ref_particles.h"
 
@@ -71,11 +72,11 @@ static pdata clustered_particles(size_t n)
     return d;
 }
 
-static lc_particles *make_particles(lc_device *dev, const pdata *d, int leaf)
+static lc_volume *make_particles(lc_device *dev, const pdata *d, int leaf)
 {
     lc_particles_desc desc = {.count = d->n, .positions = d->xyz, .radii = d->r, .values = d->k, .fields = d->f,
                               .nfields = d->nfields, .leaf_size = leaf};
-    lc_particles *p = NULL;
+    lc_volume *p = NULL;
     lc_status s = lc_particles_create(dev, &desc, &p);
     if (s != LC_OK) printf("lc_particles_create: %s\n", lc_last_error());
     return p;
@@ -121,7 +122,7 @@ static lc_device *device_for(lc_target t)
  * likewise (the pos_sens budgets from ref_field, weighted by 2.4e-7 = 4 ulps). */
 static void test_sample(void)
 {
-    printf("-- lc_particles_sample vs brute force (double)\n");
+    printf("-- lc_volume_sample (particles) vs brute force (double)\n");
     const int npts = 2000;
     struct { const char *name; size_t n; float h, r0, r1, k0, k1; int nf; float sigma, kappa; } cases[] = {
         {"single field", 300, 4.0f, 0.3f, 1.2f, 1.0f, 1.0f, 1, 0.0f, 0.0f},
@@ -162,10 +163,11 @@ static void test_sample(void)
         }
         for (int ti = 0; ti < ntargets; ti++) {
             lc_device *dev = device_for(targets[ti]);
-            lc_particles *p = make_particles(dev, &d, 0);
+            lc_volume *p = make_particles(dev, &d, 0);
             float *v = malloc(sizeof(float) * npts * nf), *g = malloc(sizeof(float) * 3 * npts * nf);
             lc_particle_params pp = {.sigma = cases[c].sigma, .kappa = cases[c].kappa};
-            lc_status s = p ? lc_particles_sample(dev, p, &pp, (size_t)npts, pts, v, g) : LC_ERROR_INTERNAL;
+            lc_status s = p ? lc_particles_set_params(p, &pp) : LC_ERROR_INTERNAL;
+            if (s == LC_OK) s = lc_volume_sample(dev, p, (size_t)npts, pts, v, g);
             int bad = 0, badg = 0, skipped = 0;
             double worst = 0.0, worstg = 0.0;
             for (int i = 0; i < npts && s == LC_OK; i++) {
@@ -190,7 +192,7 @@ static void test_sample(void)
                   "%d points within 1e-5 of a cut-off skipped", cases[c].name, lc_target_name(targets[ti]), npts, nf,
                   nzero, worst, worstg, skipped);
             free(v), free(g);
-            lc_particles_destroy(p);
+            lc_volume_destroy(p);
             lc_device_destroy(dev);
         }
         free(rv), free(rg), free(tv), free(tg), free(amb), free(pts);
@@ -218,13 +220,15 @@ typedef struct bvh_walk {
 
 #define BVH_ERR(w, ...) do { if ((w)->errors++ < 5) { printf("     "); printf(__VA_ARGS__); printf("\n"); } } while (0)
 
-static float walk(bvh_walk *w, int32_t n, int depth)
+/* Returns the largest radius below node n; adds the sum of |k_i| below it to *ksum. */
+static float walk(bvh_walk *w, int32_t n, int depth, double *ksum)
 {
     const lc_kparticles *k = w->k;
     if (n < 0 || n >= k->nnodes) {
         BVH_ERR(w, "node index %d outside [0, %d)", n, k->nnodes);
         return 0.0f;
     }
+    double ks = 0.0;
     if (w->visited[n]++) BVH_ERR(w, "node %d reached twice", n);
     if (depth > w->max_depth) w->max_depth = depth;
     const lc_kpnode *nd = &k->nodes[n];
@@ -245,6 +249,7 @@ static float walk(bvh_walk *w, int32_t n, int depth)
                     BVH_ERR(w, "leaf %d box [%g, %g] (axis %d) misses particle %d at %g", n, (double)nd->lo[a],
                             (double)nd->hi[a], a, i, (double)c[a]);
             rmax = k->r[i] > rmax ? k->r[i] : rmax;
+            ks += fabs((double)k->k[i]);
         }
     } else if (nd->count == 0) {
         for (int ch = 0; ch < 2; ch++) {
@@ -253,7 +258,7 @@ static float walk(bvh_walk *w, int32_t n, int depth)
                 BVH_ERR(w, "inner node %d has child %d (nodes %d)", n, c, k->nnodes);
                 continue;
             }
-            float r = walk(w, c, depth + 1);
+            float r = walk(w, c, depth + 1, &ks);
             rmax = r > rmax ? r : rmax;
             for (int a = 0; a < 3; a++)
                 if (!(k->nodes[c].lo[a] >= nd->lo[a] && k->nodes[c].hi[a] <= nd->hi[a]))
@@ -263,6 +268,10 @@ static float walk(bvh_walk *w, int32_t n, int depth)
         BVH_ERR(w, "node %d has count %d", n, nd->count);
     }
     if (!(k->node_rmax[n] >= rmax)) BVH_ERR(w, "node %d rmax %g < largest radius below %g", n, (double)k->node_rmax[n], (double)rmax);
+    /* node_ksum bounds the node's contribution: at least the sum of |k_i| below it (float rounding aside) */
+    if (!((double)k->node_ksum[n] >= ks * (1.0 - 1e-6)))
+        BVH_ERR(w, "node %d ksum %g < sum of |k| below %g", n, (double)k->node_ksum[n], ks);
+    *ksum += ks;
     return rmax;
 }
 
@@ -284,18 +293,26 @@ static void test_bvh(void)
             in[i] = (tup){d->xyz[3 * i], d->xyz[3 * i + 1], d->xyz[3 * i + 2], d->r[i], d->k[i], d->f[i]};
         qsort(in, d->n, sizeof(tup), tup_cmp);
         for (int li = 0; li < 5; li++) {
-            lc_particles *p = make_particles(dev, d, leaves[li]);
+            lc_volume *p = make_particles(dev, d, leaves[li]);
             if (!p) {
                 CHECK(0, "BVH %s leaf %d: create failed", sets[s].name, leaves[li]);
                 continue;
             }
             lc_particles_info info;
             lc_particles_get_info(p, &info);
-            lc_kparticles k;
-            lci_particles_kscene(p, 2.0f, 1.0f, &k);
+            /* the kernel scene under the default parameters (sigma 2, kappa 1) */
+            void *ks = NULL;
+            uint64_t scratch_bytes = 0;
+            if (p->ops->sample_scene(dev, p, &ks, &scratch_bytes) != LC_OK) {
+                CHECK(0, "BVH %s leaf %d: kernel scene: %s", sets[s].name, leaves[li], lc_last_error());
+                lc_volume_destroy(p);
+                continue;
+            }
+            lc_kparticles k = *(const lc_kparticles *)ks;
             int leaf = leaves[li] ? leaves[li] : 4;
             bvh_walk w = {&k, calloc(d->n, sizeof(int)), calloc((size_t)k.nnodes + 1, sizeof(int)), leaf, 0, 0, 0};
-            walk(&w, 0, 0);
+            double ksum = 0.0;
+            walk(&w, 0, 0, &ksum);
             int once = 0, unvisited = 0;
             for (size_t i = 0; i < d->n; i++) once += w.seen[i] == 1;
             for (int i = 0; i < k.nnodes; i++) unvisited += w.visited[i] == 0;
@@ -312,7 +329,8 @@ static void test_bvh(void)
                   "%d unreachable nodes, %d structure errors", sets[s].name, leaf, k.nnodes, w.nleaves, k.depth,
                   w.max_depth, once, d->n, same ? "yes" : "NO", unvisited, w.errors);
             free(w.seen), free(w.visited);
-            lc_particles_destroy(p);
+            lci_aligned_free(ks);
+            lc_volume_destroy(p);
         }
         free(in), free(got);
         pdata_free(d);
@@ -324,7 +342,7 @@ static void test_bvh(void)
 
 typedef struct scene {
     const char *name;
-    int data;                /* dataset index; scenes of one dataset share one lc_particles per target */
+    int data;                /* dataset index; scenes of one dataset share one volume per target */
     int width, height, tile;
     lc_camera cam;
     int tf;                  /* transfer function index */
@@ -420,14 +438,19 @@ static void ref_for(const scene *s, const pdata *d, double *out)
     if (ref_render(&rp, &q, out) != 0) printf("ref_render failed for %s\n", s->name);
 }
 
-static lc_status render(lc_device *dev, const lc_particles *p, const lc_tf *tf, const scene *s, lc_method m, int packet,
+static lc_status render(lc_device *dev, lc_volume *p, const lc_tf *tf, const scene *s, lc_method m, int packet,
                         float alpha_stop, float *out)
 {
+    lc_particle_params pp = {.sigma = s->sigma, .kappa = s->kappa, .sphere_scale = s->scale};
+    lc_status st = lc_particles_set_params(p, &pp);
+    if (st != LC_OK) {
+        printf("lc_particles_set_params: %s\n", lc_last_error());
+        return st;
+    }
     lc_render_desc rd = {.width = s->width, .height = s->height, .camera = s->cam, .tf = tf,
-                         .range = {s->range[0], s->range[1]}, .particles = p, .dt = s->dt, .alpha_stop = alpha_stop,
-                         .shading = s->shading, .lighting = s->light, .method = m, .packet = packet, .tile = s->tile,
-                         .particle = {.sigma = s->sigma, .kappa = s->kappa, .sphere_scale = s->scale}};
-    lc_status st = lc_render(dev, &rd, out, NULL);
+                         .range = {s->range[0], s->range[1]}, .volume = p, .dt = s->dt, .alpha_stop = alpha_stop,
+                         .shading = s->shading, .lighting = s->light, .method = m, .packet = packet, .tile = s->tile};
+    st = lc_render(dev, &rd, out, NULL);
     if (st != LC_OK) printf("lc_render: %s\n", lc_last_error());
     return st;
 }
@@ -511,8 +534,9 @@ static void test_images(void)
         for (int t = 0; t < 3; t++)
             if (lc_tf_create(dev, tf_sets[t], tf_count[t], &tfs[t]) != LC_OK) printf("lc_tf_create: %s\n", lc_last_error());
         for (int di = 0; di < NDATA; di++) {
-            /* one lc_particles per dataset: sigma, kappa and sphere scale change between renders without a rebuild */
-            lc_particles *p = make_particles(dev, &data[di], 0);
+            /* one volume per dataset: sigma, kappa and sphere scale change between renders without a rebuild
+               (lc_particles_set_params) */
+            lc_volume *p = make_particles(dev, &data[di], 0);
             if (!p) {
                 CHECK(0, "create dataset %d on %s", di, tn);
                 continue;
@@ -557,7 +581,7 @@ static void test_images(void)
                     }
                 }
             }
-            lc_particles_destroy(p);
+            lc_volume_destroy(p);
         }
         for (int t = 0; t < 3; t++) lc_tf_destroy(tfs[t]);
         lc_device_destroy(dev);
