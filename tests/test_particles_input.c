@@ -230,6 +230,13 @@ static void load_errors(void)
     CHECK(s == LC_OK && fi.format && !strcmp(fi.format, "xyz") && fi.kind == LC_KIND_PARTICLES && fi.frames == 1 &&
               fi.gzip == 0,
           "lc_file_probe mol.xyz: %s, kind %d", fi.format ? fi.format : "(null)", (int)fi.kind);
+    /* a frame past a one-frame file, or a companion a format does not take, is refused */
+    s = lc_volume_load(dev, f, &(lc_load_desc){.frame = 5}, &p);
+    CHECK(s == LC_ERROR_INVALID_ARGUMENT && !p && strstr(lc_last_error(), "frame 5"), "frame 5 of mol.xyz: %s",
+          lc_last_error());
+    s = lc_volume_load(dev, f, &(lc_load_desc){.companion = "top.psf"}, &p);
+    CHECK(s == LC_ERROR_INVALID_ARGUMENT && !p && strstr(lc_last_error(), "top.psf"), "companion on xyz: %s",
+          lc_last_error());
 }
 
 int main(int argc, char **argv)

@@ -44,6 +44,8 @@ typedef struct lci_format {
     int (*magic)(const unsigned char *head, size_t n);
     lc_status (*read)(lc_device *dev, const lci_read_args *a, lci_loaded *out);
     const char *package;     /* Debian package enabling it when compiled out, else NULL */
+    int trajectory;          /* 1: the reader honours lc_load_desc.frame */
+    int companion;           /* 1: the reader uses lc_load_desc.companion */
 } lci_format;
 
 /* The option of the given key, or NULL. */

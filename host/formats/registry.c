@@ -188,6 +188,12 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
     int gzip;
     lc_status s = decide(dev, path, d, &f, &gzip);
     if (s != LC_OK) return s;
+    if (d->frame > 0 && !f->trajectory)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %s files hold one frame; frame %lld was asked for", path,
+                         f->name, (long long)d->frame);
+    if (d->companion && d->companion[0] && !f->companion)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %s files take no companion file (got '%s')", path, f->name,
+                         d->companion);
     if (!f->read)
         return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: %s files are not supported by this build (install %s and rebuild)",
                          path, f->name, f->package ? f->package : "its library");

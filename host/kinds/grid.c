@@ -295,12 +295,13 @@ lc_status lc_grid_get_info(const lc_volume *v, lc_grid_info *out)
     return LC_OK;
 }
 
-static lc_status check_params(lc_device *dev, const lc_grid_params *p)
+static lc_status check_params(lc_device *dev, const char *fn, const lc_grid_params *p)
 {
     if (!(isfinite(p->rda) && p->rda >= 0.0f && p->rda <= 1.0f))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "rda = %g, expected 0 (off) to 1", (double)p->rda);
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: rda = %g, expected 0 (off) to 1", fn, (double)p->rda);
     if (!isfinite(p->delta_c) || !isfinite(p->delta_p) || !isfinite(p->delta_sv))
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grid heuristics: delta_c, delta_p, delta_sv must be finite");
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: grid heuristics delta_c, delta_p, delta_sv must be finite",
+                         fn);
     return LC_OK;
 }
 
@@ -309,7 +310,7 @@ lc_status lc_grid_set_params(lc_volume *v, const lc_grid_params *params)
     grid *g = lci_volume_as(v, LC_KIND_GRID, "lc_grid_set_params");
     if (!g) return LC_ERROR_INVALID_ARGUMENT;
     lc_grid_params p = params ? *params : (lc_grid_params){0};
-    lc_status s = check_params(v->device, &p);
+    lc_status s = check_params(v->device, "lc_grid_set_params", &p);
     if (s == LC_OK) g->info.params = p;
     return s;
 }
@@ -337,7 +338,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     lc_method m = desc->method;
     if (m != LC_METHOD_DEFAULT && m != LC_METHOD_BVH && m != LC_METHOD_BRUTE)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grids render with method bvh or brute, not %d", (int)m);
-    lc_status s = check_params(dev, p);
+    lc_status s = check_params(dev, "lc_render", p);
     if (s != LC_OK) return s;
     size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * LC_PREINT_N * LC_PREINT_N * 5;
     unsigned char *mem = malloc(bytes);

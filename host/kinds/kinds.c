@@ -43,7 +43,9 @@ lc_kind lc_volume_kind(const lc_volume *v) { return v ? v->ops->kind : LC_KIND_N
 
 lc_status lc_volume_get_info(const lc_volume *v, lc_volume_info *out)
 {
-    if (!v || !out) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_volume_get_info: volume and out must not be NULL");
+    if (!v || !out)
+        return lci_error(v ? v->device : NULL, LC_ERROR_INVALID_ARGUMENT,
+                         "lc_volume_get_info: volume and out must not be NULL");
     lci_frame_info fi;
     memset(&fi, 0, sizeof fi);
     lc_status s = v->ops->frame_info(v->device, v, &fi);
