@@ -88,10 +88,15 @@ static inline void dvr_lattice(vfloat t0, vfloat t1, float dt, vint *kf, vint *k
     *kl = vi_select(hit, vf_to_vi(b), vi_set1(0));
 }
 
-/* Transfer function lookup: rgb and extinction tau at value phi. */
-static inline void dvr_classify(const lc_ktf *tf, vfloat phi, vfloat *r, vfloat *g, vfloat *b, vfloat *tau)
+/* The normalised value v = (phi - lo) / (hi - lo), unclamped. */
+static inline vfloat dvr_normalise(const lc_ktf *tf, vfloat phi)
 {
-    vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
+    return vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
+}
+
+/* Transfer function lookup at normalised value v (clamped to [0, 1]). */
+static inline void dvr_classify_v(const lc_ktf *tf, vfloat v, vfloat *r, vfloat *g, vfloat *b, vfloat *tau)
+{
     v = vf_clamp(v, vf_zero(), vf_set1(1.0f));
     vfloat x = vf_mul(v, vf_set1((float)(LC_TF_TABLE_SIZE - 1)));
     vfloat xf = vf_min(vf_floor(x), vf_set1((float)(LC_TF_TABLE_SIZE - 2)));
@@ -104,6 +109,12 @@ static inline void dvr_classify(const lc_ktf *tf, vfloat phi, vfloat *r, vfloat 
     *g = vf_lerp(g0, g1, w);
     *b = vf_lerp(b0, b1, w);
     *tau = vf_lerp(a0, a1, w);
+}
+
+/* Transfer function lookup: rgb and extinction tau at value phi. */
+static inline void dvr_classify(const lc_ktf *tf, vfloat phi, vfloat *r, vfloat *g, vfloat *b, vfloat *tau)
+{
+    dvr_classify_v(tf, dvr_normalise(tf, phi), r, g, b, tau);
 }
 
 /* SPEC.md "Shading": headlight, n = -grad/|grad|, l = -dir, h = normalize(l - dir).

@@ -14,6 +14,7 @@ void LC_KFN(grid_brute)(const void *scene, const lc_kframe *f, const lc_ktile *t
             grid_packlet_init(g, f, t, x, y, &p);
             st->rays += (uint64_t)vm_popcnt(vm_and(vi_lt(p.px, vi_set1(t->x1)), vi_lt(p.py, vi_set1(t->y1))));
             if (vm_any(p.live)) grid_integrate(g, f, &p, p.knext, p.klast, st);
+            mode_finish(f, &p.c);
             dvr_store(t, p.px, p.py, &p.c);
         }
     }

@@ -123,9 +123,9 @@ static inline int node_transparent(const lc_kgrid *g, const lc_kframe *f, const 
 
 /* A node is skipped when the mode says it cannot matter; the grid tells it
  * the node's value range (which bounds the field) and its TF test above. */
-static inline int node_empty(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
+static inline int node_empty(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n, float mfloor)
 {
-    mnode mn = {n->vmin, n->vmax, 1, 0};
+    mnode mn = {n->vmin, n->vmax, 1, 0, mfloor};
     mn.transparent = f->mode == LC_KMODE_DVR && node_transparent(g, f, n);
     return !mode_node_matters(f, &mn);
 }
@@ -161,7 +161,8 @@ static inline int node_prune(const lc_kgrid *g, const lc_kframe *f, const lc_kgr
 static inline int node_constant(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
 {
     if (!(g->bvh_flags & LC_KGRID_CONST)) return 0;
-    if (f->shade != LC_KSHADE_NONE && n->vmin != n->vmax) return 0;
+    /* lit frames and modes other than dvr: only truly constant data (exact) */
+    if ((f->shade != LC_KSHADE_NONE || f->mode != LC_KMODE_DVR) && n->vmin != n->vmax) return 0;
     if (n->vmin == n->vmax) return 1;
     node_tf q = node_quant(&f->tf[0], n);
     float r = rho(q.qlo, q.qhi, g), rl = rho(q.qlo, q.qlo, g), rh = rho(q.qhi, q.qhi, g);
@@ -221,6 +222,21 @@ static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int f
     }
 }
 
+/* mip: the smallest current maximum over the packet's live rays (-inf
+ * while any live ray has none): nodes whose values cannot beat it are
+ * skipped. Other modes: -inf (unused). */
+static float mip_floor(const lc_kframe *f, const gpk *pk, int npk)
+{
+    if (f->mode != LC_KMODE_MIP) return -INFINITY;
+    float fl = INFINITY;
+    for (int p = 0; p < npk; p++) {
+        if (vm_none(pk[p].live)) continue;
+        if (vm_any(vm_and(pk[p].live, vm_not(vf_gt(pk[p].c.b, vf_zero()))))) return -INFINITY;
+        fl = fminf(fl, vf_reduce_min_masked(pk[p].live, pk[p].c.r));
+    }
+    return fl;
+}
+
 static int any_live(const gpk *pk, int npk)
 {
     for (int p = 0; p < npk; p++)
@@ -241,13 +257,14 @@ static void traverse(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int npk, lc
      * (orthographic): packet side in pixels times the pixel pitch */
     float upl = sqrtf(f->cam.up[0] * f->cam.up[0] + f->cam.up[1] * f->cam.up[1] + f->cam.up[2] * f->cam.up[2]);
     float footprint = g->prune_footprint * (float)(f->packet > 1 ? f->packet : DVR_PH) * 2.0f * upl / (float)f->cam.height;
-    if (node_empty(g, f, &nodes[0])) return;
+    float mfloor = mip_floor(f, pk, npk);
+    if (node_empty(g, f, &nodes[0], mfloor)) return;
     for (;;) {
         const lc_kgrid_node *n = &nodes[id];
         /* speculative min-max descent: go straight into the only non-empty child */
         int dead = 0;
         while (n->child) {
-            int e0 = node_empty(g, f, &nodes[n->child]), e1 = node_empty(g, f, &nodes[n->child + 1]);
+            int e0 = node_empty(g, f, &nodes[n->child], mfloor), e1 = node_empty(g, f, &nodes[n->child + 1], mfloor);
             if (e0 && e1) {
                 dead = 1;
                 break;
@@ -280,6 +297,7 @@ static void traverse(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int npk, lc
                 st->leaves++;
                 integrate_node(g, f, pk, fa, npk, n, csv, st);
                 if (!any_live(pk, npk)) break;
+                mfloor = mip_floor(f, pk, npk);
             }
         }
         if (d == 0) break;
@@ -307,7 +325,10 @@ static void grid_bvh(const void *scene, const lc_kframe *f, const lc_ktile *t, l
                 }
             if (any_live(pk, npk)) traverse(g, f, pk, npk, st);
             for (int p = 0; p < npk; p++) flush(g, f, &pk[p], st);
-            for (int p = 0; p < npk; p++) dvr_store(t, pk[p].px, pk[p].py, &pk[p].c);
+            for (int p = 0; p < npk; p++) {
+                mode_finish(f, &pk[p].c);
+                dvr_store(t, pk[p].px, pk[p].py, &pk[p].c);
+            }
         }
     }
 }

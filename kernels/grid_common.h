@@ -272,7 +272,7 @@ static inline void grid_consume(const lc_kgrid *g, const lc_kframe *f, gpk *p, v
     const vgrad *grad = f->shade != LC_KSHADE_NONE ? &gr : NULL;
     vfloat scale = vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f));
     const vfloat *step = g->rda != 0.0f ? &scale : NULL;
-    if (rgbt) mode_sample_rgbt(f, 0, &p->c, m, rgbt[0], rgbt[1], rgbt[2], rgbt[3], grad, &p->ray, step);
+    if (rgbt && f->mode == LC_KMODE_DVR) mode_sample_rgbt(f, 0, &p->c, m, rgbt[0], rgbt[1], rgbt[2], rgbt[3], grad, &p->ray, step);
     else mode_sample(f, 0, &p->c, m, phi, grad, &p->ray, step);
 }
 
@@ -325,7 +325,7 @@ static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p,
         vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
         if (GRID_PROF & (GP_CLASS | GP_SHADE | GP_BLEND)) {
             grid_prof_consume(g, f, p, m, k, phi, gx, gy, gz);
-        } else if (g->use_preint) {
+        } else if (g->use_preint && f->mode == LC_KMODE_DVR) {
             vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
             vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
             vfloat rgbt[4];

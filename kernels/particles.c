@@ -155,11 +155,13 @@ static inline void setup_vector(const lc_kparticles *s, const lc_kframe *f, cons
     st->rays += (uint64_t)vm_popcnt(valid);
 }
 
-/* Composites the opaque surface behind the volume and writes the pixels. */
-static inline void finish_vector(const lc_ktile *t, int x, int y, vcolor *c, const vcolor *surf)
+/* Finishes the rays in the mode, composites the opaque surface behind them
+ * and writes the pixels. */
+static inline void finish_vector(const lc_kframe *f, const lc_ktile *t, int x, int y, vcolor *c, const vcolor *surf)
 {
     vint px, py;
     dvr_packet_pixels(x, y, &px, &py);
+    mode_finish(f, c);
     vfloat w = vf_sub(vf_set1(1.0f), c->a);
     c->r = vf_fma(w, surf->r, c->r);
     c->g = vf_fma(w, surf->g, c->g);
@@ -290,7 +292,7 @@ static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscr
         st->nodes++;
         /* the mode's test on the node's own contribution (dvr: always) */
         float vb = s->kappa * s->node_ksum[n];
-        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, 0};
+        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, 0, -INFINITY};
         if (!mode_node_matters(f, &mn)) continue;
         int hit = 0;
         for (int v = 0; v < nv && !hit; v++) {
@@ -427,7 +429,7 @@ static void particles_coherent(const void *scene, const lc_kframe *f, const lc_k
                 int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
                 vcolor col = {vf_load(c.cr + o), vf_load(c.cg + o), vf_load(c.cb + o), vf_load(c.ca + o)};
                 vcolor surf = {vf_load(c.sr + o), vf_load(c.sg + o), vf_load(c.sb + o), vf_load(c.sa + o)};
-                if (x < t->x1 && y < t->y1) finish_vector(t, x, y, &col, &surf);
+                if (x < t->x1 && y < t->y1) finish_vector(f, t, x, y, &col, &surf);
             }
         }
     }
@@ -498,7 +500,7 @@ static void particles_direct(const void *scene, const lc_kframe *f, const lc_kti
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
             vcolor surf = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
             if (s->nnodes == 0) {
-                finish_vector(t, x, y, &col, &surf);
+                finish_vector(f, t, x, y, &col, &surf);
                 continue;
             }
             vray r;
@@ -533,7 +535,7 @@ static void particles_direct(const void *scene, const lc_kframe *f, const lc_kti
                     if (vm_none(live)) break;
                 }
             }
-            finish_vector(t, x, y, &col, &surf);
+            finish_vector(f, t, x, y, &col, &surf);
         }
     }
 }

@@ -211,8 +211,19 @@ static void test_constant_box(void)
     /* a corner ray misses the box: nothing */
     float img[5 * 5 * 4];
     CHECK(ref_render_f(&src, &p, img) == 0 && img[3] == 0.0f && img[4 * 12 + 3] > 0.0f, "box: corner misses");
-    p.mode = REF_MODE_MIP;
+    p.mode = REF_MODE_ISO;
     CHECK(ref_render_f(&src, &p, img) == -1, "box: unimplemented mode refused");
+    /* MIP: field 1's normalised 0.6 beats field 0's 0.3, so field 1's colour, opaque;
+       a ray that misses stays empty */
+    konst k2 = {{0.3, 0.6}};
+    src.user = &k2;
+    p.mode = REF_MODE_MIP;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && out[0] == 0.0 && out[1] == 1.0 && out[3] == 1.0,
+          "mip: the larger normalised field wins (%g %g %g %g)", out[0], out[1], out[2], out[3]);
+    k2.v[0] = 0.9;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[0], 0.9, 1e-15) && out[3] == 1.0,
+          "mip: field 0 wins when larger");
+    CHECK(ref_render_f(&src, &p, img) == 0 && img[3] == 0.0f && img[4 * 12 + 3] == 1.0f, "mip: corner misses");
 }
 
 /* A ramp grid phi = z or phi = x: constant gradient for the shading rules. */

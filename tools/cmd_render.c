@@ -34,7 +34,8 @@ static const char render_help[] =
     "  --tau T               peak extinction per world unit of a preset (default: by kind, below)\n"
     "  --range LO,HI         value range mapped to [0, 1] (default: the TF's, else the data's)\n"
     "  --dt DT               sampling step in world units (default: by kind, below)\n"
-    "  --mode M              render mode: dvr (emission-absorption; the default)\n"
+    "  --mode M              dvr (emission-absorption; the default) or mip (maximum intensity\n"
+    "                        projection through the TF's colours; e.g. --mode mip --tf gray)\n"
     "  --shade [MODE]        none, diffuse (the default when MODE is omitted) or phong\n"
     "  --alpha-stop A        early ray termination opacity in (0, 1] (default 0.97; 1 = never)\n"
     "  --background r,g,b    background colour (default 0,0,0)\n"
@@ -165,11 +166,12 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
     if (!strcmp(a, "--threads")) return arg_int(o->cmd, a, v, 1, 1024, &o->threads) ? -1 : 1;
     if (!strcmp(a, "--tile")) return arg_int(o->cmd, a, v, 1, 4096, &o->rd.tile) ? -1 : 1;
     if (!strcmp(a, "--mode")) {
-        if (strcmp(v, "dvr")) {
-            fprintf(stderr, "%s: --mode: '%s' is not a render mode (dvr)\n", o->cmd, v);
+        if (!strcmp(v, "dvr")) o->rd.mode = LC_MODE_DVR;
+        else if (!strcmp(v, "mip")) o->rd.mode = LC_MODE_MIP;
+        else {
+            fprintf(stderr, "%s: --mode: '%s' is not a render mode (dvr, mip)\n", o->cmd, v);
             return -1;
         }
-        o->rd.mode = LC_MODE_DVR;
         return 1;
     }
     if (lc_target_from_name(v, &o->target) != LC_OK) { /* --target */

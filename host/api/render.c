@@ -28,7 +28,7 @@ static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "shading = %d is not none, diffuse or phong", (int)d->shading);
     f->shade = (int32_t)d->shading;
     if ((int)d->mode < 0 || d->mode >= LC_MODE_COUNT)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "mode = %d is not a render mode (dvr)", (int)d->mode);
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "mode = %d is not a render mode (dvr, mip)", (int)d->mode);
     f->mode = (int32_t)d->mode;
     const lc_lighting *l = &d->lighting;
     int custom = l->ka != 0.0f || l->kd != 0.0f || l->ks != 0.0f || l->phong_exp != 0;
@@ -70,6 +70,8 @@ static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_
         const float *t = tables + (size_t)k * LC_TF_TABLE_SIZE * 4;
         if (t[4 * i0 + 3] != 0.0f || t[4 * i0 + 7] != 0.0f) f->zero_transparent = 0;
     }
+    /* a zero sample may be a ray's maximum (negative kappa): only dvr skips them */
+    if (f->mode != LC_KMODE_DVR) f->zero_transparent = 0;
     return LC_OK;
 }
 

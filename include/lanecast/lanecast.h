@@ -396,7 +396,10 @@ typedef enum lc_shading { LC_SHADE_NONE = 0, LC_SHADE_DIFFUSE = 1, LC_SHADE_PHON
 /* What a ray computes from the field samples (SPEC.md). */
 typedef enum lc_mode {
     LC_MODE_DVR = 0,  /* emission-absorption volume rendering */
-    LC_MODE_COUNT = 1
+    LC_MODE_MIP = 1,  /* maximum intensity projection: the largest normalised value along the
+                         ray through its field's colour map, opaque where the ray met the data
+                         (with several fields, the field whose normalised value is largest) */
+    LC_MODE_COUNT = 2
 } lc_mode;
 
 /* How a kind walks its data; each kind takes its own (DEFAULT = the fast one). */
@@ -423,7 +426,7 @@ typedef struct lc_render_desc {
     const lc_tf *tf;           /* NULL = a default ("heat") TF */
     float range[2];            /* value range [lo, hi]; both 0 = the TF's range or the data's */
     const lc_volume *volume;   /* required: what to render (any kind) */
-    lc_mode mode;              /* LC_MODE_DVR (0) */
+    lc_mode mode;              /* LC_MODE_DVR (0) or LC_MODE_MIP; shading applies to dvr only */
     float dt;                  /* sampling step in world units; 0 = a default from the data */
     float alpha_stop;          /* early termination; 0 = 0.97, 1 = never */
     lc_shading shading;

@@ -43,7 +43,7 @@ _Static_assert(sizeof(lc_ktf) == 24, "lc_ktf layout");
 enum { LC_KSHADE_NONE = 0, LC_KSHADE_DIFFUSE = 1, LC_KSHADE_PHONG = 2 };
 
 /* Render modes (lc_mode): what the per-sample consumer (kernels/mode.h) does. */
-enum { LC_KMODE_DVR = 0 };
+enum { LC_KMODE_DVR = 0, LC_KMODE_MIP = 1 };
 
 /* Lattice indices are clamped below this so k * dt stays exact in float and
  * k fits an int32 (2^24 = 16777216 > LC_KLATTICE_MAX). */

@@ -171,7 +171,7 @@ static int setup(ctx *c, const ref_source *src, const ref_params *p)
 {
     if (!src || !p || !src->eval || src->nfields < 1 || src->nfields > REF_MAX_FIELDS || !p->tf) return -1;
     if (p->width < 1 || p->height < 1 || !(p->dt > 0.0) || !isfinite(p->dt) || !(p->rda >= 0.0)) return -1;
-    if (p->mode != REF_MODE_DVR) return -1; /* iso, mip, slice: not implemented yet */
+    if (p->mode != REF_MODE_DVR && p->mode != REF_MODE_MIP) return -1; /* iso, slice: not implemented yet */
     if ((int)p->shading < 0 || (int)p->shading > (int)REF_SHADE_PHONG) return -1;
     for (int f = 0; f < src->nfields; f++)
         if (!tf_valid(&p->tf[f])) return -1;
@@ -201,11 +201,28 @@ static void shade(const ctx *c, const ref_tf *tf, const double g[3], const doubl
     for (int a = 0; a < 3; a++) rgb[a] = rgb[a] * k + s;
 }
 
-/* Per-ray state of every mode; DVR uses C and A. */
+/* Per-ray state of every mode; DVR uses C and A, MIP the running maximum of
+ * the normalised value, the field that reached it and whether any sample was
+ * taken. */
 typedef struct ray_state {
     double o[3], d[3];
     double C[3], A;
+    double vmax;
+    int fmax, seen;
 } ray_state;
+
+/* MIP (SPEC.md "Other modes"): the largest normalised value v = (phi - lo) /
+ * (hi - lo) along the ray over every field (the first to reach it wins). */
+static int mip_sample(const ctx *c, ray_state *r, const double *phi)
+{
+    for (int f = 0; f < c->src->nfields; f++) {
+        const ref_tf *tf = &c->p->tf[f];
+        double v = (phi[f] - tf->lo) / (tf->hi - tf->lo);
+        if (!r->seen || v > r->vmax) r->vmax = v, r->fmax = f;
+        r->seen = 1;
+    }
+    return 0;
+}
 
 /* DVR: classify, shade, blend front to back in field order. Returns 1 to stop the ray. */
 static int dvr_sample(const ctx *c, ray_state *r, long k, double t, const double *phi, double (*grad)[3])
@@ -229,7 +246,7 @@ static int consume_sample(const ctx *c, ray_state *r, long k, double t, const do
     switch (c->p->mode) {
     case REF_MODE_DVR: return dvr_sample(c, r, k, t, phi, grad);
     case REF_MODE_ISO:   /* sign change against the previous sample, then bisection */
-    case REF_MODE_MIP:   /* running maximum */
+    case REF_MODE_MIP: return mip_sample(c, r, phi);
     case REF_MODE_SLICE: /* not a lattice consumer: one sample on the plane */
     default: return 1;
     }
@@ -238,6 +255,13 @@ static int consume_sample(const ctx *c, ray_state *r, long k, double t, const do
 static void finish_ray(const ctx *c, const ray_state *r, double out[4])
 {
     switch (c->p->mode) {
+    case REF_MODE_MIP: { /* the maximum through its field's colour map, opaque where sampled */
+        const ref_tf *tf = &c->p->tf[r->fmax];
+        double rgb[3] = {0, 0, 0}, tau;
+        if (r->seen) ref_tf_eval(tf, tf->lo + r->vmax * (tf->hi - tf->lo), rgb, &tau);
+        out[0] = rgb[0], out[1] = rgb[1], out[2] = rgb[2], out[3] = r->seen ? 1.0 : 0.0;
+        break;
+    }
     case REF_MODE_DVR:
     default: out[0] = r->C[0], out[1] = r->C[1], out[2] = r->C[2], out[3] = r->A; break;
     }
@@ -247,7 +271,7 @@ static void trace(const ctx *c, int px, int py, double out[4])
 {
     const ref_params *p = c->p;
     const ref_source *s = c->src;
-    ray_state r = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 0.0};
+    ray_state r = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 0.0, 0.0, 0, 0};
     double phi[REF_MAX_FIELDS], grad[REF_MAX_FIELDS][3] = {{0}};
     double t0, t1;
     long k0, k1;
