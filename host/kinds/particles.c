@@ -94,10 +94,9 @@ static const char *invalid(const lc_particles_desc *d, size_t i, int nfields)
     return NULL;
 }
 
-static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
+/* The field count (nfields, or 1 + the largest id) and the desc's limits. */
+static lc_status check_desc(lc_device *dev, const lc_particles_desc *d, int *nfields_out)
 {
-    const lc_particles_desc *d = desc;
-    *out = NULL;
     if (d->count > 0 && !d->positions)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_particles_create: %zu particles but positions is NULL",
                          d->count);
@@ -126,116 +125,147 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         }
         nfields = mx + 1;
     }
-    /* validate: first bad index and count */
-    size_t bad = 0, first_bad = 0;
+    *nfields_out = nfields;
+    return LC_OK;
+}
+
+/* The particles kept, as arrays the BVH builds from: the caller's when
+ * nothing is dropped, else compacted copies (src maps them back). */
+typedef struct kept {
+    size_t n, bad;
+    const float *xyz, *rad;
+    float *own_xyz, *own_rad;
+    size_t *src;
+} kept;
+
+static lc_status keep_valid(lc_device *dev, const lc_particles_desc *d, int nfields, kept *k)
+{
+    size_t first_bad = 0;
     const char *why = NULL;
     for (size_t i = 0; i < d->count; i++) {
         const char *w = invalid(d, i, nfields);
         if (w) {
-            if (!bad) first_bad = i, why = w;
-            bad++;
+            if (!k->bad) first_bad = i, why = w;
+            k->bad++;
         }
     }
-    if (bad && !d->drop_invalid)
+    if (k->bad && !d->drop_invalid)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
-                         "lc_particles_create: %zu of %zu particles are invalid; the first is particle %zu (%s)", bad,
+                         "lc_particles_create: %zu of %zu particles are invalid; the first is particle %zu (%s)", k->bad,
                          d->count, first_bad, why);
-    lc_particle_params params;
-    lc_status ps = fill_params(dev, "lc_particles_create", &d->params, &params);
-    if (ps != LC_OK) return ps;
-    size_t n = d->count - bad;
-    particles *p = calloc(1, sizeof *p);
-    if (!p) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory");
-    /* With nothing dropped the BVH is built straight from the caller's arrays;
-     * otherwise from compacted copies (src maps them back). */
-    const float *xyz = d->positions, *rad = d->radii;
-    float *own_xyz = NULL, *own_rad = NULL;
-    size_t *src = NULL;
-    if (bad) {
-        own_xyz = malloc(sizeof(float) * 3 * (n ? n : 1));
-        own_rad = malloc(sizeof(float) * (n ? n : 1));
-        src = malloc(sizeof(size_t) * (n ? n : 1));
-        if (!own_xyz || !own_rad || !src) {
-            free(p), free(own_xyz), free(own_rad), free(src);
-            return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
-        }
-        for (size_t i = 0, j = 0; i < d->count; i++) {
-            if (invalid(d, i, nfields)) continue;
-            memcpy(own_xyz + 3 * j, d->positions + 3 * i, sizeof(float) * 3);
-            own_rad[j] = d->radii ? d->radii[i] : d->radius;
-            src[j++] = i;
-        }
-        xyz = own_xyz, rad = own_rad;
+    size_t n = k->n = d->count - k->bad;
+    k->xyz = d->positions, k->rad = d->radii;
+    if (!k->bad) return LC_OK;
+    k->own_xyz = malloc(sizeof(float) * 3 * (n ? n : 1));
+    k->own_rad = malloc(sizeof(float) * (n ? n : 1));
+    k->src = malloc(sizeof(size_t) * (n ? n : 1));
+    if (!k->own_xyz || !k->own_rad || !k->src)
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
+    for (size_t i = 0, j = 0; i < d->count; i++) {
+        if (invalid(d, i, nfields)) continue;
+        memcpy(k->own_xyz + 3 * j, d->positions + 3 * i, sizeof(float) * 3);
+        k->own_rad[j] = d->radii ? d->radii[i] : d->radius;
+        k->src[j++] = i;
     }
-    p->base.ops = &lci_particles_ops;
-    p->base.device = dev;
-    lc_particles_info *info = &p->info;
-    info->params = params;
-    info->count = n;
-    info->dropped = bad;
-    info->nfields = nfields;
-    info->leaf_size = leaf;
+    k->xyz = k->own_xyz, k->rad = k->own_rad;
+    return LC_OK;
+}
+
+/* Radius range and centre bounds of the kept particles. */
+static void measure(const kept *k, float radius, lc_particles_info *info)
+{
     info->min_radius = INFINITY;
     info->max_radius = 0.0f;
     lc_box3 bb = {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-    for (size_t j = 0; j < n; j++) {
-        const float *x = xyz + 3 * j;
-        float rj = rad ? rad[j] : d->radius;
+    for (size_t j = 0; j < k->n; j++) {
+        const float *x = k->xyz + 3 * j;
+        float rj = k->rad ? k->rad[j] : radius;
         info->min_radius = fminf(info->min_radius, rj);
         info->max_radius = fmaxf(info->max_radius, rj);
         bb.lo.x = fminf(bb.lo.x, x[0]), bb.lo.y = fminf(bb.lo.y, x[1]), bb.lo.z = fminf(bb.lo.z, x[2]);
         bb.hi.x = fmaxf(bb.hi.x, x[0]), bb.hi.y = fmaxf(bb.hi.y, x[1]), bb.hi.z = fmaxf(bb.hi.z, x[2]);
     }
-    if (n == 0) {
+    if (k->n == 0) {
         bb = (lc_box3){{0, 0, 0}, {0, 0, 0}};
         info->min_radius = info->max_radius = 0.0f;
     }
     info->bounds = bb;
-    lc_status s = LC_OK;
-    double t0 = lci_now();
-    if (n > 0) {
-        void *e = lci_embree_device(dev);
-        char err[256];
-        if (!e) s = LC_ERROR_INTERNAL;
-        else if (lci_pbvh_build(e, xyz, rad, d->radius, n, leaf, &p->bvh, err, sizeof err) != 0)
-            s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
+}
+
+/* Structure-of-arrays copies in the BVH's leaf order, and the node sums. */
+static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const kept *k, particles *p)
+{
+    size_t n = k->n, m = n ? n : 1;
+    p->px = malloc(sizeof(float) * m), p->py = malloc(sizeof(float) * m), p->pz = malloc(sizeof(float) * m);
+    p->r = malloc(sizeof(float) * m), p->nir = malloc(sizeof(float) * m), p->k = malloc(sizeof(float) * m);
+    p->field = malloc(m);
+    p->node_ksum = malloc(sizeof(float) * (size_t)(p->bvh.nnodes > 0 ? p->bvh.nnodes : 1));
+    if (!p->px || !p->py || !p->pz || !p->r || !p->nir || !p->k || !p->field || !p->node_ksum)
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
+    for (size_t j = 0; j < n; j++) {
+        uint32_t o = p->bvh.order[j];
+        size_t i = k->src ? k->src[o] : o;
+        float ro = k->rad ? k->rad[o] : d->radius;
+        p->px[j] = k->xyz[3 * o], p->py[j] = k->xyz[3 * o + 1], p->pz[j] = k->xyz[3 * o + 2];
+        p->r[j] = ro;
+        p->nir[j] = -1.0f / (2.0f * ro * ro);
+        p->k[j] = d->values ? d->values[i] : 1.0f;
+        p->field[j] = d->fields ? d->fields[i] : 0;
     }
+    free(p->bvh.order);
+    p->bvh.order = NULL;
+    node_sums(p);
+    return LC_OK;
+}
+
+static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
+{
+    const lc_particles_desc *d = desc;
+    *out = NULL;
+    int nfields = 1;
+    lc_particle_params params;
+    lc_status s = check_desc(dev, d, &nfields);
+    if (s == LC_OK) s = fill_params(dev, "lc_particles_create", &d->params, &params);
+    if (s != LC_OK) return s;
+    kept k = {0};
+    particles *p = NULL;
+    s = keep_valid(dev, d, nfields, &k);
+    if (s == LC_OK && !(p = calloc(1, sizeof *p)))
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory");
     if (s == LC_OK) {
-        size_t m = n ? n : 1;
-        p->px = malloc(sizeof(float) * m), p->py = malloc(sizeof(float) * m), p->pz = malloc(sizeof(float) * m);
-        p->r = malloc(sizeof(float) * m), p->nir = malloc(sizeof(float) * m), p->k = malloc(sizeof(float) * m);
-        p->field = malloc(m);
-        p->node_ksum = malloc(sizeof(float) * (size_t)(p->bvh.nnodes > 0 ? p->bvh.nnodes : 1));
-        if (!p->px || !p->py || !p->pz || !p->r || !p->nir || !p->k || !p->field || !p->node_ksum)
-            s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
-    }
-    if (s == LC_OK) {
-        for (size_t j = 0; j < n; j++) {
-            uint32_t o = p->bvh.order[j];
-            size_t i = src ? src[o] : o;
-            float ro = rad ? rad[o] : d->radius;
-            p->px[j] = xyz[3 * o], p->py[j] = xyz[3 * o + 1], p->pz[j] = xyz[3 * o + 2];
-            p->r[j] = ro;
-            p->nir[j] = -1.0f / (2.0f * ro * ro);
-            p->k[j] = d->values ? d->values[i] : 1.0f;
-            p->field[j] = d->fields ? d->fields[i] : 0;
+        p->base.ops = &lci_particles_ops;
+        p->base.device = dev;
+        lc_particles_info *info = &p->info;
+        info->params = params;
+        info->count = k.n;
+        info->dropped = k.bad;
+        info->nfields = nfields;
+        info->leaf_size = d->leaf_size == 0 ? 4 : d->leaf_size;
+        measure(&k, d->radius, info);
+        double t0 = lci_now();
+        if (k.n > 0) {
+            void *e = lci_embree_device(dev);
+            char err[256];
+            if (!e) s = LC_ERROR_INTERNAL;
+            else if (lci_pbvh_build(e, k.xyz, k.rad, d->radius, k.n, info->leaf_size, &p->bvh, err, sizeof err) != 0)
+                s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
         }
-        free(p->bvh.order);
-        p->bvh.order = NULL;
-        node_sums(p);
+        if (s == LC_OK) s = leaf_order(dev, d, &k, p);
         info->build_seconds = lci_now() - t0;
         info->bvh_nodes = p->bvh.nnodes;
         info->bvh_depth = p->bvh.depth;
         info->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + 2 * sizeof(float));
-        info->data_bytes = n * (6 * sizeof(float) + 1);
-        lci_log(dev, LC_LOG_INFO, "particles: %zu (%zu dropped), %d fields, BVH %d nodes depth %d, %.1f MB, %.3f s", n,
-                bad, nfields, p->bvh.nnodes, p->bvh.depth, (double)info->bvh_bytes / 1e6, info->build_seconds);
+        info->data_bytes = k.n * (6 * sizeof(float) + 1);
+        if (s == LC_OK)
+            lci_log(dev, LC_LOG_INFO, "particles: %zu (%zu dropped), %d fields, BVH %d nodes depth %d, %.1f MB, %.3f s",
+                    k.n, k.bad, nfields, p->bvh.nnodes, p->bvh.depth, (double)info->bvh_bytes / 1e6,
+                    info->build_seconds);
     }
-    free(own_xyz);
-    free(own_rad);
-    free(src);
+    free(k.own_xyz);
+    free(k.own_rad);
+    free(k.src);
     if (s != LC_OK) {
-        destroy(&p->base);
+        destroy(p ? &p->base : NULL);
         return s;
     }
     *out = &p->base;
