@@ -11,6 +11,7 @@ void LC_KFN(lc_lane_apply)(const lc_lane_args *args);
 /* each kind's sub-table, defined in its kernel file */
 extern const lc_kkind LC_KFN(lc_kkind_particles);
 extern const lc_kkind LC_KFN(lc_kkind_grid);
+extern const lc_kkind LC_KFN(lc_kkind_rbf);
 
 /* the grid methods live in two files; the sub-table is in grid_bvh.c */
 void LC_KFN(grid_brute)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st);

@@ -8,5 +8,6 @@ const lc_ktable LC_KFN(lc_ktable) = {
     .kind = {
         [LC_KKIND_PARTICLES] = &LC_KFN(lc_kkind_particles),
         [LC_KKIND_GRID] = &LC_KFN(lc_kkind_grid),
+        [LC_KKIND_RBF] = &LC_KFN(lc_kkind_rbf),
     },
 };

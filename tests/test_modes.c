@@ -1,6 +1,6 @@
 /* Render modes through the mode seam (kernels/mode.h): MIP images of
- * particles (both methods) and grids (BVH with its default heuristics, and
- * brute force) on every target this CPU runs, against the independent
+ * particles (both methods), grids (BVH with its default heuristics, and
+ * brute force) and RBF sets (BVH and brute force) on every target this CPU runs, against the independent
  * reference core (tests/ref) at SPEC.md's tolerances; bad modes refused. */
 #include <math.h>
 #include <stdlib.h>
@@ -11,7 +11,7 @@
 #include "ref/ref_core.h"
 #include "ref/ref_fields.h"
 
-enum { W = 48, H = 40, NP = 160, GX = 17, GY = 13, GZ = 11 };
+enum { W = 48, H = 40, NP = 160, GX = 17, GY = 13, GZ = 11, NR = 24 };
 
 /* Colour ramps that make the colour tell which value (and field) won. */
 static const float col0[] = {0.0f, 0.0f, 0.0f, 0.2f, 0.5f, 1.0f, 0.3f, 0.0f, 1.0f, 1.0f, 1.0f, 0.6f};
@@ -38,7 +38,12 @@ typedef struct scene {
     int dfield[NP];
     float grid[GX * GY * GZ];
     double dgrid[GX * GY * GZ];
+    float rc[3 * NR], rs[NR], rw[NR];
+    double drc[3 * NR], drs[NR], drw[NR];
 } scene;
+
+#define RBF_BIAS 0.1f
+#define RBF_EPS 1e-3f
 
 static void make_scene(scene *s)
 {
@@ -46,6 +51,12 @@ static void make_scene(scene *s)
         for (int a = 0; a < 3; a++) s->dpos[3 * i + a] = s->pos[3 * i + a] = (float)(4.0 * rnd() - 2.0);
         s->drad[i] = s->rad[i] = (float)(0.25 + 0.35 * rnd());
         s->dfield[i] = s->field[i] = (uint8_t)(i % 2);
+    }
+    /* RBFs of both signs over a bias */
+    for (int i = 0; i < NR; i++) {
+        for (int a = 0; a < 3; a++) s->drc[3 * i + a] = s->rc[3 * i + a] = (float)(3.0 * rnd() - 1.5);
+        s->drs[i] = s->rs[i] = (float)(0.2 + 0.4 * rnd());
+        s->drw[i] = s->rw[i] = (float)(i % 3 == 0 ? -0.4 * rnd() : 0.3 + 0.6 * rnd());
     }
     /* two blobs and a ramp, so maxima vary across the image */
     for (int k = 0; k < GZ; k++)
@@ -86,7 +97,9 @@ static lc_render_desc lib_view(const lc_volume *v, const lc_tf *tf, float eye_z)
     return d;
 }
 
-static void run_target(lc_target t, const scene *s, const float *want_p, const float *want_g)
+static const lc_box3 rbf_domain = {{-1.8f, -1.8f, -1.8f}, {1.8f, 1.8f, 1.8f}};
+
+static void run_target(lc_target t, const scene *s, const float *want_p, const float *want_g, const float *want_r)
 {
     lc_device *dev;
     if (lc_device_create(&(lc_device_desc){.target = t, .threads = 2}, &dev) != LC_OK) {
@@ -103,6 +116,10 @@ static void run_target(lc_target t, const scene *s, const float *want_p, const f
     lc_grid_desc gd = {.size = {GX, GY, GZ}, .type = LC_VALUE_FLOAT32, .data = s->grid,
                        .spacing = {0.25f, 0.25f, 0.25f}, .origin = {-2.0f, -1.5f, -1.25f}};
     CHECK(lc_grid_create(dev, &gd, &gv) == LC_OK, "%s: grid", lc_target_name(t));
+    lc_volume *rv = NULL;
+    lc_rbf_desc rd = {.count = NR, .centres = s->rc, .widths = s->rs, .weights = s->rw, .bias = RBF_BIAS,
+                      .eps = RBF_EPS, .domain = rbf_domain};
+    CHECK(lc_rbf_create(dev, &rd, &rv) == LC_OK, "%s: rbf", lc_target_name(t));
     float *img = malloc(sizeof(float) * 4 * W * H);
     char label[96];
     static const lc_method pm[] = {LC_METHOD_COHERENT, LC_METHOD_DIRECT}, gm[] = {LC_METHOD_BVH, LC_METHOD_BRUTE};
@@ -118,6 +135,13 @@ static void run_target(lc_target t, const scene *s, const float *want_p, const f
         snprintf(label, sizeof label, "mip-grid-%s-%s", lc_target_name(t), gn[m]);
         CHECK(lc_render(dev, &d, img, NULL) == LC_OK && imgcmp_check(label, img, want_g, W, H, 0, 0, NULL) == 0, "%s",
               label);
+        if (!rv) continue;
+        d = lib_view(rv, tf1, 8.0f);
+        d.method = gm[m];
+        d.range[0] = -0.5f, d.range[1] = 1.2f;
+        snprintf(label, sizeof label, "mip-rbf-%s-%s", lc_target_name(t), gn[m]);
+        CHECK(lc_render(dev, &d, img, NULL) == LC_OK && imgcmp_check(label, img, want_r, W, H, 0, 0, NULL) == 0, "%s",
+              label);
     }
     if (pv && img) { /* a bad mode is refused with a message naming it */
         lc_render_desc d = lib_view(pv, tf2, 9.0f);
@@ -128,6 +152,7 @@ static void run_target(lc_target t, const scene *s, const float *want_p, const f
     free(img);
     lc_volume_destroy(pv);
     lc_volume_destroy(gv);
+    lc_volume_destroy(rv);
     lc_tf_destroy(tf1);
     lc_tf_destroy(tf2);
     lc_device_destroy(dev);
@@ -149,6 +174,15 @@ int main(void)
     CHECK(ref_render_f(&psrc, &rp, want_p) == 0, "reference: particles");
     rp = ref_view(rtf, 8.0);
     CHECK(ref_render_f(&gsrc, &rp, want_g) == 0, "reference: grid");
+    ref_rbf_set rs = {NR, s.drc, s.drs, s.drw, RBF_BIAS, RBF_EPS};
+    ref_source rsrc;
+    ref_rbf_source(&rs, &rsrc);
+    for (int a = 0; a < 3; a++) rsrc.lo[a] = (&rbf_domain.lo.x)[a], rsrc.hi[a] = (&rbf_domain.hi.x)[a];
+    static float want_r[4 * W * H];
+    ref_tf rtf_r = rtf[0];
+    rtf_r.lo = -0.5, rtf_r.hi = 1.2;
+    rp = ref_view(&rtf_r, 8.0);
+    CHECK(ref_render_f(&rsrc, &rp, want_r) == 0, "reference: rbf");
     /* the comparison can fail: a reference of the wrong field colours must not pass */
     static float wrong[4 * W * H];
     ref_tf swapped[2] = {rtf[1], rtf[0]};
@@ -160,7 +194,7 @@ int main(void)
             printf("skip %s: not compiled or not supported by this CPU\n", lc_target_name((lc_target)t));
             continue;
         }
-        run_target((lc_target)t, &s, want_p, want_g);
+        run_target((lc_target)t, &s, want_p, want_g, want_r);
     }
     return check_summary("modes");
 }

@@ -37,6 +37,6 @@ typedef struct cli_kind {
     void (*print_stats)(const lc_volume *v, double load_seconds, FILE *f);
 } cli_kind;
 
-extern const cli_kind cli_particles, cli_grid;
+extern const cli_kind cli_particles, cli_grid, cli_rbf;
 
 #endif

@@ -15,8 +15,9 @@ static const char render_help[] =
     "usage: lanecast render INPUT -o OUT.png|.exr|.tif [options]\n"
     "       lanecast demo [-o OUT.png] [options]\n"
     "\n"
-    "Volume ray casting of particle data (sums of truncated Gaussians, Knoll et al. 2014) and of\n"
-    "structured volumes (implicit min-max BVH, Knoll et al. 2011); the kind follows INPUT.\n"
+    "Volume ray casting of particle data (sums of truncated Gaussians, Knoll et al. 2014), of\n"
+    "structured volumes (implicit min-max BVH, Knoll et al. 2011) and of RBF sets (Jang et al.\n"
+    "2004); the kind follows INPUT.\n"
     "The image format follows the extension of OUT (any OpenImageIO writes; 8-bit for png/jpg,\n"
     "float for exr/tif). The file is written under a temporary name and renamed when complete.\n"
     "\n"
@@ -43,7 +44,7 @@ static const char render_help[] =
     "\n"
     "execution:\n"
     "  --method M            particles: coherent (default; buffered packets) or direct (per-sample\n"
-    "                        gather); volumes: bvh (default) or brute\n"
+    "                        gather); volumes and RBF sets: bvh (default) or brute\n"
     "  --packet N            rays per packet side: 8 = 8x8 groups (default), 1 = lane-width packets\n"
     "  --target T            scalar, sse4, avx2, avx512, avx512_8 or auto (default auto; see lanecast\n"
     "                        targets); avx512_8 = AVX-512 instructions at 8 lanes, for width studies\n"
@@ -58,7 +59,7 @@ static const char render_help[] =
     "exit status: 0 ok, 1 bad input or failed work (one message on stderr), 2 bad usage\n";
 
 /* The kinds the command line knows, one row each (cli_kind.h). */
-static const cli_kind *const kinds[] = {&cli_particles, &cli_grid};
+static const cli_kind *const kinds[] = {&cli_particles, &cli_grid, &cli_rbf};
 #define NKINDS ((int)(sizeof kinds / sizeof kinds[0]))
 
 lc_status cli_demo_scene(lc_device *dev, lc_volume **out, lc_tf **tf); /* cli_particles.c */
@@ -292,6 +293,7 @@ static void print_stats(const ropts *o, const cli_kind *kind, const lc_volume *v
     printf("render        %.3f s (%.2f fps)\n", t, 1.0 / t);
     printf("rays          %llu\n", (unsigned long long)st->rays);
     printf("samples       %llu\n", (unsigned long long)st->samples);
+    /* particles and RBF sets evaluate Gaussians, grids reconstruct voxels */
     printf(kind->kind == LC_KIND_GRID ? "voxel samples %llu (%.1f M/s)\n" : "gaussians     %llu (%.1f M/s)\n",
            (unsigned long long)st->kernel_evals, (double)st->kernel_evals / t / 1e6);
     printf("nodes         %llu, leaves %llu, passes %llu\n", (unsigned long long)st->nodes,

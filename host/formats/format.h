@@ -54,5 +54,6 @@ const lc_option *lci_option_find(const lci_read_args *a, const char *key);
 /* The readers (one file each family) */
 extern const lci_format lci_format_xyz, lci_format_pdb, lci_format_raw_particles;
 extern const lci_format lci_format_nrrd, lci_format_metaimage, lci_format_raw_volume;
+extern const lci_format lci_format_rbf, lci_format_rbf_binary;
 
 #endif

@@ -10,10 +10,11 @@
 #include <zlib.h>
 #include "host/formats/format.h"
 
-/* Magic-byte formats first: a file that says what it is wins over its name. */
+/* Magic-byte formats first: a file that says what it is wins over its name.
+ * Formats sharing an extension: the first listed is the fallback (rbf text). */
 static const lci_format *const formats[] = {
-    &lci_format_nrrd, &lci_format_metaimage, &lci_format_pdb, &lci_format_xyz,
-    &lci_format_raw_particles, &lci_format_raw_volume,
+    &lci_format_nrrd, &lci_format_metaimage, &lci_format_pdb, &lci_format_rbf, &lci_format_rbf_binary,
+    &lci_format_xyz, &lci_format_raw_particles, &lci_format_raw_volume,
 };
 #define NFORMATS ((int)(sizeof formats / sizeof formats[0]))
 

@@ -55,6 +55,7 @@ struct lc_volume {
 const lci_kind_ops *lci_kind(lc_kind kind);
 extern const lci_kind_ops lci_particles_ops;
 extern const lci_kind_ops lci_grid_ops;
+extern const lci_kind_ops lci_rbf_ops;
 
 /* The volume as kind k, or NULL (with an error naming fn) if it is another kind. */
 void *lci_volume_as(const lc_volume *v, lc_kind k, const char *fn);

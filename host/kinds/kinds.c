@@ -7,6 +7,7 @@
 static const lci_kind_ops *const rows[LC_KIND_COUNT] = {
     [LC_KIND_PARTICLES] = &lci_particles_ops,
     [LC_KIND_GRID] = &lci_grid_ops,
+    [LC_KIND_RBF] = &lci_rbf_ops,
 };
 
 const lci_kind_ops *lci_kind(lc_kind kind)

@@ -192,10 +192,11 @@ typedef enum lc_kind {
     LC_KIND_NONE = 0,
     LC_KIND_PARTICLES = 1, /* sums of truncated Gaussians (Knoll et al. 2014) */
     LC_KIND_GRID = 2,      /* structured volumes (Knoll et al. 2011) */
-    LC_KIND_COUNT = 3
+    LC_KIND_RBF = 3,       /* RBF-encoded volumes: sums of truncated Gaussians plus a bias (Jang et al. 2004) */
+    LC_KIND_COUNT = 4
 } lc_kind;
 
-/* "particles", "grid"; NULL for a value out of range. */
+/* "particles", "grid", "rbf"; NULL for a value out of range. */
 LC_API const char *lc_kind_name(lc_kind kind);
 
 typedef struct lc_volume_info {
@@ -203,7 +204,7 @@ typedef struct lc_volume_info {
     lc_box3 bounds;   /* where the field may be non-zero with the current parameters */
     int nfields;      /* fields (1..LC_MAX_FIELDS) */
     float range[2];   /* the value range a TF maps by default (grids: the voxel range;
-                         particles: [0, |kappa|]) */
+                         particles: [0, |kappa|]; RBF sets: a conservative bound, lc_rbf_info) */
 } lc_volume_info;
 
 /* NULL is ignored. Objects are destroyed before their device. */
@@ -215,7 +216,8 @@ LC_API lc_status lc_volume_get_info(const lc_volume *volume, lc_volume_info *out
 /* Evaluates every field (and optionally its gradient) at n points (xyz
  * interleaved) with the volume's current parameters, on the device's target:
  * values[i * nfields + f], gradients[3 * (i * nfields + f) + c]. gradients may
- * be NULL. Grids give 0 outside their domain. */
+ * be NULL. Grids give 0 outside their domain; RBF sets give f(x) everywhere
+ * (their domain only bounds where rays sample). */
 LC_API lc_status lc_volume_sample(lc_device *device, const lc_volume *volume, size_t n, const float *points,
                                   float *values, float *gradients);
 
@@ -338,6 +340,59 @@ LC_API lc_status lc_grid_get_info(const lc_volume *grid, lc_grid_info *out);
 /* Not while the volume is being rendered. */
 LC_API lc_status lc_grid_set_params(lc_volume *grid, const lc_grid_params *params);
 
+/* ---- RBF sets (RBF-encoded volumes, Jang et al. 2004) */
+
+/* An RBF set: f(x) = w0 + sum over i with |x - mu_i| < R_i of
+ * w_i exp(-|x - mu_i|^2 / (2 s_i^2)), with the support (eq. 3)
+ * R_i = s_i sqrt(2 ln(|w_i| / eps)): each term is cut where its magnitude
+ * falls to eps. Terms with |w_i| <= eps have no support and are dropped
+ * (counted in lc_rbf_info.dropped). The gradient is analytic.
+ * RBF sets have no per-render parameters (no lc_rbf_params or
+ * lc_rbf_set_params): eps and the domain change the supports, hence the BVH,
+ * so they are build parameters; create a new set to change them. */
+typedef struct lc_rbf_desc {
+    size_t count;
+    const float *centres; /* 3 * count floats, x y z interleaved (mu_i) */
+    const float *widths;  /* count widths s_i > 0 */
+    const float *weights; /* count weights w_i, any sign */
+    float bias;           /* w0 */
+    /* truncation tolerance > 0; 0 = 1e-4 * max |w_i|: each dropped tail is below
+       1e-4 of the strongest term, under a fortieth of an 8-bit step of a TF
+       spanning max |w|, while R_i stays 4.3 s_i at the strongest term */
+    float eps;
+    /* where rays sample (the lattice clip box); all zero = the union of the
+       supports. With a bias the field is w0 outside every support, so a domain
+       bounds the constant region that rays integrate. lo < hi on every axis. */
+    lc_box3 domain;
+    int leaf_size;        /* RBFs per BVH leaf, 1..32; 0 = 4 */
+} lc_rbf_desc;
+
+typedef struct lc_rbf_info {
+    size_t count;         /* RBFs kept */
+    size_t dropped;       /* RBFs with |w_i| <= eps (no support) */
+    float bias, eps;      /* eps: the one in use (default filled in) */
+    lc_box3 bounds;       /* where rays sample: the domain, or the union of the supports */
+    lc_box3 support_bounds; /* union of the supports (empty box at 0 when none) */
+    float min_width, max_width, max_support; /* over kept RBFs (0 when none) */
+    /* the default value range: w0 plus, over every BVH leaf, the sums of the
+       positive (negative) weights of all RBFs whose supports reach the leaf's
+       grown box; conservative: f(x) lies inside it everywhere */
+    float range[2];
+    double build_seconds; /* BVH build, flattening and range bound */
+    size_t bvh_bytes, data_bytes;
+    int bvh_nodes, bvh_depth, leaf_size;
+} lc_rbf_info;
+
+/* Copies the RBFs (the caller's arrays may be freed afterwards) and builds
+ * the BVH over their supports with Embree. Fails with
+ * LC_ERROR_INVALID_ARGUMENT, naming the first bad index and the number of bad
+ * ones, for a non-finite centre, width or weight or a width <= 0; and for a
+ * non-finite bias, eps < 0 or non-finite, a domain with lo >= hi on an axis
+ * (other than all zero), or a bad leaf size. count = 0 is valid (the field is
+ * the bias inside the domain). */
+LC_API lc_status lc_rbf_create(lc_device *device, const lc_rbf_desc *desc, lc_volume **out);
+LC_API lc_status lc_rbf_get_info(const lc_volume *rbf, lc_rbf_info *out);
+
 /* ---------------------------------------------------------------- files */
 
 /* One option of a file format or of the kind it makes, as text: "radius" =
@@ -404,11 +459,12 @@ typedef enum lc_mode {
 
 /* How a kind walks its data; each kind takes its own (DEFAULT = the fast one). */
 typedef enum lc_method {
-    LC_METHOD_DEFAULT = 0,  /* coherent for particles, bvh for grids */
+    LC_METHOD_DEFAULT = 0,  /* coherent for particles, bvh for grids and RBF sets */
     LC_METHOD_COHERENT = 1, /* particles: coherent packet traversal with sample buffers (Knoll 2014) */
     LC_METHOD_DIRECT = 2,   /* particles: per-sample gather through the BVH (the paper's baseline) */
-    LC_METHOD_BVH = 3,      /* grids: implicit min-max BVH traversal (Knoll 2011) */
-    LC_METHOD_BRUTE = 4     /* grids: every sample, no BVH */
+    LC_METHOD_BVH = 3,      /* grids: implicit min-max BVH traversal (Knoll 2011); RBF sets:
+                               per-sample gather of the RBFs through the BVH of their supports */
+    LC_METHOD_BRUTE = 4     /* grids: every sample, no BVH; RBF sets: every RBF at every sample */
 } lc_method;
 
 /* Phong parameters; all zero means SPEC.md's defaults ka 0.2, kd 0.8, ks 0.4, p 16. */
@@ -444,7 +500,7 @@ typedef struct lc_render_stats {
     double seconds;       /* wall time of the render */
     uint64_t rays;
     uint64_t samples;      /* samples integrated (empty samples skipped exactly when tau(0) = 0 are not counted) */
-    uint64_t kernel_evals; /* Gaussian evaluations (particles) or voxel reconstructions (grids) */
+    uint64_t kernel_evals; /* Gaussian evaluations (particles, RBF sets) or voxel reconstructions (grids) */
     uint64_t nodes;        /* BVH nodes visited */
     uint64_t leaves;
     uint64_t passes;       /* coherent buffer passes */

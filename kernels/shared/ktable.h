@@ -13,8 +13,8 @@ typedef void (*lc_ktile_fn)(const void *scene, const lc_kframe *frame, const lc_
                             lc_kstats *stats);
 
 /* A kind's methods: the accelerated one (particles: coherent packets, grids:
- * the min-max BVH) and the baseline (particles: per-sample gather, grids:
- * brute force). The host maps lc_method onto these. */
+ * the min-max BVH, RBF sets: per-sample gather through the BVH) and the
+ * baseline (particles: per-sample gather, grids and RBF sets: brute force). The host maps lc_method onto these. */
 enum { LC_KMETHOD_FAST = 0, LC_KMETHOD_BASE = 1, LC_KMETHOD_COUNT = 2 };
 
 /* One data kind's kernels on this target. */
@@ -29,7 +29,7 @@ typedef struct lc_kkind {
 } lc_kkind;
 
 /* Rows of lc_ktable.kind, one per data kind. */
-enum { LC_KKIND_PARTICLES = 0, LC_KKIND_GRID = 1, LC_KKIND_COUNT = 2 };
+enum { LC_KKIND_PARTICLES = 0, LC_KKIND_GRID = 1, LC_KKIND_RBF = 2, LC_KKIND_COUNT = 3 };
 
 typedef struct lc_ktable {
     const char *name;

@@ -1,0 +1,374 @@
+/* RBF sets (Jang et al. 2004): validation, the truncation supports of eq. 3,
+ * the BVH over the supports (the particle builder, radius = R_i), a
+ * conservative value range, and the per-frame kernel scene. Render only: no
+ * encoder. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "host/kinds/kind.h"
+#include "bvh/particle_bvh.h"
+#include "kernels/shared/krbf.h"
+
+typedef struct rbf {
+    lc_volume base; /* first: the kind-neutral handle */
+    lc_rbf_info info;
+    lci_pbvh bvh;
+    float *cx, *cy, *cz, *r2, *nis, *w, *R; /* leaf order */
+} rbf;
+
+static void destroy(lc_volume *v)
+{
+    rbf *p = (rbf *)v;
+    if (!p) return;
+    lci_pbvh_free(&p->bvh);
+    free(p->cx), free(p->cy), free(p->cz), free(p->r2), free(p->nis), free(p->w), free(p->R);
+    free(p);
+}
+
+lc_status lc_rbf_get_info(const lc_volume *v, lc_rbf_info *out)
+{
+    const rbf *p = lci_volume_as(v, LC_KIND_RBF, "lc_rbf_get_info");
+    if (!p) return LC_ERROR_INVALID_ARGUMENT;
+    if (!out) return lci_error(v->device, LC_ERROR_INVALID_ARGUMENT, "lc_rbf_get_info: out is NULL");
+    *out = p->info;
+    return LC_OK;
+}
+
+/* Why RBF i is invalid, or NULL. */
+static const char *invalid(const lc_rbf_desc *d, size_t i)
+{
+    const float *c = d->centres + 3 * i;
+    if (!isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2])) return "non-finite centre";
+    if (!(d->widths[i] > 0.0f) || !isfinite(d->widths[i])) return "width not finite and > 0";
+    if (!isfinite(d->weights[i])) return "non-finite weight";
+    return NULL;
+}
+
+static int box_is_zero(const lc_box3 *b)
+{
+    return b->lo.x == 0.0f && b->lo.y == 0.0f && b->lo.z == 0.0f && b->hi.x == 0.0f && b->hi.y == 0.0f &&
+           b->hi.z == 0.0f;
+}
+
+/* The descriptor's scalar checks; the per-RBF ones follow in create. */
+static lc_status check_desc(lc_device *dev, const lc_rbf_desc *d)
+{
+    const char *fn = "lc_rbf_create";
+    if (d->count > 0 && (!d->centres || !d->widths || !d->weights))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %zu RBFs but centres, widths or weights is NULL", fn,
+                         d->count);
+    if (d->count > (size_t)INT32_MAX / 2)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %zu RBFs, at most %d", fn, d->count, INT32_MAX / 2);
+    if (d->leaf_size < 0 || d->leaf_size > 32)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: leaf_size = %d, expected 0 (default) or 1 to 32", fn,
+                         d->leaf_size);
+    if (!isfinite(d->bias))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: bias = %g, expected a finite value", fn, (double)d->bias);
+    if (!(d->eps >= 0.0f) || !isfinite(d->eps))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: eps = %g, expected 0 (default) or a finite value > 0",
+                         fn, (double)d->eps);
+    const lc_box3 *b = &d->domain;
+    if (!box_is_zero(b)) {
+        const float v[6] = {b->lo.x, b->lo.y, b->lo.z, b->hi.x, b->hi.y, b->hi.z};
+        int ok = 1;
+        for (int k = 0; k < 6; k++) ok &= isfinite(v[k]) != 0;
+        if (!ok || !(v[0] < v[3] && v[1] < v[4] && v[2] < v[5]))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "%s: domain (%g,%g,%g)-(%g,%g,%g): expected finite lo < hi on every axis, or all zero", fn,
+                             (double)v[0], (double)v[1], (double)v[2], (double)v[3], (double)v[4], (double)v[5]);
+    }
+    size_t bad = 0, first = 0;
+    const char *why = NULL;
+    for (size_t i = 0; i < d->count; i++) {
+        const char *w = invalid(d, i);
+        if (w && !bad++) first = i, why = w;
+    }
+    if (bad)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %zu of %zu RBFs are invalid; the first is RBF %zu (%s)", fn,
+                         bad, d->count, first, why);
+    return LC_OK;
+}
+
+/* The default eps (lanecast.h): 1e-4 of the strongest weight. */
+static float pick_eps(const lc_rbf_desc *d)
+{
+    if (d->eps > 0.0f) return d->eps;
+    float m = 0.0f;
+    for (size_t i = 0; i < d->count; i++) m = fmaxf(m, fabsf(d->weights[i]));
+    return m > 0.0f ? 1e-4f * m : 1.0f; /* all weights zero: nothing has support either way */
+}
+
+/* Eq. 3 in double, so the support and the box agree with a double reference
+ * to float rounding: R_i = s_i sqrt(2 ln(|w_i| / eps)), 0 when |w_i| <= eps. */
+static double support(float s, float w, float eps)
+{
+    double q = fabs((double)w) / (double)eps;
+    return q > 1.0 ? (double)s * sqrt(2.0 * log(q)) : 0.0;
+}
+
+/* Squared distance from point c to the box [lo, hi]. */
+static double box_d2(const float c[3], const float lo[3], const float hi[3])
+{
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double e = c[k] < lo[k] ? (double)lo[k] - c[k] : c[k] > hi[k] ? (double)c[k] - hi[k] : 0.0;
+        d2 += e * e;
+    }
+    return d2;
+}
+
+/* The default range (lanecast.h, lc_rbf_info.range). A point x inside the
+ * support of a term of leaf L lies in L's centre box grown by L's largest R,
+ * and every term contributing at x has a support reaching x, hence that box:
+ * so f(x) - w0 lies between the negative and the positive weight sums over
+ * the supports reaching the grown box of any leaf. Outside all supports
+ * f = w0. One BVH query per leaf. */
+static lc_status range_bound(lc_device *dev, rbf *p, float out[2])
+{
+    double lo = p->info.bias, hi = p->info.bias;
+    int32_t *stack = malloc(sizeof(int32_t) * (size_t)(p->bvh.depth + 4));
+    if (!stack) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: out of memory");
+    for (int32_t l = 0; l < p->bvh.nnodes; l++) {
+        const lc_kpnode *leaf = &p->bvh.nodes[l];
+        if (leaf->count == 0) continue;
+        float g = p->bvh.rmax[l], blo[3], bhi[3];
+        for (int k = 0; k < 3; k++) blo[k] = leaf->lo[k] - g, bhi[k] = leaf->hi[k] + g;
+        double pos = 0.0, neg = 0.0;
+        int sp = 0;
+        stack[sp++] = 0;
+        while (sp > 0) {
+            const int32_t n = stack[--sp];
+            const lc_kpnode *node = &p->bvh.nodes[n];
+            float r = p->bvh.rmax[n], nlo[3], nhi[3];
+            int overlap = 1;
+            for (int k = 0; k < 3; k++) {
+                nlo[k] = node->lo[k] - r, nhi[k] = node->hi[k] + r;
+                overlap &= nlo[k] <= bhi[k] && nhi[k] >= blo[k];
+            }
+            if (!overlap) continue;
+            if (node->count == 0) {
+                stack[sp++] = node->first, stack[sp++] = node->first + 1;
+                continue;
+            }
+            for (int32_t j = node->first; j < node->first + node->count; j++) {
+                const float c[3] = {p->cx[j], p->cy[j], p->cz[j]};
+                if (box_d2(c, blo, bhi) > (double)p->R[j] * p->R[j]) continue;
+                pos += p->w[j] > 0.0f ? p->w[j] : 0.0;
+                neg += p->w[j] < 0.0f ? p->w[j] : 0.0;
+            }
+        }
+        hi = fmax(hi, (double)p->info.bias + pos);
+        lo = fmin(lo, (double)p->info.bias + neg);
+    }
+    free(stack);
+    /* a hair wider: the kernels sum in float */
+    double pad = 1e-6 * (fabs(lo) + fabs(hi));
+    out[0] = (float)(lo - pad), out[1] = (float)(hi + pad);
+    return LC_OK;
+}
+
+/* Copies the kept RBFs (|w| > eps) into xyz/R in input order. */
+static size_t keep(const lc_rbf_desc *d, float eps, float *xyz, float *R, size_t *src, lc_box3 *sb)
+{
+    size_t n = 0;
+    *sb = (lc_box3){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+    for (size_t i = 0; i < d->count; i++) {
+        double r = support(d->widths[i], d->weights[i], eps);
+        if (!(r > 0.0)) continue;
+        const float *c = d->centres + 3 * i;
+        memcpy(xyz + 3 * n, c, sizeof(float) * 3);
+        R[n] = (float)r;
+        src[n++] = i;
+        sb->lo.x = fminf(sb->lo.x, (float)(c[0] - r)), sb->hi.x = fmaxf(sb->hi.x, (float)(c[0] + r));
+        sb->lo.y = fminf(sb->lo.y, (float)(c[1] - r)), sb->hi.y = fmaxf(sb->hi.y, (float)(c[1] + r));
+        sb->lo.z = fminf(sb->lo.z, (float)(c[2] - r)), sb->hi.z = fmaxf(sb->hi.z, (float)(c[2] + r));
+    }
+    if (n == 0) *sb = (lc_box3){{0, 0, 0}, {0, 0, 0}};
+    return n;
+}
+
+/* BVH over the kept supports, leaf-ordered arrays, the range bound. */
+static lc_status build(lc_device *dev, rbf *p, const lc_rbf_desc *d, const float *xyz, const float *R,
+                       const size_t *src, size_t n)
+{
+    lc_rbf_info *in = &p->info;
+    char err[256];
+    if (n > 0) {
+        void *e = lci_embree_device(dev);
+        if (!e) return LC_ERROR_INTERNAL;
+        if (lci_pbvh_build(e, xyz, R, 0.0f, n, in->leaf_size, &p->bvh, err, sizeof err) != 0)
+            return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: BVH build failed: %s", err);
+    }
+    size_t m = n ? n : 1;
+    float **arr[] = {&p->cx, &p->cy, &p->cz, &p->r2, &p->nis, &p->w, &p->R};
+    for (size_t a = 0; a < sizeof arr / sizeof arr[0]; a++)
+        if (!(*arr[a] = malloc(sizeof(float) * m)))
+            return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: out of memory for %zu RBFs", n);
+    in->min_width = n ? INFINITY : 0.0f;
+    for (size_t j = 0; j < n; j++) {
+        uint32_t o = p->bvh.order[j];
+        size_t i = src[o];
+        float s = d->widths[i];
+        p->cx[j] = xyz[3 * o], p->cy[j] = xyz[3 * o + 1], p->cz[j] = xyz[3 * o + 2];
+        p->R[j] = R[o];
+        p->r2[j] = R[o] * R[o];
+        p->nis[j] = -1.0f / (2.0f * s * s);
+        p->w[j] = d->weights[i];
+        in->min_width = fminf(in->min_width, s);
+        in->max_width = fmaxf(in->max_width, s);
+        in->max_support = fmaxf(in->max_support, R[o]);
+    }
+    if (p->bvh.order) free(p->bvh.order), p->bvh.order = NULL;
+    return range_bound(dev, p, in->range);
+}
+
+static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
+{
+    const lc_rbf_desc *d = desc;
+    *out = NULL;
+    lc_status s = check_desc(dev, d);
+    if (s != LC_OK) return s;
+    rbf *p = calloc(1, sizeof *p);
+    size_t m = d->count ? d->count : 1;
+    float *xyz = malloc(sizeof(float) * 3 * m), *R = malloc(sizeof(float) * m);
+    size_t *src = malloc(sizeof(size_t) * m);
+    if (!p || !xyz || !R || !src) {
+        free(p), free(xyz), free(R), free(src);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: out of memory for %zu RBFs", d->count);
+    }
+    p->base.ops = &lci_rbf_ops;
+    p->base.device = dev;
+    lc_rbf_info *in = &p->info;
+    in->bias = d->bias;
+    in->eps = pick_eps(d);
+    in->leaf_size = d->leaf_size ? d->leaf_size : 4;
+    double t0 = lci_now();
+    size_t n = keep(d, in->eps, xyz, R, src, &in->support_bounds);
+    in->count = n;
+    in->dropped = d->count - n;
+    in->bounds = box_is_zero(&d->domain) ? in->support_bounds : d->domain;
+    s = build(dev, p, d, xyz, R, src, n);
+    free(xyz), free(R), free(src);
+    if (s != LC_OK) {
+        destroy(&p->base);
+        return s;
+    }
+    in->build_seconds = lci_now() - t0;
+    in->bvh_nodes = p->bvh.nnodes;
+    in->bvh_depth = p->bvh.depth;
+    in->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + sizeof(float));
+    in->data_bytes = n * 7 * sizeof(float);
+    lci_log(dev, LC_LOG_INFO, "rbf: %zu RBFs (%zu without support at eps %g), BVH %d nodes depth %d, range %g..%g, %.3f s",
+            n, in->dropped, (double)in->eps, in->bvh_nodes, in->bvh_depth, (double)in->range[0],
+            (double)in->range[1], in->build_seconds);
+    *out = &p->base;
+    return LC_OK;
+}
+
+lc_status lc_rbf_create(lc_device *dev, const lc_rbf_desc *desc, lc_volume **out)
+{
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_rbf_create: device is NULL");
+    if (!out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_rbf_create: out is NULL");
+    *out = NULL;
+    if (!desc) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_rbf_create: desc is NULL");
+    return create(dev, desc, out);
+}
+
+/* No kept RBF and no domain: nothing to sample. */
+static int is_empty(const rbf *p) { return p->info.count == 0 && box_is_zero(&p->info.bounds); }
+
+static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *out)
+{
+    (void)dev;
+    const rbf *p = (const rbf *)v;
+    const lc_box3 *b = &p->info.bounds;
+    out->bounds = *b;
+    /* a quarter of the smallest width resolves every Gaussian (as particles); no RBF:
+       the constant bias needs no resolution, 1/256 of the domain's diagonal */
+    float dx = b->hi.x - b->lo.x, dy = b->hi.y - b->lo.y, dz = b->hi.z - b->lo.z;
+    float diag = sqrtf(dx * dx + dy * dy + dz * dz);
+    out->default_dt = p->info.count ? 0.25f * p->info.min_width : diag > 0.0f ? diag / 256.0f : 1.0f;
+    out->default_range[0] = p->info.range[0];
+    out->default_range[1] = p->info.range[1];
+    out->nfields = 1;
+    return LC_OK;
+}
+
+static lc_krbf *kscene(lc_device *dev, const rbf *p)
+{
+    lc_krbf *k = lci_aligned_alloc(64, sizeof *k);
+    if (!k) {
+        lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "out of memory for the RBF scene");
+        return NULL;
+    }
+    k->nodes = p->bvh.nodes;
+    k->node_rmax = p->bvh.rmax;
+    k->cx = p->cx, k->cy = p->cy, k->cz = p->cz;
+    k->r2 = p->r2, k->nis = p->nis, k->w = p->w;
+    k->count = (int64_t)p->info.count;
+    k->nnodes = p->bvh.nnodes;
+    k->depth = p->bvh.depth;
+    k->bias = p->info.bias;
+    k->empty = is_empty(p);
+    const lc_box3 *b = &p->info.bounds;
+    k->lo[0] = b->lo.x, k->lo[1] = b->lo.y, k->lo[2] = b->lo.z;
+    k->hi[0] = b->hi.x, k->hi[1] = b->hi.y, k->hi[2] = b->hi.z;
+    return k;
+}
+
+static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *d, const lc_kframe *frame,
+                         lci_prepared *out)
+{
+    static const char *const names[] = {"default", "coherent", "direct", "bvh", "brute"};
+    lc_method m = d->method;
+    if (m != LC_METHOD_DEFAULT && m != LC_METHOD_BVH && m != LC_METHOD_BRUTE)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %s does not apply to RBF sets (bvh or brute)",
+                         (int)m >= 0 && (int)m < 5 ? names[m] : "(unknown)");
+    lc_krbf *k = kscene(dev, (const rbf *)v);
+    if (!k) return LC_ERROR_OUT_OF_MEMORY;
+    int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
+    const lc_kkind *kk = dev->kt->kind[LC_KKIND_RBF];
+    out->tile = kk->render[km];
+    out->kscene = k;
+    out->scratch_bytes = kk->scratch_bytes[km](k, frame);
+    out->owned = k; /* freed with free(): posix_memalign memory */
+    return LC_OK;
+}
+
+static lc_status sample_scene(lc_device *dev, const lc_volume *v, void **ks, uint64_t *scratch_bytes)
+{
+    lc_krbf *k = kscene(dev, (const rbf *)v);
+    if (!k) return LC_ERROR_OUT_OF_MEMORY;
+    *ks = k;
+    *scratch_bytes = dev->kt->kind[LC_KKIND_RBF]->sample_scratch_bytes(k);
+    return LC_OK;
+}
+
+/* Build options a file load may carry (lc_load_desc), applied to the desc. */
+static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, const char *file)
+{
+    lc_rbf_desc *d = desc;
+    if (!strcmp(o->key, "leaf_size")) return lci_option_int(dev, file, o, 1, 32, &d->leaf_size);
+    if (!strcmp(o->key, "eps")) return lci_option_float(dev, file, o, 0.0f, 1e30f, &d->eps);
+    if (!strcmp(o->key, "domain")) {
+        float v[6];
+        lc_status s = lci_option_floats(dev, file, o, 6, v);
+        if (s == LC_OK) d->domain = (lc_box3){{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+        return s;
+    }
+    return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to RBF sets", file, o->key);
+}
+
+const lci_kind_ops lci_rbf_ops = {
+    .kind = LC_KIND_RBF,
+    .name = "rbf",
+    .krow = LC_KKIND_RBF,
+    .option_keys = "leaf_size eps domain",
+    .create = create,
+    .set_option = set_option,
+    .destroy = destroy,
+    .frame_info = frame_info,
+    .prepare = prepare,
+    .sample_scene = sample_scene,
+};
