@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <zlib.h>
 #include "host/formats/format.h"
+#include "host/formats/text_reader.h"
 
 /* Magic-byte formats first: a file that says what it is wins over its name. */
 static const lci_format *const formats[] = {
@@ -92,28 +92,12 @@ static void extension(const char *path, char *ext, size_t n, int *gz)
     if (dot && (size_t)(base + len - dot) < n) snprintf(ext, n, "%.*s", (int)(base + len - dot), dot);
 }
 
-/* The first bytes of the file (inflated when gzip) and whether it is gzip. */
-static lc_status head_of(lc_device *dev, const char *path, unsigned char *head, size_t cap, size_t *n, int *gzip)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    unsigned char m[2] = {0, 0};
-    *gzip = fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
-    fclose(f);
-    gzFile gz = gzopen(path, "rb");
-    if (!gz) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    int k = gzread(gz, head, (unsigned)cap);
-    gzclose(gz);
-    *n = k > 0 ? (size_t)k : 0;
-    return LC_OK;
-}
-
 static lc_status decide(lc_device *dev, const char *path, const lc_load_desc *d, const lci_format **out, int *gzip)
 {
     *out = NULL;
     unsigned char head[512];
     size_t n = 0;
-    lc_status s = head_of(dev, path, head, sizeof head, &n, gzip);
+    lc_status s = lci_file_head(dev, path, head, sizeof head, &n, gzip);
     if (s != LC_OK) return s;
     if (d->format && d->format[0]) {
         *out = by_name(d->format);
