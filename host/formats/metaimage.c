@@ -39,6 +39,7 @@ static lc_status field(lci_header_lines *r, const char *k, const char *v, lci_vo
         h->big_endian = !strcasecmp(v, "True");
     } else if (!strcasecmp(k, "CompressedData")) {
         h->gzip = !strcasecmp(v, "True");
+        if (h->gzip && !LC_HAVE_ZLIB) return lci_missing_at(r, "CompressedData = True");
     } else if (!strcasecmp(k, "HeaderSize")) {
         h->byte_skip = strtoll(v, NULL, 10);
     } else if (!strcasecmp(k, "ElementDataFile")) {

@@ -34,7 +34,10 @@ static lc_status layout_field(lci_header_lines *r, const char *k, const char *v,
     int ln = r->ln;
     if (!strcasecmp(k, "encoding")) {
         if (!strcasecmp(v, "raw")) h->gzip = 0;
-        else if (!strcasecmp(v, "gzip") || !strcasecmp(v, "gz")) h->gzip = 1;
+        else if (!strcasecmp(v, "gzip") || !strcasecmp(v, "gz")) {
+            h->gzip = 1;
+            if (!LC_HAVE_ZLIB) return lci_missing_at(r, "gzip encoding");
+        }
         else return BAD("%s:%d: encoding \"%s\" is not supported (raw or gzip)", path, ln, v);
     } else if (!strcasecmp(k, "endian")) {
         if (!strcasecmp(v, "little")) h->big_endian = 0;

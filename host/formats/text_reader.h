@@ -14,7 +14,7 @@ typedef struct lci_text {
     lc_device *dev;
     const char *path;
     FILE *f;   /* a plain file, or NULL */
-    void *gz;  /* a gzFile when the file is gzip-compressed, or NULL */
+    void *gz;  /* a gzFile when the file is gzip-compressed (LC_HAVE_ZLIB), or NULL */
     char line[LCI_LINE_MAX];
     long lineno; /* of the line in `line`, 1-based */
 } lci_text;

@@ -1,6 +1,7 @@
 /* Header lines, options and voxel reading shared by the volume formats
  * (volume_data.h). Every error is one line naming the file (and the header
- * line); sizes are checked before allocating. */
+ * line); sizes are checked before allocating. Compressed voxels need zlib
+ * (LC_HAVE_ZLIB); the headers ask for it at their own line first. */
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -8,8 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <zlib.h>
 #include "host/formats/volume_data.h"
+#if LC_HAVE_ZLIB
+#include <zlib.h>
+#endif
 #include "host/kinds/grid.h"
 
 static char *trim(char *s)
@@ -48,6 +51,13 @@ lc_status lci_header_next(lci_header_lines *r, char **key, char **value)
     return LC_OK;
 }
 
+lc_status lci_missing_at(const lci_header_lines *r, const char *what)
+{
+    char where[1100];
+    snprintf(where, sizeof where, "%s:%d", r->path, r->ln);
+    return lci_missing(r->dev, where, what, LCI_FEATURE_ZLIB);
+}
+
 lc_status lci_header_done(lci_header_lines *r, lci_vol_header *h, const char *type_key, const char *sizes_key)
 {
     if (!h->have_type) return lci_error(r->dev, LC_ERROR_FORMAT, "%s: the header gives no %s", r->path, type_key);
@@ -83,6 +93,7 @@ int lci_parse_sizes(const char *v, int64_t *out, int n)
     return *v == 0;
 }
 
+#if LC_HAVE_ZLIB
 /* Inflates `avail` bytes at `in` (gzip or zlib wrapper) into exactly `bytes`
  * at dst: the stream must end there, neither short nor long. */
 static lc_status inflate_exact(lc_device *dev, const char *file, unsigned char *in, uint64_t avail, uint64_t bytes,
@@ -134,6 +145,14 @@ static lc_status inflate_exact(lc_device *dev, const char *file, unsigned char *
                          (unsigned long long)bytes);
     return LC_OK;
 }
+#else
+static lc_status inflate_exact(lc_device *dev, const char *file, unsigned char *in, uint64_t avail, uint64_t bytes,
+                               void *dst)
+{
+    (void)in, (void)avail, (void)bytes, (void)dst;
+    return lci_missing(dev, file, "compressed voxel data", LCI_FEATURE_ZLIB);
+}
+#endif
 
 /* Reads exactly `bytes` of voxels from `file` starting at `offset`: raw data
  * must fill the rest of the file exactly; gzip data must inflate to exactly

@@ -48,6 +48,8 @@ typedef struct lci_header_lines {
 /* The next key and value (trimmed, pointing into r->line), skipping blank
  * lines and comments; *key = NULL at the end of the header. */
 lc_status lci_header_next(lci_header_lines *r, char **key, char **value);
+/* The error for a header asking for a feature this build lacks, naming the line. */
+lc_status lci_missing_at(const lci_header_lines *r, const char *what);
 /* Checks that the header gave a type and sizes (named as the format calls
  * them) and notes where it ended. */
 lc_status lci_header_done(lci_header_lines *r, lci_vol_header *h, const char *type_key, const char *sizes_key);
