@@ -12,7 +12,7 @@
 
 /* Magic-byte formats first: a file that says what it is wins over its name. */
 static const lci_format *const formats[] = {
-    &lci_format_nrrd, &lci_format_metaimage, &lci_format_pdb, &lci_format_xyz,
+    &lci_format_nrrd, &lci_format_metaimage, &lci_format_pdb, &lci_format_xyz, &lci_format_gro,
     &lci_format_raw_particles, &lci_format_raw_volume,
 };
 #define NFORMATS ((int)(sizeof formats / sizeof formats[0]))
@@ -135,6 +135,16 @@ lc_status lc_file_probe(lc_device *dev, const char *path, const lc_load_desc *de
     out->kind = f->kind;
     out->frames = 1;
     out->gzip = gzip;
+    if (f->frames && f->read) {
+        /* Counting may fail (no zlib, a malformed file): the probe still
+         * answers, with 0 = unknown, and leaves the message to the load. */
+        char keep[LCI_MSG_MAX];
+        snprintf(keep, sizeof keep, "%s", lc_last_error());
+        if (f->frames(NULL, path, &out->frames) != LC_OK) {
+            out->frames = 0;
+            lci_error(NULL, LC_OK, "%s", keep);
+        }
+    }
     return LC_OK;
 }
 

@@ -390,12 +390,15 @@ LC_API lc_status lc_feature_get(int index, lc_feature_info *out);
 typedef struct lc_file_info {
     const char *format;  /* a format name (static string) */
     lc_kind kind;
-    int64_t frames;      /* 1 unless the file is a trajectory */
+    int64_t frames;      /* 1 unless the format holds trajectories (.gro), whose frames are
+                            counted (reading the file's line structure); 0 = could not count
+                            (unreadable or malformed: lc_volume_load says why) */
     int gzip;            /* 1: the file is gzip-compressed */
 } lc_file_info;
 
-/* Decides a file's format and kind without reading its data: desc->format if
- * given, else the magic bytes, else the extension (".gz" looked through).
+/* Decides a file's format and kind without reading its data (beyond counting
+ * a trajectory's frames): desc->format if given, else the magic bytes, else
+ * the extension (".gz" looked through).
  * device may be NULL. */
 LC_API lc_status lc_file_probe(lc_device *device, const char *path, const lc_load_desc *desc, lc_file_info *out);
 /* Reads a file through its format's reader and creates the volume of its
