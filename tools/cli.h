@@ -7,6 +7,7 @@
 #define CLI_EXIT_USAGE 2
 
 int cli_targets(int argc, char **argv);
+int cli_formats(int argc, char **argv);
 int cli_render(int argc, char **argv);
 int cli_demo(int argc, char **argv);
 

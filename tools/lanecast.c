@@ -14,6 +14,8 @@ static const char usage[] =
     "                        (lanecast render --help for every option)\n"
     "  demo -o OUT           render the built-in demo scene (procedural, two fields)\n"
     "  targets               list SIMD targets: compiled, supported by this CPU, active\n"
+    "  formats               list the file formats (kind, extensions, options) and the\n"
+    "                        optional features of this build (gzip input, JSON TFs)\n"
     "\n"
     "options:\n"
     "  --help, -h            this text\n"
@@ -41,6 +43,7 @@ int main(int argc, char **argv)
         return 0;
     }
     if (!strcmp(cmd, "targets")) return cli_targets(argc - 1, argv + 1);
+    if (!strcmp(cmd, "formats")) return cli_formats(argc - 1, argv + 1);
     if (!strcmp(cmd, "render")) return cli_render(argc - 1, argv + 1);
     if (!strcmp(cmd, "demo")) return cli_demo(argc - 1, argv + 1);
     fprintf(stderr, "lanecast: unknown command '%s' (try lanecast --help)\n", cmd);

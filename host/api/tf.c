@@ -1,12 +1,15 @@
-/* Transfer functions: creation from points, SPEC.md's JSON format (json-c),
+/* Transfer functions: creation from points, SPEC.md's JSON format (json-c;
+ * compiled out with -Djson=disabled, when parsing says what is missing),
  * presets, evaluation and the kernel lookup table. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <json-c/json.h>
 #include "host/api/tf.h"
+#if LC_HAVE_JSON
+#include <json-c/json.h>
+#endif
 
 static void free_points(lc_tf *tf)
 {
@@ -143,6 +146,8 @@ void lci_tf_fill(const lc_tf *tf, int field, float lo, float hi, float *table, l
 
 /* ---- JSON */
 
+#if LC_HAVE_JSON
+
 typedef struct parse_ctx {
     lc_device *dev;
     const char *name;
@@ -263,6 +268,17 @@ lc_status lc_tf_parse(lc_device *device, const char *json, const char *name, lc_
     json_object_put(root);
     return s;
 }
+
+#else
+lc_status lc_tf_parse(lc_device *device, const char *json, const char *name, lc_tf **out)
+{
+    if (!name) name = "transfer function";
+    if (!out) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_tf_parse: out is NULL");
+    *out = NULL;
+    if (!json) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_tf_parse: json is NULL");
+    return lci_missing(device, name, "a JSON transfer function", LCI_FEATURE_JSON);
+}
+#endif
 
 lc_status lc_tf_load(lc_device *device, const char *path, lc_tf **out)
 {

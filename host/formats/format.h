@@ -44,7 +44,9 @@ typedef struct lci_format {
     int (*magic)(const unsigned char *head, size_t n);
     lc_status (*read)(lc_device *dev, const lci_read_args *a, lci_loaded *out);
     const char *package;     /* Debian package enabling it when compiled out, else NULL */
-    int trajectory;          /* 1: the reader honours lc_load_desc.frame */
+    /* trajectories: counts the frames (lc_file_probe); NULL = one frame, and
+     * lc_load_desc.frame > 0 is refused */
+    lc_status (*frames)(lc_device *dev, const char *path, int64_t *out);
     int companion;           /* 1: the reader uses lc_load_desc.companion */
 } lci_format;
 
@@ -52,7 +54,7 @@ typedef struct lci_format {
 const lc_option *lci_option_find(const lci_read_args *a, const char *key);
 
 /* The readers (one file each family) */
-extern const lci_format lci_format_xyz, lci_format_pdb, lci_format_raw_particles;
+extern const lci_format lci_format_xyz, lci_format_pdb, lci_format_gro, lci_format_raw_particles;
 extern const lci_format lci_format_nrrd, lci_format_metaimage, lci_format_raw_volume;
 extern const lci_format lci_format_rbf, lci_format_rbf_binary;
 

@@ -1,4 +1,4 @@
-/* RBF set files (docs/FORMATS-rbf.md), read through zlib so gzip-compressed
+/* RBF set files (docs/FORMATS-rbf.md), read through text_reader.h so gzip-compressed
  * files work too:
  *   text (issue 10): one item per line, `lanecast-rbf 1`, `bias B`,
  *     `count N`, then N lines `x y z s w`; lines starting with '#' (and
@@ -15,7 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
+#include "host/formats/text_reader.h"
 #include "host/formats/format.h"
 
 #define MAX_RBFS ((uint64_t)INT32_MAX / 2) /* lc_rbf_create's limit */
@@ -67,35 +67,16 @@ static lc_status hand_over(lc_device *dev, const char *path, rlist *l, float bia
 
 /* ---------------------------------------------------------------- text */
 
-typedef struct treader {
-    lc_device *dev;
-    const char *path;
-    gzFile gz;
-    char line[4096];
-    long lineno;
-} treader;
+/* Lines with numbers and errors naming them (text_reader.h: plain or gzip). */
+typedef lci_text treader;
 
 /* The next line that is not a comment or blank, trimmed at the start; 1 ok,
  * 0 end of file, -1 error (reported). */
 static int next_item(treader *r, char **item)
 {
     for (;;) {
-        if (!gzgets(r->gz, r->line, sizeof r->line)) {
-            int err;
-            const char *msg = gzerror(r->gz, &err);
-            if (err != Z_OK && err != Z_STREAM_END) {
-                lci_error(r->dev, LC_ERROR_IO, "%s:%ld: read error: %s", r->path, r->lineno + 1, msg);
-                return -1;
-            }
-            return 0;
-        }
-        r->lineno++;
-        size_t len = strlen(r->line);
-        if (len == sizeof r->line - 1 && r->line[len - 1] != '\n') {
-            lci_error(r->dev, LC_ERROR_FORMAT, "%s:%ld: line longer than %zu characters", r->path, r->lineno,
-                      sizeof r->line - 2);
-            return -1;
-        }
+        int rc = lci_text_line(r);
+        if (rc <= 0) return rc;
         if (r->line[0] == '#') continue;
         char *s = r->line;
         while (isspace((unsigned char)*s)) s++;
@@ -213,14 +194,15 @@ static lc_status text_body(treader *r, uint64_t count, rlist *l)
 
 static lc_status text_read(lc_device *dev, const lci_read_args *a, lci_loaded *out)
 {
-    treader r = {dev, a->path, gzopen(a->path, "rb"), {0}, 0};
-    if (!r.gz) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", a->path, strerror(errno));
+    treader r;
+    lc_status os = lci_text_open(dev, a->path, &r);
+    if (os != LC_OK) return os;
     float bias = 0.0f;
     uint64_t count = 0;
     rlist l = {0};
     lc_status s = text_header(&r, &bias, &count);
     if (s == LC_OK) s = text_body(&r, count, &l);
-    gzclose(r.gz);
+    lci_text_close(&r);
     if (s != LC_OK) {
         rlist_free(&l);
         return s;
@@ -244,13 +226,9 @@ static float lef(const unsigned char *b)
 }
 
 /* Reads up to n bytes; returns how many (short at the end), -1 on error. */
-static long long read_bytes(gzFile gz, unsigned char *buf, size_t n)
-{
-    int k = gzread(gz, buf, (unsigned)n);
-    return k < 0 ? -1 : k;
-}
+static long long read_bytes(lci_text *gz, unsigned char *buf, size_t n) { return lci_text_read(gz, buf, n); }
 
-static lc_status bin_header(lc_device *dev, const char *path, gzFile gz, float *bias, uint64_t *count)
+static lc_status bin_header(lc_device *dev, const char *path, lci_text *gz, float *bias, uint64_t *count)
 {
     unsigned char h[BIN_HEADER];
     long long k = read_bytes(gz, h, sizeof h);
@@ -293,7 +271,7 @@ static lc_status bin_record(lc_device *dev, const char *path, const unsigned cha
     return LC_OK;
 }
 
-static lc_status bin_body(lc_device *dev, const char *path, gzFile gz, uint64_t count, unsigned char *buf, rlist *l)
+static lc_status bin_body(lc_device *dev, const char *path, lci_text *gz, uint64_t count, unsigned char *buf, rlist *l)
 {
     uint64_t off = BIN_HEADER;
     for (uint64_t i = 0; i < count;) {
@@ -319,9 +297,10 @@ static lc_status bin_body(lc_device *dev, const char *path, gzFile gz, uint64_t 
 
 static lc_status bin_read(lc_device *dev, const lci_read_args *a, lci_loaded *out)
 {
-    gzFile gz = gzopen(a->path, "rb");
-    if (!gz) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", a->path, strerror(errno));
-    gzbuffer(gz, 1 << 18);
+    lci_text file;
+    lc_status os = lci_text_open(dev, a->path, &file);
+    if (os != LC_OK) return os;
+    lci_text *gz = &file;
     float bias = 0.0f;
     uint64_t count = 0;
     rlist l = {0};
@@ -330,7 +309,7 @@ static lc_status bin_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
                       : lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", a->path);
     if (s == LC_OK) s = bin_body(dev, a->path, gz, count, buf, &l);
     free(buf);
-    gzclose(gz);
+    lci_text_close(gz);
     if (s != LC_OK) {
         rlist_free(&l);
         return s;

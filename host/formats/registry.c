@@ -7,14 +7,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <zlib.h>
 #include "host/formats/format.h"
+#include "host/formats/text_reader.h"
 
 /* Magic-byte formats first: a file that says what it is wins over its name.
  * Formats sharing an extension: the first listed is the fallback (rbf text). */
 static const lci_format *const formats[] = {
     &lci_format_nrrd, &lci_format_metaimage, &lci_format_pdb, &lci_format_rbf, &lci_format_rbf_binary,
-    &lci_format_xyz, &lci_format_raw_particles, &lci_format_raw_volume,
+    &lci_format_xyz, &lci_format_gro, &lci_format_raw_particles, &lci_format_raw_volume,
 };
 #define NFORMATS ((int)(sizeof formats / sizeof formats[0]))
 
@@ -93,28 +93,12 @@ static void extension(const char *path, char *ext, size_t n, int *gz)
     if (dot && (size_t)(base + len - dot) < n) snprintf(ext, n, "%.*s", (int)(base + len - dot), dot);
 }
 
-/* The first bytes of the file (inflated when gzip) and whether it is gzip. */
-static lc_status head_of(lc_device *dev, const char *path, unsigned char *head, size_t cap, size_t *n, int *gzip)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    unsigned char m[2] = {0, 0};
-    *gzip = fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
-    fclose(f);
-    gzFile gz = gzopen(path, "rb");
-    if (!gz) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    int k = gzread(gz, head, (unsigned)cap);
-    gzclose(gz);
-    *n = k > 0 ? (size_t)k : 0;
-    return LC_OK;
-}
-
 static lc_status decide(lc_device *dev, const char *path, const lc_load_desc *d, const lci_format **out, int *gzip)
 {
     *out = NULL;
     unsigned char head[512];
     size_t n = 0;
-    lc_status s = head_of(dev, path, head, sizeof head, &n, gzip);
+    lc_status s = lci_file_head(dev, path, head, sizeof head, &n, gzip);
     if (s != LC_OK) return s;
     if (d->format && d->format[0]) {
         *out = by_name(d->format);
@@ -152,6 +136,16 @@ lc_status lc_file_probe(lc_device *dev, const char *path, const lc_load_desc *de
     out->kind = f->kind;
     out->frames = 1;
     out->gzip = gzip;
+    if (f->frames && f->read) {
+        /* Counting may fail (no zlib, a malformed file): the probe still
+         * answers, with 0 = unknown, and leaves the message to the load. */
+        char keep[LCI_MSG_MAX];
+        snprintf(keep, sizeof keep, "%s", lc_last_error());
+        if (f->frames(NULL, path, &out->frames) != LC_OK) {
+            out->frames = 0;
+            lci_error(NULL, LC_OK, "%s", keep);
+        }
+    }
     return LC_OK;
 }
 
@@ -189,7 +183,7 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
     int gzip;
     lc_status s = decide(dev, path, d, &f, &gzip);
     if (s != LC_OK) return s;
-    if (d->frame > 0 && !f->trajectory)
+    if (d->frame > 0 && !f->frames)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %s files hold one frame; frame %lld was asked for", path,
                          f->name, (long long)d->frame);
     if (d->companion && d->companion[0] && !f->companion)

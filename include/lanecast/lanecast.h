@@ -171,7 +171,8 @@ typedef struct lc_tf lc_tf;
  * colour is not finite, tau is negative, or a range is empty. */
 LC_API lc_status lc_tf_create(lc_device *device, const lc_tf_field *fields, int nfields, lc_tf **out);
 /* Parses SPEC.md's JSON transfer function (a single TF or {"fields": [...]}).
- * The message names the file and what is wrong. */
+ * The message names the file and what is wrong. LC_ERROR_UNSUPPORTED when
+ * this build lacks json-c (lc_feature_get: "json"). */
 LC_API lc_status lc_tf_load(lc_device *device, const char *path, lc_tf **out);
 LC_API lc_status lc_tf_parse(lc_device *device, const char *json, const char *name_for_messages, lc_tf **out);
 /* A built-in colour map by name ("heat", "cool", "gray", "demo"); nfields
@@ -426,21 +427,40 @@ typedef struct lc_format_info {
 LC_API int lc_format_count(void);
 LC_API lc_status lc_format_get(int index, lc_format_info *out);
 
+/* Optional features of this build ("zlib": gzip-compressed inputs; "json":
+ * JSON transfer functions). What needs a missing one fails with
+ * LC_ERROR_UNSUPPORTED and a message naming the library and its package. */
+typedef struct lc_feature_info {
+    const char *name;        /* "zlib", "json" */
+    const char *library;     /* "zlib", "json-c" */
+    int available;           /* 1: compiled in */
+    const char *package;     /* the Debian package whose -dev files enable it */
+    const char *description; /* what needs it */
+} lc_feature_info;
+
+/* Features are numbered 0 .. lc_feature_count() - 1. */
+LC_API int lc_feature_count(void);
+LC_API lc_status lc_feature_get(int index, lc_feature_info *out);
+
 typedef struct lc_file_info {
     const char *format;  /* a format name (static string) */
     lc_kind kind;
-    int64_t frames;      /* 1 unless the file is a trajectory */
+    int64_t frames;      /* 1 unless the format holds trajectories (.gro), whose frames are
+                            counted (reading the file's line structure); 0 = could not count
+                            (unreadable or malformed: lc_volume_load says why) */
     int gzip;            /* 1: the file is gzip-compressed */
 } lc_file_info;
 
-/* Decides a file's format and kind without reading its data: desc->format if
- * given, else the magic bytes, else the extension (".gz" looked through).
+/* Decides a file's format and kind without reading its data (beyond counting
+ * a trajectory's frames): desc->format if given, else the magic bytes, else
+ * the extension (".gz" looked through).
  * device may be NULL. */
 LC_API lc_status lc_file_probe(lc_device *device, const char *path, const lc_load_desc *desc, lc_file_info *out);
 /* Reads a file through its format's reader and creates the volume of its
  * kind. desc may be NULL (detect, frame 0, no options). Errors
  * (LC_ERROR_IO, LC_ERROR_FORMAT, LC_ERROR_INVALID_ARGUMENT, and
- * LC_ERROR_UNSUPPORTED for a format compiled out, naming the Debian package)
+ * LC_ERROR_UNSUPPORTED for a format compiled out or gzip-compressed data
+ * without zlib, naming the Debian package)
  * name the file and the line or byte offset. */
 LC_API lc_status lc_volume_load(lc_device *device, const char *path, const lc_load_desc *desc, lc_volume **out);
 

@@ -1,0 +1,31 @@
+/* The optional features of this build (meson features, lc_config.h) and
+ * the one message for asking for one that is compiled out. */
+#include <stdio.h>
+#include <string.h>
+#include "host/internal.h"
+
+static const lc_feature_info features[] = {
+    [LCI_FEATURE_ZLIB] = {"zlib", "zlib", LC_HAVE_ZLIB, "zlib1g-dev",
+                          "gzip-compressed inputs: .gz particle files, NRRD gzip encoding, MetaImage compressed data"},
+    [LCI_FEATURE_JSON] = {"json", "json-c", LC_HAVE_JSON, "libjson-c-dev",
+                          "JSON transfer functions (SPEC.md): lc_tf_load, lc_tf_parse, --tf FILE.json"},
+};
+#define NFEATURES ((int)(sizeof features / sizeof features[0]))
+
+int lc_feature_count(void) { return NFEATURES; }
+
+lc_status lc_feature_get(int index, lc_feature_info *out)
+{
+    if (index < 0 || index >= NFEATURES || !out)
+        return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_feature_get: index %d is not in [0, %d) or out is NULL",
+                         index, NFEATURES);
+    *out = features[index];
+    return LC_OK;
+}
+
+lc_status lci_missing(lc_device *dev, const char *where, const char *what, int feature)
+{
+    const lc_feature_info *f = &features[feature];
+    return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: %s needs %s, which this build of lanecast lacks (install %s and rebuild)",
+                     where, what, f->library, f->package);
+}

@@ -1,0 +1,125 @@
+/* Element radii, per-element fields and the atom list (elements.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include "host/formats/elements.h"
+
+typedef struct element {
+    const char *sym;
+    float r; /* covalent radius, Angstrom */
+} element;
+
+static const element elements[] = {
+    {"H", 0.31f},  {"He", 0.28f}, {"Li", 1.28f}, {"Be", 0.96f}, {"B", 0.84f},  {"C", 0.76f},  {"N", 0.71f},
+    {"O", 0.66f},  {"F", 0.57f},  {"Ne", 0.58f}, {"Na", 1.66f}, {"Mg", 1.41f}, {"Al", 1.21f}, {"Si", 1.11f},
+    {"P", 1.07f},  {"S", 1.05f},  {"Cl", 1.02f}, {"Ar", 1.06f}, {"K", 2.03f},  {"Ca", 1.76f}, {"Sc", 1.70f},
+    {"Ti", 1.60f}, {"V", 1.53f},  {"Cr", 1.39f}, {"Mn", 1.39f}, {"Fe", 1.32f}, {"Co", 1.26f}, {"Ni", 1.24f},
+    {"Cu", 1.32f}, {"Zn", 1.22f}, {"Ga", 1.22f}, {"Ge", 1.20f}, {"As", 1.19f}, {"Se", 1.20f}, {"Br", 1.20f},
+    {"Kr", 1.16f}, {"Rb", 2.20f}, {"Sr", 1.95f}, {"Y", 1.90f},  {"Zr", 1.75f}, {"Mo", 1.54f}, {"Ru", 1.46f},
+    {"Rh", 1.42f}, {"Pd", 1.39f}, {"Ag", 1.45f}, {"Cd", 1.44f}, {"In", 1.42f}, {"Sn", 1.39f}, {"Sb", 1.39f},
+    {"Te", 1.38f}, {"I", 1.39f},  {"Xe", 1.40f}, {"Cs", 2.44f}, {"Ba", 2.15f}, {"La", 2.07f}, {"Gd", 1.96f},
+    {"W", 1.62f},  {"Pt", 1.36f}, {"Au", 1.36f}, {"Hg", 1.32f}, {"Pb", 1.46f}, {"U", 1.96f},
+};
+
+float lci_element_radius(const char *sym)
+{
+    for (size_t i = 0; i < sizeof elements / sizeof elements[0]; i++)
+        if (!strcasecmp(sym, elements[i].sym)) return elements[i].r;
+    return 0.0f;
+}
+
+lc_status lci_atom_options(lc_device *dev, const lci_read_args *a, lci_atom_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    const lc_option *x;
+    lc_status s = LC_OK;
+    if ((x = lci_option_find(a, "radius"))) s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius);
+    if (s == LC_OK && (x = lci_option_find(a, "radius_scale")))
+        s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius_scale);
+    if (s == LC_OK && (x = lci_option_find(a, "fields"))) {
+        if (!strcmp(x->value, "element")) o->fields_by_element = 1;
+        else if (strcmp(x->value, "none"))
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected none or element", a->path,
+                          x->value);
+    }
+    return s;
+}
+
+static float radius_for(lci_atoms *p, const char *sym)
+{
+    if (p->o.radius > 0.0f) return p->o.radius;
+    float rad = lci_element_radius(sym);
+    if (rad == 0.0f) {
+        if (!p->unknown++) snprintf(p->first_unknown, sizeof p->first_unknown, "%s", sym);
+        rad = LCI_DEFAULT_RADIUS;
+    }
+    return rad * (p->o.radius_scale > 0.0f ? p->o.radius_scale : 1.0f);
+}
+
+static uint8_t field_of(lci_atoms *p, const char *sym)
+{
+    if (!p->o.fields_by_element) return 0;
+    for (int i = 0; i < p->nnames; i++)
+        if (!strcasecmp(p->names[i], sym)) return (uint8_t)i;
+    if (p->nnames < LC_MAX_FIELDS) {
+        snprintf(p->names[p->nnames], sizeof p->names[0], "%s", sym);
+        return (uint8_t)p->nnames++;
+    }
+    return LC_MAX_FIELDS - 1;
+}
+
+int lci_atoms_add(lci_atoms *p, float x, float y, float z, const char *sym)
+{
+    if (p->n == p->cap) {
+        size_t cap = p->cap ? p->cap * 2 : 4096;
+        float *a = realloc(p->xyz, cap * 3 * sizeof(float));
+        if (!a) return -1;
+        p->xyz = a;
+        float *b = realloc(p->r, cap * sizeof(float));
+        if (!b) return -1;
+        p->r = b;
+        uint8_t *c = realloc(p->field, cap);
+        if (!c) return -1;
+        p->field = c;
+        p->cap = cap;
+    }
+    p->xyz[3 * p->n] = x, p->xyz[3 * p->n + 1] = y, p->xyz[3 * p->n + 2] = z;
+    p->r[p->n] = radius_for(p, sym);
+    p->field[p->n] = field_of(p, sym);
+    p->n++;
+    return 0;
+}
+
+void lci_atoms_free(lci_atoms *p)
+{
+    free(p->xyz);
+    free(p->r);
+    free(p->field);
+    p->xyz = p->r = NULL;
+    p->field = NULL;
+    p->n = p->cap = 0;
+}
+
+lc_status lci_atoms_finish(lc_device *dev, const char *path, lc_status s, lci_atoms *p, lci_loaded *out)
+{
+    if (s == LC_OK && p->unknown)
+        lci_log(dev, LC_LOG_WARNING, "%s: %d atoms of unknown elements (first '%s') got radius %.2f", path, p->unknown,
+                p->first_unknown, (double)LCI_DEFAULT_RADIUS);
+    lc_particles_desc *d = s == LC_OK ? calloc(1, sizeof *d) : NULL;
+    if (s == LC_OK && !d) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    if (s != LC_OK) {
+        lci_atoms_free(p);
+        return s;
+    }
+    d->count = p->n;
+    d->positions = p->xyz;
+    d->radii = p->r;
+    d->fields = p->field;
+    d->nfields = p->o.fields_by_element ? (p->nnames ? p->nnames : 1) : 1;
+    out->desc = d;
+    lci_loaded_keep(out, p->xyz);
+    lci_loaded_keep(out, p->r);
+    lci_loaded_keep(out, p->field);
+    return LC_OK;
+}

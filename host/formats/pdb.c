@@ -1,0 +1,82 @@
+/* Protein Data Bank files (wwPDB format 3.3): ATOM and HETATM records of the
+ * first model, element from columns 77-78 or else the atom name. Plain or
+ * gzip. Every error names the file and line. */
+#include <ctype.h>
+#include <stdio.h>
+#include <string.h>
+#include "host/formats/elements.h"
+#include "host/formats/text_reader.h"
+
+static void pdb_element(const char *line, char *el, size_t n)
+{
+    lci_column(line, 77, 78, el, n);
+    if (el[0] && isalpha((unsigned char)el[0])) return;
+    /* no element column: the atom name (cols 13-16); a name starting in column
+     * 13 may be a two-letter element (e.g. "FE  "), else the first letter */
+    char name[8];
+    lci_column(line, 13, 16, name, sizeof name);
+    const char *s = name;
+    while (*s && !isalpha((unsigned char)*s)) s++;
+    int starts_at_13 = strlen(line) > 12 && isalpha((unsigned char)line[12]);
+    if (starts_at_13 && isalpha((unsigned char)s[0]) && isalpha((unsigned char)s[1])) {
+        char two[3] = {s[0], (char)tolower((unsigned char)s[1]), 0};
+        if (lci_element_radius(two) > 0.0f) {
+            snprintf(el, n, "%s", two);
+            return;
+        }
+    }
+    snprintf(el, n, "%c", s[0] ? s[0] : 'X');
+}
+
+static lc_status read_atoms(lci_text *t, lci_atoms *p)
+{
+    int rc;
+    while ((rc = lci_text_line(t)) == 1) {
+        if (!strncmp(t->line, "ENDMDL", 6)) break; /* first model only */
+        if (strncmp(t->line, "ATOM  ", 6) && strncmp(t->line, "HETATM", 6)) continue;
+        char xs[16], ys[16], zs[16], el[8];
+        lci_column(t->line, 31, 38, xs, sizeof xs);
+        lci_column(t->line, 39, 46, ys, sizeof ys);
+        lci_column(t->line, 47, 54, zs, sizeof zs);
+        float x, y, z;
+        if (lci_parse_float(xs, &x) || lci_parse_float(ys, &y) || lci_parse_float(zs, &z))
+            return lci_error(t->dev, LC_ERROR_FORMAT,
+                             "%s:%ld: ATOM record with coordinates '%s' '%s' '%s' in columns 31-54 that are not numbers",
+                             t->path, t->lineno, xs, ys, zs);
+        pdb_element(t->line, el, sizeof el);
+        if (lci_atoms_add(p, x, y, z, el))
+            return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", t->path, t->lineno);
+    }
+    if (rc < 0) return LC_ERROR_IO;
+    if (p->n == 0) return lci_error(t->dev, LC_ERROR_FORMAT, "%s: no ATOM or HETATM records", t->path);
+    return LC_OK;
+}
+
+static lc_status pdb_read(lc_device *dev, const lci_read_args *a, lci_loaded *out)
+{
+    lci_atoms p;
+    memset(&p, 0, sizeof p);
+    lc_status s = lci_atom_options(dev, a, &p.o);
+    if (s != LC_OK) return s;
+    lci_text t;
+    s = lci_text_open(dev, a->path, &t);
+    if (s != LC_OK) return s;
+    s = read_atoms(&t, &p);
+    lci_text_close(&t);
+    return lci_atoms_finish(dev, a->path, s, &p, out);
+}
+
+/* A PDB file starts with one of its record names in columns 1-6. */
+static int pdb_magic(const unsigned char *h, size_t n)
+{
+    static const char *const rec[] = {"HEADER", "ATOM  ", "HETATM", "CRYST1", "REMARK", "MODEL ", "TITLE ", "COMPND"};
+    if (n < 6) return 0;
+    for (size_t i = 0; i < sizeof rec / sizeof rec[0]; i++)
+        if (!memcmp(h, rec[i], 6)) return 1;
+    return 0;
+}
+
+const lci_format lci_format_pdb = {
+    .name = "pdb", .kind = LC_KIND_PARTICLES, .extensions = ".pdb .ent", .options = "radius radius_scale fields",
+    .description = "Protein Data Bank: ATOM/HETATM records, element from columns 77-78 or the atom name",
+    .magic = pdb_magic, .read = pdb_read};

@@ -1,0 +1,72 @@
+/* What the volume formats (NRRD, MetaImage, raw) share: the header a
+ * format's parser fills, the "key: value" / "key = value" line reader, the
+ * options (size, type, spacing, origin, endian), and the voxel reading
+ * (raw or zlib/gzip, either endianness) that ends in an lc_grid_desc. */
+#ifndef LC_HOST_VOLUME_DATA_H
+#define LC_HOST_VOLUME_DATA_H
+
+#include <stdio.h>
+#include "host/formats/format.h"
+
+/* What a header says about the voxels. */
+typedef struct lci_vol_header {
+    int64_t size[3];
+    lc_value_type type;
+    double spacing[3];
+    int have_spacing;
+    double origin[3];
+    int have_origin;
+    int have_type, have_sizes;
+    int gzip;             /* 1: gzip/zlib stream */
+    int big_endian;
+    char data_file[1024]; /* "" = attached after the header */
+    long long byte_skip;
+    long data_offset;     /* attached: where the header ends */
+} lci_vol_header;
+
+/* The options these formats take (lci_format.options). */
+typedef struct lci_vol_opts {
+    int size[3];
+    lc_value_type type;
+    lc_vec3 spacing, origin;
+    int big_endian;
+} lci_vol_opts;
+
+lc_status lci_vol_options(lc_device *dev, const lci_read_args *a, lci_vol_opts *o);
+
+/* Header lines of `path` read from f: NRRD ("field: value", ends at a blank
+ * line) or MetaImage ("key = value"). */
+typedef struct lci_header_lines {
+    lc_device *dev;
+    const char *path;
+    FILE *f;
+    int meta; /* 1: MetaImage syntax */
+    int ln;   /* line number of the last line read */
+    char line[4096];
+} lci_header_lines;
+
+/* The next key and value (trimmed, pointing into r->line), skipping blank
+ * lines and comments; *key = NULL at the end of the header. */
+lc_status lci_header_next(lci_header_lines *r, char **key, char **value);
+/* The error for a header asking for a feature this build lacks, naming the line. */
+lc_status lci_missing_at(const lci_header_lines *r, const char *what);
+/* Checks that the header gave a type and sizes (named as the format calls
+ * them) and notes where it ended. */
+lc_status lci_header_done(lci_header_lines *r, lci_vol_header *h, const char *type_key, const char *sizes_key);
+
+/* Numbers of a header value: n doubles (separated by white space, commas or
+ * parentheses) or exactly n integers. 1 ok, 0 not. */
+int lci_parse_doubles(const char *v, double *out, int n);
+int lci_parse_sizes(const char *v, int64_t *out, int n);
+
+/* Reads the header of `path` with parse (which fills h from the open file),
+ * finds the data (detached: relative to the header's folder), and loads it. */
+typedef lc_status (*lci_header_fn)(lc_device *dev, const char *path, FILE *f, lci_vol_header *h);
+lc_status lci_vol_read_with_header(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse,
+                                   lci_loaded *out);
+/* Reads the voxels h describes from data_path at offset and hands them over
+ * as an lc_grid_desc (options override spacing and origin). Errors name path. */
+lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, long long offset,
+                       const lci_vol_header *h, const lci_vol_opts *o, lci_loaded *out);
+
+#endif

@@ -1,0 +1,309 @@
+/* The formats registry (host/formats/registry.c) through the public API:
+ * every row of lc_format_get, detection (magic bytes over the extension, the
+ * named format over both), option routing and errors naming the key, kind
+ * options, lc_file_probe on the shared data, and the optional features: gzip
+ * input and JSON transfer functions work with zlib and json-c and fail with
+ * one line naming the package without them. Args: DATA_DIR TMP_DIR. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include "check.h"
+#include "gzip_stored.h"
+#include "host/internal.h"
+
+static lc_device *dev;
+static const char *tmp;
+
+static const char *tpath(const char *name)
+{
+    static char buf[8][1024];
+    static int k;
+    char *p = buf[k++ % 8];
+    snprintf(p, sizeof buf[0], "%s/%s", tmp, name);
+    return p;
+}
+
+static void put(const char *name, const void *data, size_t n)
+{
+    FILE *f = fopen(tpath(name), "wb");
+    if (f) fwrite(data, 1, n, f), fclose(f);
+}
+
+static const char pdb[] =
+    "HEADER    TEST\n"
+    "ATOM      1  N   ALA A   1      11.104   6.134  -6.504  1.00  0.00           N\n"
+    "ATOM      2  CA  ALA A   1      11.639   6.071  -5.147  1.00  0.00           C\n"
+    "HETATM    3 FE   HEM A   2       1.000   2.000   3.000  1.00  0.00\n";
+static const char xyz[] = "3\ncomment\nC 0 0 0\nO 1 2 3\nN 2 2 2\n";
+static const char nrrd_head[] = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: raw\n\n";
+
+/* Loads path with format fmt (NULL = detect) and n key/value pairs. */
+static lc_status load(const char *path, const char *fmt, lc_volume **v, int n, ...)
+{
+    lc_option o[8];
+    va_list ap;
+    va_start(ap, n);
+    for (int i = 0; i < n; i++) o[i].key = va_arg(ap, const char *), o[i].value = va_arg(ap, const char *);
+    va_end(ap);
+    *v = NULL;
+    return lc_volume_load(dev, path, &(lc_load_desc){.format = fmt, .options = o, .noptions = n}, v);
+}
+
+static size_t particle_count(const lc_volume *v)
+{
+    lc_particles_info pi;
+    return v && lc_particles_get_info(v, &pi) == LC_OK ? pi.count : (size_t)-1;
+}
+
+static void rows(void)
+{
+    static const char *const want[] = {"nrrd", "metaimage", "pdb", "rbf", "rbf-binary", "xyz",
+                                       "gro", "raw-particles", "raw-volume"};
+    int n = lc_format_count(), found = 0;
+    CHECK(n == (int)(sizeof want / sizeof want[0]), "lc_format_count = %d", n);
+    for (int i = 0; i < n; i++) {
+        lc_format_info f;
+        int ok = lc_format_get(i, &f) == LC_OK && f.name && f.name[0] && f.extensions && f.extensions[0] == '.' &&
+                 f.options && f.description && f.description[0] && f.package &&
+                 f.kind > LC_KIND_NONE && f.kind < LC_KIND_COUNT && f.available == 1 && !f.package[0];
+        for (int j = 0; ok && j < i; j++) {
+            lc_format_info g;
+            ok &= lc_format_get(j, &g) == LC_OK && strcmp(g.name, f.name) != 0;
+        }
+        for (size_t w = 0; ok && w < sizeof want / sizeof want[0]; w++) found += !strcmp(want[w], f.name);
+        CHECK(ok, "row %d: %s, %s, '%s', options '%s', available", i, ok ? f.name : "?",
+              ok ? lc_kind_name(f.kind) : "?", ok ? f.extensions : "?", ok ? f.options : "?");
+    }
+    CHECK(found == n, "every expected format is a row");
+    lc_format_info f;
+    CHECK(lc_format_get(-1, &f) == LC_ERROR_INVALID_ARGUMENT && lc_format_get(n, &f) == LC_ERROR_INVALID_ARGUMENT &&
+              lc_format_get(0, NULL) == LC_ERROR_INVALID_ARGUMENT,
+          "lc_format_get out of range or without out fails");
+    int nf = lc_feature_count();
+    lc_feature_info z = {0}, j = {0};
+    for (int i = 0; i < nf; i++) {
+        lc_feature_info x;
+        if (lc_feature_get(i, &x) != LC_OK) continue;
+        if (!strcmp(x.name, "zlib")) z = x;
+        if (!strcmp(x.name, "json")) j = x;
+    }
+    CHECK(nf == 2 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
+              !strcmp(z.package, "zlib1g-dev") && !strcmp(j.package, "libjson-c-dev") &&
+              lc_feature_get(nf, &z) == LC_ERROR_INVALID_ARGUMENT,
+          "features: zlib %d, json %d (this build: LC_HAVE_ZLIB %d, LC_HAVE_JSON %d)", z.available, j.available,
+          LC_HAVE_ZLIB, LC_HAVE_JSON);
+}
+
+static void detection(void)
+{
+    char buf[512];
+    unsigned char vox[24];
+    for (int i = 0; i < 24; i++) vox[i] = (unsigned char)(10 * i);
+    memcpy(buf, nrrd_head, strlen(nrrd_head));
+    memcpy(buf + strlen(nrrd_head), vox, sizeof vox);
+    put("nrrd_named.raw", buf, strlen(nrrd_head) + sizeof vox);
+    put("pdb_named.txt", pdb, strlen(pdb));
+    put("xyz_named.pdb", xyz, strlen(xyz));
+    lc_file_info fi;
+    lc_volume *v;
+    CHECK(lc_file_probe(dev, tpath("nrrd_named.raw"), NULL, &fi) == LC_OK && !strcmp(fi.format, "nrrd") &&
+              fi.kind == LC_KIND_GRID,
+          "an NRRD named .raw is probed as nrrd (magic beats extension)");
+    lc_grid_info gi;
+    CHECK(load(tpath("nrrd_named.raw"), NULL, &v, 0) == LC_OK && lc_grid_get_info(v, &gi) == LC_OK &&
+              gi.size[0] == 2 && gi.size[2] == 4 && gi.value_max == 230.0f,
+          "... and read as NRRD: 2x3x4, max 230");
+    lc_volume_destroy(v);
+    CHECK(lc_file_probe(dev, tpath("pdb_named.txt"), NULL, &fi) == LC_OK && !strcmp(fi.format, "pdb"),
+          "a PDB named .txt is found by its records");
+    CHECK(load(tpath("pdb_named.txt"), NULL, &v, 0) == LC_OK && particle_count(v) == 3, "... and read: 3 atoms");
+    lc_volume_destroy(v);
+    CHECK(load(tpath("xyz_named.pdb"), NULL, &v, 0) == LC_ERROR_FORMAT && strstr(lc_last_error(), "no ATOM"),
+          "XYZ text named .pdb goes to the PDB reader by extension: %s", lc_last_error());
+    CHECK(load(tpath("xyz_named.pdb"), "xyz", &v, 0) == LC_OK && particle_count(v) == 3,
+          "the named format overrides the extension: xyz reads it");
+    lc_volume_destroy(v);
+    CHECK(load(tpath("nrrd_named.raw"), "raw-volume", &v, 2, "size", "2,3,4", "type", "uint8") == LC_ERROR_FORMAT &&
+              strstr(lc_last_error(), "holds") && strstr(lc_last_error(), "need 24"),
+          "the named format overrides the magic bytes: raw-volume sees header + voxels: %s", lc_last_error());
+    CHECK(load(tpath("xyz_named.pdb"), "nope", &v, 0) == LC_ERROR_INVALID_ARGUMENT &&
+              strstr(lc_last_error(), "unknown format 'nope'") && strstr(lc_last_error(), "gro"),
+          "unknown format name: %s", lc_last_error());
+    put("what.abc", "hello\n", 6);
+    CHECK(lc_file_probe(dev, tpath("what.abc"), NULL, &fi) == LC_ERROR_UNSUPPORTED &&
+              strstr(lc_last_error(), "unknown file format") && strstr(lc_last_error(), ".abc"),
+          "unknown extension: %s", lc_last_error());
+    CHECK(load(tpath("absent.xyz"), NULL, &v, 0) == LC_ERROR_IO && strstr(lc_last_error(), "absent.xyz: cannot open"),
+          "missing file: %s", lc_last_error());
+}
+
+static void options(void)
+{
+    put("o.xyz", xyz, strlen(xyz));
+    const char *x = tpath("o.xyz"), *n = tpath("nrrd_named.raw");
+    lc_volume *v;
+    CHECK(load(x, NULL, &v, 1, "bogus", "1") == LC_ERROR_INVALID_ARGUMENT && strstr(lc_last_error(), "'bogus'") &&
+              strstr(lc_last_error(), "xyz files") && strstr(lc_last_error(), "leaf_size"),
+          "unknown option key: %s", lc_last_error());
+    CHECK(load(n, NULL, &v, 1, "radius", "1") == LC_ERROR_INVALID_ARGUMENT && strstr(lc_last_error(), "'radius'") &&
+              strstr(lc_last_error(), "nrrd"),
+          "a particle option on a volume: %s", lc_last_error());
+    lc_particles_info pi;
+    CHECK(load(x, NULL, &v, 1, "leaf_size", "8") == LC_OK && lc_particles_get_info(v, &pi) == LC_OK &&
+              pi.leaf_size == 8,
+          "kind option leaf_size = 8 applied");
+    lc_volume_destroy(v);
+    lc_grid_info gi;
+    CHECK(load(n, NULL, &v, 1, "brick", "2") == LC_OK && lc_grid_get_info(v, &gi) == LC_OK && gi.brick == 2,
+          "kind option brick = 2 applied");
+    lc_volume_destroy(v);
+    static const struct {
+        int nrrd;
+        const char *fmt, *key, *value;
+    } bad[] = {
+        {0, NULL, "leaf_size", "abc"}, {0, NULL, "radius", "abc"}, {0, NULL, "radius_scale", "-1"},
+        {0, NULL, "fields", "residue"}, {0, "raw-particles", "count", "-1"}, {1, NULL, "brick", "3"},
+        {1, NULL, "spacing", "1,x,1"}, {1, NULL, "type", "float64"}, {1, "raw-volume", "size", "2,3"},
+        {1, "raw-volume", "endian", "middle"}, {1, NULL, "origin", "1,2"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char key[64];
+        snprintf(key, sizeof key, "%s", bad[i].key);
+        lc_status s = load(bad[i].nrrd ? n : x, bad[i].fmt, &v, 1, bad[i].key, bad[i].value);
+        CHECK(s == LC_ERROR_INVALID_ARGUMENT && strstr(lc_last_error(), key) && strstr(lc_last_error(), bad[i].value),
+              "%s = '%s' fails naming the key: %s", bad[i].key, bad[i].value, lc_last_error());
+        lc_volume_destroy(v);
+    }
+}
+
+static void probe_shared(const char *data_dir)
+{
+    static const struct {
+        const char *file, *format;
+        lc_kind kind;
+        int gzip;
+    } files[] = {
+        {"particles/1tii.pdb", "pdb", LC_KIND_PARTICLES, 0},
+        {"particles/1tw7_solvated.pdb", "pdb", LC_KIND_PARTICLES, 0},
+        {"particles/bigbox_water.gro.gz", "gro", LC_KIND_PARTICLES, 1},
+        {"volumes/engine.nhdr", "nrrd", LC_KIND_GRID, 0},
+        {"volumes/neghip.nhdr", "nrrd", LC_KIND_GRID, 0},
+        {"volumes/headsq.nhdr", "nrrd", LC_KIND_GRID, 0},
+        {"volumes/hydrogen.nhdr", "nrrd", LC_KIND_GRID, 0},
+        {"volumes/embryo.nhdr", "nrrd", LC_KIND_GRID, 0},
+        {"volumes/HeadMRVolume.mhd", "metaimage", LC_KIND_GRID, 0},
+        {"particles/adk.dcd", NULL, LC_KIND_NONE, 0},
+        {"particles/adk.psf", NULL, LC_KIND_NONE, 0},
+        {"particles/gadget_galaxy.dat", NULL, LC_KIND_NONE, 0},
+    };
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        char p[1024];
+        snprintf(p, sizeof p, "%s/%s", data_dir, files[i].file);
+        lc_file_info fi;
+        lc_status s = lc_file_probe(dev, p, NULL, &fi);
+        if (!files[i].format)
+            CHECK(s == LC_ERROR_UNSUPPORTED && strstr(lc_last_error(), "unknown file format"),
+                  "probe %s: not a format lanecast reads", files[i].file);
+        else
+            CHECK(s == LC_OK && !strcmp(fi.format, files[i].format) && fi.kind == files[i].kind &&
+                      fi.gzip == files[i].gzip,
+                  "probe %s: %s, %s%s", files[i].file, files[i].format, lc_kind_name(files[i].kind),
+                  files[i].gzip ? ", gzip" : "");
+    }
+    char p[1024];
+    snprintf(p, sizeof p, "%s/volumes/engine.nhdr", data_dir);
+    lc_volume *v;
+    lc_status s = load(p, NULL, &v, 0);
+    if (LC_HAVE_ZLIB) CHECK(s == LC_OK, "engine.nhdr (gzip encoding) loads with zlib");
+    else
+        CHECK(s == LC_ERROR_UNSUPPORTED && strstr(lc_last_error(), "engine.nhdr:") &&
+                  strstr(lc_last_error(), "gzip encoding needs zlib") && strstr(lc_last_error(), "zlib1g-dev"),
+              "engine.nhdr without zlib: %s", lc_last_error());
+    lc_volume_destroy(v);
+}
+
+static void optional_features(void)
+{
+    /* gzip input made without zlib (stored deflate blocks) */
+    gzs_write(tpath("g.xyz.gz"), xyz, strlen(xyz));
+    gzs_write(tpath("p.dat.gz"), pdb, strlen(pdb));
+    unsigned char vox[24];
+    for (int i = 0; i < 24; i++) vox[i] = (unsigned char)i;
+    gzs_write(tpath("vox.gz"), vox, sizeof vox);
+    const char *nh = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 3 4\nencoding: gzip\ndata file: vox.gz\n";
+    put("gz.nhdr", nh, strlen(nh));
+    const char *mh = "NDims = 3\nDimSize = 2 3 4\nElementType = MET_UCHAR\nCompressedData = True\nElementDataFile = vox.gz\n";
+    put("z.mhd", mh, strlen(mh));
+    lc_file_info fi;
+    lc_volume *v;
+    CHECK(lc_file_probe(dev, tpath("g.xyz.gz"), NULL, &fi) == LC_OK && !strcmp(fi.format, "xyz") && fi.gzip == 1,
+          "probe g.xyz.gz: xyz, gzip (by extension, .gz looked through)");
+    lc_status sx = load(tpath("g.xyz.gz"), NULL, &v, 0);
+    size_t nx = particle_count(v);
+    char msg[LCI_MSG_MAX];
+    snprintf(msg, sizeof msg, "%s", lc_last_error());
+    lc_volume_destroy(v);
+    lc_status sn = load(tpath("gz.nhdr"), NULL, &v, 0);
+    lc_volume_destroy(v);
+    char nmsg[LCI_MSG_MAX];
+    snprintf(nmsg, sizeof nmsg, "%s", lc_last_error());
+    lc_status sm = load(tpath("z.mhd"), NULL, &v, 0);
+    lc_volume_destroy(v);
+    if (LC_HAVE_ZLIB) {
+        CHECK(sx == LC_OK && nx == 3, "g.xyz.gz: 3 atoms");
+        CHECK(sn == LC_OK && sm == LC_OK, "NRRD gzip encoding and MetaImage CompressedData read");
+        CHECK(lc_file_probe(dev, tpath("p.dat.gz"), NULL, &fi) == LC_OK && !strcmp(fi.format, "pdb"),
+              "a gzip PDB named .dat.gz is found by its records inside the gzip stream");
+    } else {
+        char want[1200];
+        snprintf(want, sizeof want,
+                 "%s: gzip-compressed input needs zlib, which this build of lanecast lacks (install zlib1g-dev and "
+                 "rebuild)",
+                 tpath("g.xyz.gz"));
+        CHECK(sx == LC_ERROR_UNSUPPORTED && !strcmp(msg, want), "g.xyz.gz without zlib: %s", msg);
+        CHECK(sn == LC_ERROR_UNSUPPORTED && strstr(nmsg, "gz.nhdr:5: gzip encoding needs zlib"), "gz.nhdr: %s", nmsg);
+        CHECK(sm == LC_ERROR_UNSUPPORTED && strstr(lc_last_error(), "z.mhd:4: CompressedData = True needs zlib"),
+              "z.mhd: %s", lc_last_error());
+    }
+    const char *tf = "{\"color\": [[0, 1, 0, 0], [1, 1, 1, 1]], \"opacity\": [[0, 0], [1, 2]]}";
+    put("tf.json", tf, strlen(tf));
+    lc_tf *t = NULL, *t2 = NULL;
+    lc_status sp = lc_tf_parse(dev, tf, "inline.json", &t), sl = lc_tf_load(dev, tpath("tf.json"), &t2);
+    if (LC_HAVE_JSON)
+        CHECK(sp == LC_OK && sl == LC_OK && lc_tf_field_count(t) == 1 && lc_tf_field_count(t2) == 1,
+              "JSON transfer functions parse and load");
+    else
+        CHECK(sp == LC_ERROR_UNSUPPORTED && sl == LC_ERROR_UNSUPPORTED && !t && !t2 &&
+                  strstr(lc_last_error(), "tf.json: a JSON transfer function needs json-c") &&
+                  strstr(lc_last_error(), "install libjson-c-dev and rebuild"),
+              "JSON TF without json-c: %s", lc_last_error());
+    lc_tf_destroy(t);
+    lc_tf_destroy(t2);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 3) {
+        fprintf(stderr, "usage: test_formats DATA_DIR TMP_DIR\n");
+        return 2;
+    }
+    tmp = argv[2];
+    if (lc_device_create(&(lc_device_desc){.threads = 2}, &dev) != LC_OK) return 1;
+    rows();
+    detection();
+    options();
+    optional_features();
+    char p[1024];
+    struct stat st;
+    snprintf(p, sizeof p, "%s/particles/1tii.pdb", argv[1]);
+    int have_data = stat(p, &st) == 0;
+    if (have_data) probe_shared(argv[1]);
+    lc_device_destroy(dev);
+    int rc = check_summary("test_formats");
+    if (!rc && !have_data) {
+        printf("skip: the shared data is absent (%s; see ../shared/data/README.md or -Ddata_dir)\n", argv[1]);
+        return 77;
+    }
+    return rc;
+}
