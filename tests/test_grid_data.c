@@ -46,6 +46,10 @@ int main(int argc, char **argv)
         snprintf(p, sizeof p, "%s/volumes/%s", data, vols[v]);
         lc_volume *g = NULL;
         lc_status s = lc_volume_load(dev, p, NULL, &g);
+        if (s == LC_ERROR_UNSUPPORTED && strstr(lc_last_error(), "zlib1g-dev")) { /* a build without zlib */
+            printf("skip %s: %s\n", vols[v], lc_last_error());
+            continue;
+        }
         CHECK_QUIET(s == LC_OK, "%s: %s", vols[v], lc_last_error());
         if (!g) continue;
         lc_grid_info in;
