@@ -15,7 +15,8 @@ static const char help[] =
     "  --spacing sx,sy,sz    node spacing (default: the header's, else 1,1,1)\n"
     "  --brick L             BVH leaf bricks of L^3 voxels: 1, 2, 4, 8, 16 (default by size)\n"
     "  --preintegrated       classify with the pre-integrated TF table\n"
-    "  --no-bvh              brute force: every sample, no BVH (same as --method brute)\n"
+    "  --method bvh|brute    the implicit min-max BVH (default) or every sample without it\n"
+    "  --no-bvh              the same as --method brute\n"
     "  --rda R               differential sampling: the step grows by R*dt per sample (default 0)\n"
     "  --delta-c C --delta-p P --delta-sv S   BVH heuristics (eqs. 5-7; defaults 1e-3, 1.5, 1e-4;\n"
     "                        a negative value turns one off)\n"
@@ -120,4 +121,4 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
     fprintf(f, "load          %.3f s (reading, bricking and BVH build)\n", load_seconds);
 }
 
-const cli_kind cli_grid = {LC_KIND_GRID, help, parse_flag, apply, default_tf, print_stats};
+const cli_kind cli_grid = {LC_KIND_GRID, help, parse_flag, apply, default_tf, print_stats, "voxel samples"};

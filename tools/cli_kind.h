@@ -35,6 +35,7 @@ typedef struct cli_kind {
      * --tau value (0 = the kind's default). */
     lc_status (*default_tf)(lc_device *dev, const lc_volume *v, const char *preset, float tau, lc_tf **out);
     void (*print_stats)(const lc_volume *v, double load_seconds, FILE *f);
+    const char *evals; /* --stats label of lc_render_stats.kernel_evals, 13 characters */
 } cli_kind;
 
 extern const cli_kind cli_particles, cli_grid, cli_rbf;

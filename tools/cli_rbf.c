@@ -13,6 +13,7 @@ static const char help[] =
     "  --domain x0,y0,z0,x1,y1,z1   box where rays sample (default: the union of the supports);\n"
     "                        with a bias the field is w0 everywhere else, so the box bounds it\n"
     "  --rbf-leaf N          RBFs per BVH leaf, 1..32 (default 4)\n"
+    "  --method bvh|brute    gather the RBFs through a BVH (default) or every RBF at every sample\n"
     "  defaults: method bvh (brute: every RBF at every sample), dt a quarter of the smallest width,\n"
     "  range a conservative bound of the field (w0 plus the weight sums reaching each BVH leaf),\n"
     "  TF heat with a peak extinction of 1 / the largest width\n"
@@ -67,4 +68,4 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
             ri.bvh_depth, (double)ri.bvh_bytes / 1e6, ri.build_seconds, (double)ri.data_bytes / 1e6);
 }
 
-const cli_kind cli_rbf = {LC_KIND_RBF, help, parse_flag, apply, default_tf, print_stats};
+const cli_kind cli_rbf = {LC_KIND_RBF, help, parse_flag, apply, default_tf, print_stats, "rbf terms    "};

@@ -43,8 +43,7 @@ static const char render_help[] =
     "  --alpha               write an alpha channel instead of compositing the background\n"
     "\n"
     "execution:\n"
-    "  --method M            particles: coherent (default; buffered packets) or direct (per-sample\n"
-    "                        gather); volumes and RBF sets: bvh (default) or brute\n"
+    "  --method M            how the kind walks its data (each kind's section below lists its methods)\n"
     "  --packet N            rays per packet side: 8 = 8x8 groups (default), 1 = lane-width packets\n"
     "  --target T            scalar, sse4, avx2, avx512, avx512_8 or auto (default auto; see lanecast\n"
     "                        targets); avx512_8 = AVX-512 instructions at 8 lanes, for width studies\n"
@@ -293,9 +292,7 @@ static void print_stats(const ropts *o, const cli_kind *kind, const lc_volume *v
     printf("render        %.3f s (%.2f fps)\n", t, 1.0 / t);
     printf("rays          %llu\n", (unsigned long long)st->rays);
     printf("samples       %llu\n", (unsigned long long)st->samples);
-    /* particles and RBF sets evaluate Gaussians, grids reconstruct voxels */
-    printf(kind->kind == LC_KIND_GRID ? "voxel samples %llu (%.1f M/s)\n" : "gaussians     %llu (%.1f M/s)\n",
-           (unsigned long long)st->kernel_evals, (double)st->kernel_evals / t / 1e6);
+    printf("%s %llu (%.1f M/s)\n", kind->evals, (unsigned long long)st->kernel_evals, (double)st->kernel_evals / t / 1e6);
     printf("nodes         %llu, leaves %llu, passes %llu\n", (unsigned long long)st->nodes,
            (unsigned long long)st->leaves, (unsigned long long)st->passes);
     (void)o;
