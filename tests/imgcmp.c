@@ -94,18 +94,22 @@ static void diff_path(char *out, size_t n, const char *dir, const char *label)
     snprintf(out, n, "%s/%s.diff.ppm", dir, j ? name : "image");
 }
 
-int imgcmp_check(const char *label, const float *got, const float *want, int w, int h, double max_diff_255,
-                 double min_psnr_db, const char *diff_dir)
+int imgcmp_check_ex(const char *label, const float *got, const float *want, int w, int h, double max_diff_255,
+                    double min_psnr_db, const char *diff_dir, int quiet, imgcmp_result *out)
 {
     imgcmp_result r;
     double tol = max_diff_255 > 0.0 ? max_diff_255 : IMGCMP_MAX_DIFF_255;
-    double minp = min_psnr_db > 0.0 ? min_psnr_db : IMGCMP_MIN_PSNR_DB;
+    double minp = min_psnr_db == IMGCMP_NO_PSNR_BOUND ? -INFINITY
+                  : min_psnr_db > 0.0                 ? min_psnr_db
+                                                      : IMGCMP_MIN_PSNR_DB;
     if (!label) label = "image";
     if (imgcmp_stats(got, want, w, h, tol, &r)) {
         printf("imgcmp %s: FAIL bad arguments (%dx%d)\n", label, w, h);
         return -1;
     }
+    if (out) *out = r;
     int fail = r.nonfinite > 0 || !(r.max_diff_255 <= tol) || !(r.psnr_db >= minp);
+    if (quiet && !fail) return 0;
     char psnr[32], bad[160] = "", file[600] = "";
     if (isinf(r.psnr_db)) snprintf(psnr, sizeof psnr, "inf");
     else snprintf(psnr, sizeof psnr, "%.1f", r.psnr_db);
@@ -124,4 +128,31 @@ int imgcmp_check(const char *label, const float *got, const float *want, int w, 
            fail ? "FAIL" : "PASS", w, h, bad, r.max_diff_255, tol, where, psnr, minp, r.ndiff,
            r.nonfinite ? " (finite pixels only)" : "", file);
     return fail;
+}
+
+int imgcmp_check(const char *label, const float *got, const float *want, int w, int h, double max_diff_255,
+                 double min_psnr_db, const char *diff_dir)
+{
+    return imgcmp_check_ex(label, got, want, w, h, max_diff_255, min_psnr_db, diff_dir, 0, NULL);
+}
+
+void imgcmp_worst_add(imgcmp_worst *w, const imgcmp_result *r)
+{
+    if (r->max_diff_255 > w->max_diff_255) w->max_diff_255 = r->max_diff_255;
+    if (r->psnr_db < w->psnr_db) w->psnr_db = r->psnr_db;
+    w->count++;
+    w->nonfinite += r->nonfinite > 0;
+}
+
+void imgcmp_worst_print(const char *label, const imgcmp_worst *w)
+{
+    if (w->count == 0) {
+        printf("worst %s: no images compared\n", label);
+        return;
+    }
+    char psnr[32];
+    if (w->psnr_db >= 1e300) snprintf(psnr, sizeof psnr, "inf");
+    else snprintf(psnr, sizeof psnr, "%.1f", w->psnr_db);
+    printf("worst %s: max %.3f/255, PSNR %s dB over %ld images (%ld with NaN/Inf)\n", label, w->max_diff_255, psnr,
+           w->count, w->nonfinite);
 }

@@ -28,11 +28,37 @@ int imgcmp_stats(const float *got, const float *want, int w, int h, double count
 
 /* Compares, prints one line ("imgcmp <label>: PASS|FAIL ..."), returns 0 when
  * no value is NaN or Inf, max diff <= max_diff_255 and PSNR >= min_psnr_db
- * (<= 0 for either: the SPEC.md default). On failure, when diff_dir is not
+ * (0 or below for either: the SPEC.md default; but see IMGCMP_NO_PSNR_BOUND). On failure, when diff_dir is not
  * NULL, writes <diff_dir>/<label>.diff.ppm: got | want | |difference| x 16
  * (non-finite values magenta), premultiplied colour over black, and names it
  * in the line. Returns 1 on failure, -1 on bad arguments. */
 int imgcmp_check(const char *label, const float *got, const float *want, int w, int h, double max_diff_255,
                  double min_psnr_db, const char *diff_dir);
+
+/* Bounds for a check that has only one of the two: IMGCMP_NO_MAX_BOUND as
+ * max_diff_255 (any finite difference), IMGCMP_NO_PSNR_BOUND as min_psnr_db
+ * (any PSNR). NaN and Inf fail regardless. */
+#define IMGCMP_NO_MAX_BOUND 1e300
+#define IMGCMP_NO_PSNR_BOUND (-1e300)
+
+/* imgcmp_check with two more arguments: quiet != 0 prints the line (and writes
+ * the diff image) only on failure, for tests that compare thousands of
+ * images; r, when not NULL, receives the statistics (for a test's own
+ * summary of its worst case). Same return values. */
+int imgcmp_check_ex(const char *label, const float *got, const float *want, int w, int h, double max_diff_255,
+                    double min_psnr_db, const char *diff_dir, int quiet, imgcmp_result *r);
+
+/* A test's worst case over many checks: the largest max difference and the
+ * lowest PSNR seen (over finite pixels), the images counted and those with
+ * NaN or Inf. Start from IMGCMP_WORST_INIT. */
+typedef struct imgcmp_worst {
+    double max_diff_255, psnr_db;
+    long count, nonfinite;
+} imgcmp_worst;
+#define IMGCMP_WORST_INIT {0.0, 1e300, 0, 0}
+
+void imgcmp_worst_add(imgcmp_worst *w, const imgcmp_result *r);
+/* "worst <label>: max X/255, PSNR Y dB over N images (M with NaN/Inf)" */
+void imgcmp_worst_print(const char *label, const imgcmp_worst *w);
 
 #endif

@@ -398,6 +398,82 @@ static void test_camera(void)
           "lattice: samples on both ends included");
 }
 
+/* ---------------------------------------------------------------- (d) surfaces, budgets, spheres */
+
+typedef struct wall {
+    double t, rgb[3];
+} wall;
+
+static int wall_hit(const void *user, const ref_params *p, const double o[3], const double d[3], double *t, double rgb[3])
+{
+    const wall *w = user;
+    (void)p, (void)o, (void)d;
+    *t = w->t;
+    for (int a = 0; a < 3; a++) rgb[a] = w->rgb[a];
+    return 1;
+}
+
+static void test_surface(void)
+{
+    konst k = {{0.5, 0.5}};
+    ref_tf tf[2] = {{0, 1, red, 1, tau_c, 1}, {0, 1, green, 1, tau_c2, 1}};
+    ref_source src = {const_eval, &k, 1, {-1, -1, -1}, {1, 1, 1}};
+    ref_params p = base_params(tf);
+    /* box t in [9, 11], lattice k = 26 .. 31; a wall at t = 10 keeps k dt < 10: k = 26 .. 28 */
+    wall w = {10.0, {0.2, 0.4, 0.6}};
+    p.surface = wall_hit, p.surface_user = &w;
+    double out[4], A = 1.0 - exp(-1.7 * 3 * 0.35);
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[3], 1.0, 1e-15) &&
+              near(out[0], 0.9 * A + (1 - A) * 0.2, 1e-14) && near(out[2], 0.1 * A + (1 - A) * 0.6, 1e-14),
+          "surface: samples strictly in front (3), then the surface behind them, A = 1");
+    w.t = 0.35 * 27; /* a sample exactly at the surface is not taken */
+    A = 1.0 - exp(-1.7 * 1 * 0.35);
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[0], 0.9 * A + (1 - A) * 0.2, 1e-14),
+          "surface: t_k = t_hit excluded");
+}
+
+static void test_budget_spheres(void)
+{
+    const double pos[] = {0.0, 0.0, 0.0, 0.3, 0.0, 0.0}, rad[] = {0.5, 0.25}, val[] = {2.0, -1.0};
+    ref_particle_set ps = {2, pos, rad, val, NULL, 1, 2.0, 1.0};
+    const double x[3] = {0.1, 0.2, 0.0};
+    double phi[1], as[1], gas[1], psn[1], gps[1];
+    int cut;
+    ref_particles_eval(&ps, x, phi, NULL);
+    ref_particles_budget(&ps, x, as, gas, psn, gps, &cut);
+    double p0 = 2.0 * exp(-0.05 / 0.5), p1 = -1.0 * exp(-0.08 / 0.125);
+    CHECK(near(as[0], fabs(p0) + fabs(p1), 1e-14) && near(phi[0], p0 + p1, 1e-14) && !cut,
+          "budget: sum |phi_i| %.15g = %.15g", as[0], fabs(p0) + fabs(p1));
+    CHECK(near(gas[0], fabs(p0) * sqrt(0.05) / 0.25 + fabs(p1) * sqrt(0.08) / 0.0625, 1e-14) &&
+              near(psn[0], fabs(p0) * sqrt(0.05) / 0.25 * 0.3 + fabs(p1) * sqrt(0.08) / 0.0625 * 0.6, 1e-14),
+          "budget: gradient sum and position sensitivity");
+    const double xe[3] = {1.0 + 1e-7, 0.0, 0.0}; /* at the first particle's cut-off sigma r = 1 */
+    ref_particles_budget(&ps, xe, as, gas, psn, gps, &cut);
+    CHECK(cut, "budget: a point at the cut-off is flagged");
+    /* spheres of radius 2 r_i seen down -z, orthographic: the centre pixel hits particle 0's sphere at t = 5 - 1 */
+    static const double col[] = {0.0, 0.2, 0.4, 0.6, 1.0, 1.0, 1.0, 1.0}, tau0[] = {0.0, 0.0};
+    ref_tf tf = {0.0, 4.0, col, 2, tau0, 1};
+    ref_sphere_set ss = {&ps, 2.0};
+    ref_params p = {0};
+    p.width = p.height = 5, p.tf = &tf, p.dt = 0.1, p.alpha_stop = 1.0, p.shading = REF_SHADE_NONE;
+    p.camera = (ref_camera){REF_ORTHOGRAPHIC, {0, 0, 5}, {0, 0, 0}, {0, 0, 0}, 0.0, 0.1};
+    double o[3], d[3], t, rgb[3], out[4];
+    ref_camera_ray(&p.camera, 5, 5, 2, 2, o, d);
+    /* value kappa k = 2 -> v = 0.5: rgb (0.6, 0.7, 0.8); n.d = 1 at the pole; lit even unshaded: ka + kd = 1 */
+    int hit = ref_particles_spheres(&ss, &p, o, d, &t, rgb);
+    CHECK(hit && near(t, 4.0, 1e-12) && near(rgb[0], 0.6, 1e-12) && near(rgb[2], 0.8, 1e-12),
+          "spheres: hit t %.6g, rgb %.4g %.4g %.4g", t, rgb[0], rgb[1], rgb[2]);
+    p.shading = REF_SHADE_PHONG; /* + ks |n.h|^p = 0.4 */
+    ref_particles_spheres(&ss, &p, o, d, &t, rgb);
+    CHECK(near(rgb[0], 1.0, 1e-12), "spheres: phong adds ks at the pole (%g)", rgb[0]);
+    ref_source src;
+    p.surface = ref_particles_spheres, p.surface_user = &ss;
+    CHECK(ref_particles_source(&ps, &src) == 0 && ref_render_pixel(&src, &p, 2, 2, out) == 0 && out[3] == 1.0 &&
+              near(out[0], 1.0, 1e-12), "spheres: a transparent volume in front of the sphere leaves its colour");
+    p.camera.eye[1] = 3.0, p.camera.at[1] = 3.0; /* misses every sphere */
+    CHECK(ref_particles_spheres(&ss, &p, p.camera.eye, d, &t, rgb) == 0, "spheres: a miss");
+}
+
 int main(void)
 {
     char dir[] = "/tmp/ref_core_XXXXXX";
@@ -411,6 +487,8 @@ int main(void)
     test_particle_render();
     test_imgcmp(d);
     test_camera();
+    test_surface();
+    test_budget_spheres();
     if (d) rmdir(d);
     return check_summary("ref_core");
 }

@@ -180,10 +180,17 @@ static int setup(ctx *c, const ref_source *src, const ref_params *p)
     c->src = src, c->p = p;
     c->alpha_stop = p->alpha_stop == 0.0 ? 0.97 : p->alpha_stop;
     if (!(c->alpha_stop > 0.0)) return -1;
-    int dflt = p->ka == 0.0 && p->kd == 0.0 && p->ks == 0.0 && p->p == 0.0;
-    c->ka = dflt ? 0.2 : p->ka, c->kd = dflt ? 0.8 : p->kd;
-    c->ks = dflt ? 0.4 : p->ks, c->pe = dflt ? 16.0 : p->p;
+    double k[4];
+    ref_lighting(p, k);
+    c->ka = k[0], c->kd = k[1], c->ks = k[2], c->pe = k[3];
     return 0;
+}
+
+void ref_lighting(const ref_params *p, double k[4])
+{
+    int dflt = p->ka == 0.0 && p->kd == 0.0 && p->ks == 0.0 && p->p == 0.0;
+    k[0] = dflt ? 0.2 : p->ka, k[1] = dflt ? 0.8 : p->kd;
+    k[2] = dflt ? 0.4 : p->ks, k[3] = dflt ? 16.0 : p->p;
 }
 
 /* SPEC.md "Shading": n = -grad/|grad|, l = -d, h = normalize(l - d); below
@@ -275,17 +282,25 @@ static void trace(const ctx *c, int px, int py, double out[4])
     double phi[REF_MAX_FIELDS], grad[REF_MAX_FIELDS][3] = {{0}};
     double t0, t1;
     long k0, k1;
+    double t_surf = INFINITY, srgb[3] = {0, 0, 0};
     ref_camera_ray(&p->camera, p->width, p->height, px, py, r.o, r.d);
+    int surf = p->surface && p->surface(p->surface_user, p, r.o, r.d, &t_surf, srgb);
     if (ref_ray_box(r.o, r.d, s->lo, s->hi, &t0, &t1) && ref_lattice_range(t0, t1, p->dt, p->rda, &k0, &k1) > 0) {
         int need_grad = p->shading != REF_SHADE_NONE;
         for (long k = k0; k <= k1; k++) {
             double t = ref_lattice_t(k, p->dt, p->rda), x[3];
+            if (surf && !(t < t_surf)) break; /* only samples strictly in front of the surface */
             for (int a = 0; a < 3; a++) x[a] = r.o[a] + t * r.d[a];
             s->eval(s->user, x, phi, need_grad ? grad : NULL);
             if (consume_sample(c, &r, k, t, phi, grad)) break;
         }
     }
     finish_ray(c, &r, out);
+    if (surf) { /* the opaque surface behind whatever the ray gathered */
+        double w = 1.0 - out[3];
+        for (int ch = 0; ch < 3; ch++) out[ch] += w * srgb[ch];
+        out[3] = 1.0;
+    }
 }
 
 int ref_render_pixel(const ref_source *src, const ref_params *p, int px, int py, double out[4])

@@ -58,7 +58,19 @@ typedef struct ref_source {
  * the step that follows sample k in differential sampling. */
 typedef double (*ref_tau_scale_fn)(const void *user, long k, double t);
 
-typedef struct ref_params {
+typedef struct ref_params ref_params;
+
+/* Optional opaque surface behind the volume (not a SPEC.md mode: a kind's
+ * own extra geometry, e.g. lanecast's opaque particle spheres; see
+ * ref_fields.h). Returns 1 and the surface's distance *t > 0 along the ray
+ * (o, d) and its final colour rgb (classified and lit by the callback), or 0
+ * on a miss. With a hit, only lattice samples with t_k < *t are taken, and
+ * after the ray's samples (also after early termination) the surface is
+ * blended behind them: C += (1 - A) rgb, A = 1. */
+typedef int (*ref_surface_fn)(const void *user, const ref_params *p, const double o[3], const double d[3], double *t,
+                              double rgb[3]);
+
+struct ref_params {
     int width, height;
     ref_camera camera;
     ref_mode mode;
@@ -70,7 +82,13 @@ typedef struct ref_params {
     double rda;           /* >= 0; t_k = dt (k + rda k (k - 1) / 2); 0 = uniform */
     ref_tau_scale_fn tau_scale;
     const void *tau_scale_user;
-} ref_params;
+    ref_surface_fn surface; /* NULL: none */
+    const void *surface_user;
+};
+
+/* The lighting coefficients of p with the SPEC.md defaults applied (all zero:
+ * ka 0.2, kd 0.8, ks 0.4, p 16): k = {ka, kd, ks, p}. */
+void ref_lighting(const ref_params *p, double k[4]);
 
 /* Ray of pixel (px, py), py = 0 the top row, through the pixel centre:
  * origin o and unit direction d. Returns 0, or -1 on a degenerate camera. */

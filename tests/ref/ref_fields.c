@@ -63,6 +63,61 @@ int ref_particles_source(const ref_particle_set *ps, ref_source *src)
     return 0;
 }
 
+void ref_particles_budget(const ref_particle_set *ps, const double x[3], double *abs_sum, double *gabs_sum,
+                          double *pos_sens, double *gpos_sens, int *near_cut)
+{
+    const double sigma = psigma(ps), kappa = pkappa(ps);
+    const int nf = pnfields(ps);
+    for (int f = 0; f < nf; f++) abs_sum[f] = gabs_sum[f] = pos_sens[f] = gpos_sens[f] = 0.0;
+    *near_cut = 0;
+    const double xmag = fabs(x[0]) + fabs(x[1]) + fabs(x[2]);
+    for (size_t i = 0; i < ps->count; i++) {
+        const double *c = ps->pos + 3 * i, r = ps->radius[i], R2 = sigma * r * sigma * r;
+        double e[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+        double d2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        if (fabs(d2 - R2) < 1e-5 * R2) *near_cut = 1;
+        if (!(d2 < R2)) continue;
+        int f = ps->field ? ps->field[i] : 0;
+        double ph = fabs(kappa * (ps->value ? ps->value[i] : 1.0) * exp(-d2 / (2.0 * r * r)));
+        double d = sqrt(d2), mag = xmag + fabs(c[0]) + fabs(c[1]) + fabs(c[2]);
+        abs_sum[f] += ph;
+        gabs_sum[f] += ph * d / (r * r); /* |grad phi_i| = |phi_i| d / r^2 */
+        /* |d phi_i / dx| = |phi_i| d / r^2; |d grad phi_i / dx| <= |phi_i| (1 + d^2 / r^2) / r^2 */
+        pos_sens[f] += ph * d / (r * r) * mag;
+        gpos_sens[f] += ph * (1.0 + d2 / (r * r)) / (r * r) * mag;
+    }
+}
+
+int ref_particles_spheres(const void *user, const ref_params *p, const double o[3], const double d[3], double *t,
+                          double rgb[3])
+{
+    const ref_sphere_set *ss = user;
+    const ref_particle_set *ps = ss->ps;
+    double best = INFINITY;
+    size_t hit = 0;
+    for (size_t i = 0; i < ps->count; i++) {
+        const double *c = ps->pos + 3 * i, rr = ss->scale * ps->radius[i];
+        double oc[3] = {c[0] - o[0], c[1] - o[1], c[2] - o[2]};
+        double tc = oc[0] * d[0] + oc[1] * d[1] + oc[2] * d[2];
+        double h2 = rr * rr - (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - tc * tc);
+        if (h2 < 0.0) continue;
+        double h = sqrt(h2), th = tc - h > 0.0 ? tc - h : tc + h;
+        if (th > 0.0 && th < best) best = th, hit = i;
+    }
+    if (!(best < INFINITY)) return 0;
+    const double *c = ps->pos + 3 * hit, rr = ss->scale * ps->radius[hit];
+    double ndl = 0.0, k[4], tau;
+    for (int a = 0; a < 3; a++) ndl += (o[a] + best * d[a] - c[a]) / rr * d[a];
+    ndl = fabs(ndl);
+    int f = ps->field ? ps->field[hit] : 0;
+    ref_tf_eval(&p->tf[f], pkappa(ps) * (ps->value ? ps->value[hit] : 1.0), rgb, &tau);
+    ref_lighting(p, k);
+    double kk = k[0] + k[1] * ndl, spec = p->shading == REF_SHADE_PHONG ? k[2] * pow(ndl, k[3]) : 0.0;
+    for (int a = 0; a < 3; a++) rgb[a] = rgb[a] * kk + spec;
+    *t = best;
+    return 1;
+}
+
 /* ---------------------------------------------------------------- structured grid */
 
 static double node(const ref_grid_field *g, int i, int j, int k)

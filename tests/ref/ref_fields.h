@@ -29,6 +29,32 @@ void ref_particles_eval(const void *user, const double p[3], double *phi, double
  * Returns 0, or -1 on bad input (radius <= 0, field id out of range). */
 int ref_particles_source(const ref_particle_set *ps, ref_source *src);
 
+/* Error budget of Phi_f at x for a float implementation (per field f, arrays
+ * of nfields): abs_sum = sum |phi_i| and gabs_sum = sum |grad phi_i| over the
+ * terms inside their cut-off; pos_sens = sum |d phi_i / dx| (|x| + |x_i|) and
+ * gpos_sens = sum |d grad phi_i / dx| (|x| + |x_i|), the sensitivity to an
+ * absolute round-off of x - x_i proportional to the coordinates' magnitude
+ * (|.| the 1-norm); *near_cut is set when a term lies within a relative 1e-5
+ * of its truncation radius (float and double may disagree on inclusion). */
+void ref_particles_budget(const ref_particle_set *ps, const double x[3], double *abs_sum, double *gabs_sum,
+                          double *pos_sens, double *gpos_sens, int *near_cut);
+
+/* lanecast's opaque particle spheres (Knoll 2014 sec. 5.2; not in SPEC.md,
+ * which defines no surfaces; the rule is lanecast's, lc_particle_params
+ * sphere_scale): a sphere of radius scale * r_i at every particle; the
+ * nearest hit t > 0 (the far side when the eye is inside), coloured by its
+ * particle's value kappa k_i through its field's transfer function and lit
+ * by the headlight whatever the shading mode: rgb (ka + kd |n.d|), plus
+ * ks |n.d|^p for phong (p's lighting, SPEC.md defaults). A ref_surface_fn:
+ * set params.surface = ref_particles_spheres, surface_user = the set below. */
+typedef struct ref_sphere_set {
+    const ref_particle_set *ps;
+    double scale; /* > 0 */
+} ref_sphere_set;
+
+int ref_particles_spheres(const void *user, const ref_params *p, const double o[3], const double d[3], double *t,
+                          double rgb[3]);
+
 /* Structured grid, one field: node (i, j, k) at origin + (i sx, j sy, k sz),
  * values x fastest; trilinear value and the analytic gradient of the same
  * trilinear form in world units. Points outside the domain are clamped to it. */
