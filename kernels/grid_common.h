@@ -265,15 +265,20 @@ static inline void grid_classify_preint(const lc_kgrid *g, vfloat va, vfloat vb,
 /* Hands one sample to the mode: phi, or when pre-integrated (eq. 4) its
  * segment's classification rgbt; shaded when the frame shades, with this
  * sample's step dt (1 + rda k) under differential sampling. */
-static inline void grid_consume(const lc_kgrid *g, const lc_kframe *f, gpk *p, vmask m, vint k, vfloat phi,
-                                const vfloat *rgbt, vfloat gx, vfloat gy, vfloat gz)
+static inline __attribute__((always_inline)) void grid_consume(const lc_kgrid *g, const lc_kframe *f, int mode, gpk *p,
+                                                               vmask m, vint k, vfloat phi, const vfloat *rgbt,
+                                                               vfloat gx, vfloat gy, vfloat gz)
 {
     vgrad gr = {gx, gy, gz};
     const vgrad *grad = f->shade != LC_KSHADE_NONE ? &gr : NULL;
-    vfloat scale = vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f));
-    const vfloat *step = g->rda != 0.0f ? &scale : NULL;
-    if (rgbt && f->mode == LC_KMODE_DVR) mode_sample_rgbt(f, 0, &p->c, m, rgbt[0], rgbt[1], rgbt[2], rgbt[3], grad, &p->ray, step);
-    else mode_sample(f, 0, &p->c, m, phi, grad, &p->ray, step);
+    if (g->rda != 0.0f) {
+        vfloat scale = vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f));
+        if (rgbt) mode_sample_rgbt(f, 0, &p->c, m, rgbt[0], rgbt[1], rgbt[2], rgbt[3], grad, &p->ray, &scale);
+        else mode_sample_as(f, mode, 0, &p->c, m, phi, grad, &p->ray, &scale);
+    } else {
+        if (rgbt) mode_sample_rgbt(f, 0, &p->c, m, rgbt[0], rgbt[1], rgbt[2], rgbt[3], grad, &p->ray, NULL);
+        else mode_sample_as(f, mode, 0, &p->c, m, phi, grad, &p->ray, NULL);
+    }
 }
 
 /* Stage-profile stand-ins (GRID_PROF, bench only) for classification,
@@ -305,7 +310,8 @@ static inline void grid_prof_consume(const lc_kgrid *g, const lc_kframe *f, gpk 
 
 /* Integrates lattice samples ka..kb (per lane) of the live lanes of p, front
  * to back, stopping lanes at alpha_stop. Both methods go through here. */
-static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p, vint ka, vint kb, lc_kstats *st)
+static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgrid *g, const lc_kframe *f, int mode,
+                                                                    gpk *p, vint ka, vint kb, lc_kstats *st)
 {
     const lc_ktf *tf = &f->tf[0];
     const float dt = f->dt;
@@ -325,16 +331,16 @@ static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p,
         vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
         if (GRID_PROF & (GP_CLASS | GP_SHADE | GP_BLEND)) {
             grid_prof_consume(g, f, p, m, k, phi, gx, gy, gz);
-        } else if (g->use_preint && f->mode == LC_KMODE_DVR) {
+        } else if (g->use_preint && mode == LC_KMODE_DVR) {
             vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
             vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
             vfloat rgbt[4];
             grid_classify_preint(g, va, v, &rgbt[0], &rgbt[1], &rgbt[2], &rgbt[3]);
             p->prev = vf_select(m, v, p->prev);
             p->kprev = vi_select(m, k, p->kprev);
-            grid_consume(g, f, p, m, k, phi, rgbt, gx, gy, gz);
+            grid_consume(g, f, mode, p, m, k, phi, rgbt, gx, gy, gz);
         } else {
-            grid_consume(g, f, p, m, k, phi, NULL, gx, gy, gz);
+            grid_consume(g, f, mode, p, m, k, phi, NULL, gx, gy, gz);
         }
         n += (uint64_t)vm_popcnt(m);
         k = vi_add(k, vi_set1(1));
@@ -344,6 +350,13 @@ static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p,
     st->kernel_evals += n;
     p->knext = vi_select(start, vi_max(p->knext, vi_add(kb, vi_set1(1))), p->knext);
     p->live = vm_and(p->live, vm_and(vm_not(vi_gt(p->knext, p->klast)), grid_below_stop(p->c.a, astop)));
+}
+
+/* The sample loop specialised per mode (the mode is the same for a frame). */
+static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p, vint ka, vint kb, lc_kstats *st)
+{
+    if (f->mode == LC_KMODE_MIP) grid_integrate_as(g, f, LC_KMODE_MIP, p, ka, kb, st);
+    else grid_integrate_as(g, f, LC_KMODE_DVR, p, ka, kb, st);
 }
 
 /* Constant subvolume (eq. 7): samples ka..kb all take the value phi, unshaded,

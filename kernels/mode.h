@@ -45,17 +45,26 @@ static inline void mip_sample(const lc_kframe *f, int fi, vcolor *c, vmask m, vf
     c->b = vf_select(m, vf_set1(1.0f), c->b);
 }
 
-/* One sample of field fi with value phi on the lanes in m. */
-static inline void mode_sample(const lc_kframe *f, int fi, vcolor *c, vmask m, vfloat phi, const vgrad *grad,
-                               const vray *ray, const vfloat *step_scale)
+/* One sample of field fi with value phi on the lanes in m, in mode `mode`
+ * (f->mode; hot loops pass it as a constant so each mode gets its own loop). */
+static inline __attribute__((always_inline)) void mode_sample_as(const lc_kframe *f, int mode, int fi, vcolor *c,
+                                                                 vmask m, vfloat phi, const vgrad *grad,
+                                                                 const vray *ray, const vfloat *step_scale)
 {
-    if (f->mode == LC_KMODE_MIP) {
+    if (mode == LC_KMODE_MIP) {
         mip_sample(f, fi, c, m, phi);
         return;
     }
     vfloat r, g, b, tau;
     dvr_classify(&f->tf[fi], phi, &r, &g, &b, &tau);
     mode_sample_rgbt(f, fi, c, m, r, g, b, tau, grad, ray, step_scale);
+}
+
+/* One sample of field fi with value phi on the lanes in m. */
+static inline void mode_sample(const lc_kframe *f, int fi, vcolor *c, vmask m, vfloat phi, const vgrad *grad,
+                               const vray *ray, const vfloat *step_scale)
+{
+    mode_sample_as(f, f->mode, fi, c, m, phi, grad, ray, step_scale);
 }
 
 /* The ray's final colour: mip maps its maximum through the colour map of

@@ -314,6 +314,46 @@ static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscr
     }
 }
 
+/* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
+ * group, front to back through the mode (a constant, so each mode gets its
+ * own loop). */
+static inline __attribute__((always_inline)) void integrate_buffer(const lc_kframe *f, int mode, const cscratch *c,
+                                                                   int nv, int K, int nf, int kp, int kend, int comps,
+                                                                   lc_kstats *st)
+{
+    const int rays = nv * LC_W;
+    for (int v = 0; v < nv; v++) {
+        int o = v * LC_W;
+        vmask live = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
+        if (vm_none(live)) continue;
+        /* no particle reached these rays in this pass: every sample is 0 and, with
+           tau(0) = 0, blends to exactly nothing */
+        if (f->zero_transparent && !c->touched[v]) continue;
+        vray r;
+        r.dx = vf_load(c->dx + o), r.dy = vf_load(c->dy + o), r.dz = vf_load(c->dz + o);
+        vcolor col = {vf_load(c->cr + o), vf_load(c->cg + o), vf_load(c->cb + o), vf_load(c->ca + o)};
+        vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
+        for (int k = kp; k <= kend; k++) {
+            vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
+            if (vm_none(m)) continue;
+            st->samples += (uint64_t)vm_popcnt(m);
+            for (int fi = 0; fi < nf; fi++) {
+                const float *p = c->buf + (((size_t)fi * (size_t)K + (size_t)(k - kp)) * (size_t)comps) *
+                                             (size_t)rays + (size_t)o;
+                vfloat phi = vf_load(p);
+                if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
+                vgrad gr;
+                if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
+                mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL);
+            }
+            live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
+            if (vm_none(live)) break;
+        }
+        vf_store(c->cr + o, col.r), vf_store(c->cg + o, col.g);
+        vf_store(c->cb + o, col.b), vf_store(c->ca + o, col.a);
+    }
+}
+
 static void particles_coherent(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
                                lc_kstats *st)
 {
@@ -394,36 +434,8 @@ static void particles_coherent(const void *scene, const lc_kframe *f, const lc_k
                 for (int v = 0; v < nv; v++) c.touched[v] = 0;
                 traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);
                 /* Listing 2, lines 11-13: integrate the buffer front to back */
-                for (int v = 0; v < nv; v++) {
-                    int o = v * LC_W;
-                    vmask live = vf_le(vf_load(c.w0 + o), vf_load(c.w1 + o));
-                    if (vm_none(live)) continue;
-                    /* no particle reached these rays in this pass: every sample is 0 and, with
-                       tau(0) = 0, blends to exactly nothing */
-                    if (f->zero_transparent && !c.touched[v]) continue;
-                    vray r;
-                    r.dx = vf_load(c.dx + o), r.dy = vf_load(c.dy + o), r.dz = vf_load(c.dz + o);
-                    vcolor col = {vf_load(c.cr + o), vf_load(c.cg + o), vf_load(c.cb + o), vf_load(c.ca + o)};
-                    vint kf = vi_load(c.kf + o), kl = vi_load(c.kl + o);
-                    for (int k = kp; k <= kend; k++) {
-                        vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
-                        if (vm_none(m)) continue;
-                        st->samples += (uint64_t)vm_popcnt(m);
-                        for (int fi = 0; fi < nf; fi++) {
-                            const float *p = c.buf + (((size_t)fi * (size_t)K + (size_t)(k - kp)) * (size_t)comps) *
-                                                         (size_t)rays + (size_t)o;
-                            vfloat phi = vf_load(p);
-                            if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
-                            vgrad gr;
-                            if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
-                            mode_sample(f, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL);
-                        }
-                        live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
-                        if (vm_none(live)) break;
-                    }
-                    vf_store(c.cr + o, col.r), vf_store(c.cg + o, col.g);
-                    vf_store(c.cb + o, col.b), vf_store(c.ca + o, col.a);
-                }
+                if (f->mode == LC_KMODE_MIP) integrate_buffer(f, LC_KMODE_MIP, &c, nv, K, nf, kp, kend, comps, st);
+                else integrate_buffer(f, LC_KMODE_DVR, &c, nv, K, nf, kp, kend, comps, st);
             }
             for (int v = 0; v < nv; v++) {
                 int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
