@@ -500,10 +500,9 @@ static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vf
 
 /* ---------------------------------------------------------------- direct */
 
-static void particles_direct(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
-                             lc_kstats *st)
+static inline __attribute__((always_inline)) void direct_tile(const lc_kparticles *s, const lc_kframe *f, int mode,
+                                                              const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
 {
-    const lc_kparticles *s = scene;
     int32_t *stack = scratch->mem; /* direct needs only the traversal stack (direct_scratch_bytes) */
     const float dt = f->dt;
     const int nf = s->nfields, shade = f->shade != LC_KSHADE_NONE;
@@ -541,7 +540,7 @@ static void particles_direct(const void *scene, const lc_kframe *f, const lc_kti
                         /* tau(0) = 0 and this field is 0 on every lane: it blends to exactly nothing */
                         if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi[fi], vf_zero())))) continue;
                         vgrad gr = {gx[fi], gy[fi], gz[fi]};
-                        mode_sample(f, fi, &col, m, phi[fi], shade ? &gr : NULL, &r, NULL);
+                        mode_sample_as(f, mode, fi, &col, m, phi[fi], shade ? &gr : NULL, &r, NULL);
                     }
                     live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
                     if (vm_none(live)) break;
@@ -550,6 +549,14 @@ static void particles_direct(const void *scene, const lc_kframe *f, const lc_kti
             finish_vector(f, t, x, y, &col, &surf);
         }
     }
+}
+
+/* The direct method, its sample loop specialised per mode. */
+static void particles_direct(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
+                             lc_kstats *st)
+{
+    if (f->mode == LC_KMODE_MIP) direct_tile(scene, f, LC_KMODE_MIP, t, scratch, st);
+    else direct_tile(scene, f, LC_KMODE_DVR, t, scratch, st);
 }
 
 /* ---------------------------------------------------------------- point sampling */

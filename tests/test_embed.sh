@@ -27,7 +27,8 @@ cc -std=c11 -Wall -Werror $san -o "$tmp/embed" "$src/examples/embed.c" $flags
 libdir=$(pkg-config $pcflags --variable=libdir lanecast)
 out=$(LD_LIBRARY_PATH="$libdir" LANECAST_TARGET=scalar "$tmp/embed")
 echo "     embed printed: $out"
-want="lanecast $(meson introspect --projectinfo "$build" | json 'json.load(sys.stdin)["version"]'), target scalar (1 lanes)"
+want="lanecast $(meson introspect --projectinfo "$build" | json 'json.load(sys.stdin)["version"]'), target scalar (1 lanes)
+rendered 48x48, the volume is visible"
 [ "$out" = "$want" ] || { echo "FAIL expected: $want"; exit 1; }
 # the binary must use the installed library, not one from the build tree
 LD_LIBRARY_PATH="$libdir" ldd "$tmp/embed" | grep -q "$libdir/liblanecast.so" || {
