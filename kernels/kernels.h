@@ -13,6 +13,11 @@ extern const lc_kkind LC_KFN(lc_kkind_particles);
 extern const lc_kkind LC_KFN(lc_kkind_grid);
 extern const lc_kkind LC_KFN(lc_kkind_rbf);
 
+/* the coherent particle method lives in its own file; the sub-table is in particles.c */
+void LC_KFN(particles_coherent)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
+                                lc_kstats *st);
+uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kframe *f);
+
 /* the grid methods live in two files; the sub-table is in grid_bvh.c */
 void LC_KFN(grid_brute)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st);
 

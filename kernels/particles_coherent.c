@@ -1,0 +1,302 @@
+/* Coherent particle volume rendering (Knoll et al. 2014, Listings 2 and 3),
+ * compiled once per target: a group of rays (8x8 by default, or one
+ * lane-width packet) walks the BVH with a uniform stack; every leaf particle
+ * adds its Gaussian to every buffered sample it overlaps (the uniform sample
+ * range is the min/max over the packet's lanes); then the buffer of K samples
+ * per ray is integrated front to back through the mode. Multi-pass over the
+ * ray segment, stopping when every ray of the group reached alpha_stop. */
+#include "particles_common.h"
+
+#define MAX_GROUP_RAYS 4096
+
+typedef struct pgroup {
+    int gw, gh; /* group size in pixels, multiples of DVR_PW x DVR_PH */
+    int nv;     /* vectors in the group */
+} pgroup;
+
+static inline pgroup group_dims(const lc_kframe *f)
+{
+    pgroup g;
+    int s = f->packet <= 1 ? 1 : f->packet;
+    g.gw = s <= DVR_PW ? DVR_PW : (s + DVR_PW - 1) / DVR_PW * DVR_PW;
+    g.gh = s <= DVR_PH ? DVR_PH : (s + DVR_PH - 1) / DVR_PH * DVR_PH;
+    while (g.gw * g.gh > MAX_GROUP_RAYS) g.gw > g.gh ? (g.gw -= DVR_PW) : (g.gh -= DVR_PH);
+    g.nv = (g.gw / DVR_PW) * (g.gh / DVR_PH);
+    return g;
+}
+
+/* Scratch of one worker: ray arrays for a group, the sample buffer, the stack. */
+typedef struct cscratch {
+    float *ox, *oy, *oz, *dx, *dy, *dz, *ix, *iy, *iz; /* rays */
+    float *w0, *w1;                                    /* this pass's t window per ray (w0 > w1: inactive) */
+    int32_t *kf, *kl;
+    float *cr, *cg, *cb, *ca;                          /* accumulated colour */
+    float *sr, *sg, *sb, *sa;                          /* opaque surface */
+    float *buf;                                        /* [field][row][comp][ray] */
+    int32_t *touched;                                  /* per vector: deposits this pass */
+    int32_t *stack;
+} cscratch;
+
+static uint64_t align64(uint64_t b) { return (b + 63) & ~(uint64_t)63; }
+
+static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsigned char *base, cscratch *c)
+{
+    pgroup g = group_dims(f);
+    uint64_t rays = (uint64_t)g.nv * LC_W;
+    uint64_t comps = f->shade != LC_KSHADE_NONE ? 4 : 1;
+    uint64_t off = 0;
+    float **fa[] = {&c->ox, &c->oy, &c->oz, &c->dx, &c->dy, &c->dz, &c->ix, &c->iy, &c->iz, &c->w0, &c->w1,
+                    &c->cr, &c->cg, &c->cb, &c->ca, &c->sr, &c->sg, &c->sb, &c->sa};
+    for (size_t i = 0; i < sizeof fa / sizeof fa[0]; i++) {
+        if (base) *fa[i] = (float *)(base + off);
+        off += align64(rays * 4);
+    }
+    if (base) c->kf = (int32_t *)(base + off);
+    off += align64(rays * 4);
+    if (base) c->kl = (int32_t *)(base + off);
+    off += align64(rays * 4);
+    if (base) c->buf = (float *)(base + off);
+    off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)s->buffer_k * comps * rays * 4);
+    if (base) c->touched = (int32_t *)(base + off);
+    off += align64((uint64_t)g.nv * 4);
+    if (base) c->stack = (int32_t *)(base + off);
+    off += align64((uint64_t)(s->depth + 4) * 4);
+    return off;
+}
+
+uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kframe *f)
+{
+    cscratch c;
+    return coherent_layout(scene, f, NULL, &c);
+}
+
+/* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
+ * of the group it overlaps (Listing 2, lines 6-8). */
+static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
+                           int32_t i, lc_kstats *st)
+{
+    float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
+    float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
+    int rays = nv * LC_W;
+    int K = s->buffer_k;
+    float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
+    float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
+    for (int v = 0; v < nv; v++) {
+        int o = v * LC_W;
+        vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
+        vmask m = vf_le(w0, w1);
+        if (vm_none(m)) continue;
+        vfloat ox = vf_load(c->ox + o), oy = vf_load(c->oy + o), oz = vf_load(c->oz + o);
+        vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
+        vfloat ocx = vf_sub(vf_set1(cx), ox), ocy = vf_sub(vf_set1(cy), oy), ocz = vf_sub(vf_set1(cz), oz);
+        vfloat tc = vf_fma(ocx, dx, vf_fma(ocy, dy, vf_mul(ocz, dz)));
+        vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
+        /* conservative chord: the per-sample test below is the exact one */
+        vfloat h2 = vf_sub(vf_set1(r2s * 1.001f + 1e-12f), d2);
+        m = vm_and(m, vf_ge(h2, vf_zero()));
+        if (vm_none(m)) continue;
+        vfloat half = vf_add(vf_sqrt(vf_max(h2, vf_zero())), vf_set1(1e-4f * rs));
+        vfloat ta = vf_max(vf_sub(tc, half), w0), tb = vf_min(vf_add(tc, half), w1);
+        m = vm_and(m, vf_le(ta, tb));
+        if (vm_none(m)) continue;
+        int ka = (int)__builtin_floorf(vf_reduce_min_masked(m, ta) / dt);
+        int kb = (int)__builtin_ceilf(vf_reduce_max_masked(m, tb) / dt);
+        ka = ka < kp ? kp : ka;
+        kb = kb > kend ? kend : kb;
+        if (ka > kb) continue;
+        c->touched[v] = 1;
+        uint64_t evals = 0;
+        /* branch-free: [ka, kb] is the union of the lanes' chords, so almost every
+           step has active lanes and a data-dependent branch would mispredict at
+           both ends of every chord */
+        for (int k = ka; k <= kb; k++) {
+            vfloat t = vf_set1((float)k * dt);
+            vfloat px = vf_fma(dx, t, ox), py = vf_fma(dy, t, oy), pz = vf_fma(dz, t, oz);
+            vmask in;
+            vfloat ex, ey, ez;
+            vfloat pd2 = sample_d2(px, py, pz, cx, cy, cz, r2s, m, &in, &ex, &ey, &ez);
+            evals += (uint64_t)vm_popcnt(in);
+            vfloat phi = gaussian(pd2, nir, kk, in);
+            float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
+            vf_store(row, vf_add(vf_load(row), phi));
+            if (comps == 4) {
+                vfloat gp = vf_mul(phi, vf_set1(gscale));
+                vf_store(row + rays, vf_fma(ex, gp, vf_load(row + rays)));
+                vf_store(row + 2 * rays, vf_fma(ey, gp, vf_load(row + 2 * rays)));
+                vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
+            }
+        }
+        st->kernel_evals += evals;
+    }
+}
+
+/* Listing 2, lines 3-10: coherent traversal filling the buffer for samples
+ * kp..kend. Node and stack are uniform, rays varying. */
+static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscratch *c, int nv, int kp, int kend,
+                          float dt, int comps, lc_kstats *st)
+{
+    int32_t *stack = c->stack;
+    int sp = 0;
+    stack[sp++] = 0;
+    while (sp > 0) {
+        int32_t n = stack[--sp];
+        const lc_kpnode *node = &s->nodes[n];
+        float g = grow(s->sigma * s->node_rmax[n]);
+        st->nodes++;
+        /* the mode's test on the node's own contribution (dvr: always) */
+        float vb = s->kappa * s->node_ksum[n];
+        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, 0, -INFINITY};
+        if (!mode_node_matters(f, &mn)) continue;
+        int hit = 0;
+        for (int v = 0; v < nv && !hit; v++) {
+            int o = v * LC_W;
+            vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
+            vfloat tn, tf;
+            dvr_slab(vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o), vf_load(c->ix + o), vf_load(c->iy + o),
+                 vf_load(c->iz + o), node->lo, node->hi, g, &tn, &tf);
+            hit = vm_any(vf_le(vf_max(tn, w0), vf_min(tf, w1)));
+        }
+        if (!hit) continue;
+        if (node->count == 0) {
+            stack[sp++] = node->first + 1;
+            stack[sp++] = node->first;
+            continue;
+        }
+        st->leaves++;
+        for (int32_t i = node->first; i < node->first + node->count; i++) deposit(s, c, nv, kp, kend, dt, comps, i, st);
+    }
+}
+
+/* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
+ * group, front to back through the mode (a constant, so each mode gets its
+ * own loop). */
+static inline __attribute__((always_inline)) void integrate_buffer(const lc_kframe *f, int mode, const cscratch *c,
+                                                                   int nv, int K, int nf, int kp, int kend, int comps,
+                                                                   lc_kstats *st)
+{
+    const int rays = nv * LC_W;
+    for (int v = 0; v < nv; v++) {
+        int o = v * LC_W;
+        vmask live = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
+        if (vm_none(live)) continue;
+        /* no particle reached these rays in this pass: every sample is 0 and, with
+           tau(0) = 0, blends to exactly nothing */
+        if (f->zero_transparent && !c->touched[v]) continue;
+        vray r;
+        r.dx = vf_load(c->dx + o), r.dy = vf_load(c->dy + o), r.dz = vf_load(c->dz + o);
+        vcolor col = {vf_load(c->cr + o), vf_load(c->cg + o), vf_load(c->cb + o), vf_load(c->ca + o)};
+        vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
+        for (int k = kp; k <= kend; k++) {
+            vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
+            if (vm_none(m)) continue;
+            st->samples += (uint64_t)vm_popcnt(m);
+            for (int fi = 0; fi < nf; fi++) {
+                const float *p = c->buf + (((size_t)fi * (size_t)K + (size_t)(k - kp)) * (size_t)comps) *
+                                             (size_t)rays + (size_t)o;
+                vfloat phi = vf_load(p);
+                if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
+                vgrad gr;
+                if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
+                mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL);
+            }
+            live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
+            if (vm_none(live)) break;
+        }
+        vf_store(c->cr + o, col.r), vf_store(c->cg + o, col.g);
+        vf_store(c->cb + o, col.b), vf_store(c->ca + o, col.a);
+    }
+}
+
+void LC_KFN(particles_coherent)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
+                                lc_kstats *st)
+{
+    const lc_kparticles *s = scene;
+    cscratch c;
+    coherent_layout(s, f, scratch->mem, &c);
+    pgroup g = group_dims(f);
+    const int nv = g.nv, rays = nv * LC_W, K = s->buffer_k, nf = s->nfields;
+    const int comps = f->shade != LC_KSHADE_NONE ? 4 : 1;
+    const int vpr = g.gw / DVR_PW; /* vectors per group row */
+    const float dt = f->dt;
+    for (int gy = t->y0; gy < t->y1; gy += g.gh) {
+        for (int gx = t->x0; gx < t->x1; gx += g.gw) {
+            /* Listing 3, line 3: rays, their box interval and lattice range */
+            int kmin = 1 << 30, kmax = -(1 << 30);
+            for (int v = 0; v < nv; v++) {
+                int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
+                vray r;
+                vint kf, kl;
+                vcolor surf;
+                if (s->nnodes == 0) {
+                    vint px, py;
+                    dvr_packet_pixels(x, y, &px, &py);
+                    r = dvr_camera_rays(&f->cam, px, py);
+                    kf = vi_set1(1), kl = vi_set1(0);
+                    surf.r = surf.g = surf.b = surf.a = vf_zero();
+                } else {
+                    setup_vector(s, f, t, x, y, c.stack, &r, &kf, &kl, &surf, st);
+                }
+                vf_store(c.ox + o, r.ox), vf_store(c.oy + o, r.oy), vf_store(c.oz + o, r.oz);
+                vf_store(c.dx + o, r.dx), vf_store(c.dy + o, r.dy), vf_store(c.dz + o, r.dz);
+                vf_store(c.ix + o, dvr_inv_dir(r.dx));
+                vf_store(c.iy + o, dvr_inv_dir(r.dy));
+                vf_store(c.iz + o, dvr_inv_dir(r.dz));
+                vi_store(c.kf + o, kf), vi_store(c.kl + o, kl);
+                vf_store(c.cr + o, vf_zero()), vf_store(c.cg + o, vf_zero());
+                vf_store(c.cb + o, vf_zero()), vf_store(c.ca + o, vf_zero());
+                vf_store(c.sr + o, surf.r), vf_store(c.sg + o, surf.g);
+                vf_store(c.sb + o, surf.b), vf_store(c.sa + o, surf.a);
+                for (int l = 0; l < LC_W; l++) {
+                    if (c.kf[o + l] > c.kl[o + l]) continue;
+                    kmin = c.kf[o + l] < kmin ? c.kf[o + l] : kmin;
+                    kmax = c.kl[o + l] > kmax ? c.kl[o + l] : kmax;
+                }
+            }
+            /* Listing 3, lines 4-6: passes of K samples until every ray is opaque */
+            for (int kp = kmin; kp <= kmax; kp += K) {
+                int kend = kp + K - 1 < kmax ? kp + K - 1 : kmax;
+                int any = 0;
+                for (int v = 0; v < nv; v++) {
+                    int o = v * LC_W;
+                    vint kf = vi_load(c.kf + o), kl = vi_load(c.kl + o);
+                    vmask live = vm_and(vf_lt(vf_load(c.ca + o), vf_set1(f->alpha_stop)),
+                                        vm_and(vi_lt(kf, vi_set1(kend + 1)), vi_gt(kl, vi_set1(kp - 1))));
+                    vfloat a = vi_to_vf(vi_max(kf, vi_set1(kp))), b = vi_to_vf(vi_min(kl, vi_set1(kend)));
+                    /* window in t, padded by half a step against round-off */
+                    vf_store(c.w0 + o, vf_select(live, vf_mul(vf_sub(a, vf_set1(0.5f)), vf_set1(dt)), vf_set1(1.0f)));
+                    vf_store(c.w1 + o, vf_select(live, vf_mul(vf_add(b, vf_set1(0.5f)), vf_set1(dt)), vf_set1(-1.0f)));
+                    any |= vm_any(live);
+                }
+                if (!any) {
+                    int alive = 0;
+                    for (int v = 0; v < nv && !alive; v++) {
+                        int o = v * LC_W;
+                        alive = vm_any(vm_and(vf_lt(vf_load(c.ca + o), vf_set1(f->alpha_stop)),
+                                              vi_gt(vi_load(c.kl + o), vi_set1(kend))));
+                    }
+                    if (!alive) break;
+                    continue;
+                }
+                st->passes++;
+                int nrows = kend - kp + 1;
+                for (int fi = 0; fi < nf; fi++)
+                    for (int row = 0; row < nrows; row++) {
+                        float *p = c.buf + ((size_t)fi * (size_t)K + (size_t)row) * (size_t)comps * (size_t)rays;
+                        for (int q = 0; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
+                    }
+                for (int v = 0; v < nv; v++) c.touched[v] = 0;
+                traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);
+                /* Listing 2, lines 11-13: integrate the buffer front to back */
+                if (f->mode == LC_KMODE_MIP) integrate_buffer(f, LC_KMODE_MIP, &c, nv, K, nf, kp, kend, comps, st);
+                else integrate_buffer(f, LC_KMODE_DVR, &c, nv, K, nf, kp, kend, comps, st);
+            }
+            for (int v = 0; v < nv; v++) {
+                int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
+                vcolor col = {vf_load(c.cr + o), vf_load(c.cg + o), vf_load(c.cb + o), vf_load(c.ca + o)};
+                vcolor surf = {vf_load(c.sr + o), vf_load(c.sg + o), vf_load(c.sb + o), vf_load(c.sa + o)};
+                if (x < t->x1 && y < t->y1) finish_vector(f, t, x, y, &col, &surf);
+            }
+        }
+    }
+}
+

@@ -1,0 +1,149 @@
+/* What both particle methods share (Knoll et al. 2014): the Gaussian and its
+ * support test with one arithmetic (so coherent and direct differ only by
+ * summation order), the ray-centre distance, the grown node boxes, opaque
+ * spheres (§5.2), and the per-vector ray setup and finish. Included by
+ * kernels/particles.c and kernels/particles_coherent.c. */
+#ifndef LC_PARTICLES_COMMON_H
+#define LC_PARTICLES_COMMON_H
+
+#include <math.h>
+#include "mode.h"
+#include "shared/kparticles.h"
+#include "shared/ktable.h"
+#include "kernels.h"
+
+/* Offset of p from particle centre c and the truncation test d2 < R2 = (sigma r)^2. */
+static inline vfloat sample_d2(vfloat px, vfloat py, vfloat pz, float cx, float cy, float cz, float r2s, vmask m,
+                               vmask *inside, vfloat *ex, vfloat *ey, vfloat *ez)
+{
+    *ex = vf_sub(px, vf_set1(cx));
+    *ey = vf_sub(py, vf_set1(cy));
+    *ez = vf_sub(pz, vf_set1(cz));
+    vfloat d2 = vf_fma(*ex, *ex, vf_fma(*ey, *ey, vf_mul(*ez, *ez)));
+    *inside = vm_and(m, vf_lt(d2, vf_set1(r2s)));
+    return d2;
+}
+
+/* kappa k_i exp(-d2 / (2 r_i^2)) (paper eq. 2), zero outside the support. */
+static inline vfloat gaussian(vfloat d2, float nir, float kk, vmask inside)
+{
+    return vf_select(inside, vf_mul(vf_set1(kk), vf_exp(vf_mul(d2, vf_set1(nir)))), vf_zero());
+}
+
+/* Squared distance of a centre from a ray: |oc - tc d|^2 with tc = oc.d. Not
+ * |oc|^2 - tc^2, which cancels catastrophically for a distant eye (|oc|^2 ~ 1e4
+ * against R^2 ~ 1) and wrongly drops rays that do pass within the support. */
+static inline vfloat perp2(vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vfloat tc)
+{
+    vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
+    return vf_fma(qx, qx, vf_fma(qy, qy, vf_mul(qz, qz)));
+}
+
+/* Boxes grow a little more than sigma * rmax so float round-off in the slab
+ * test never drops a sample that lies within the truncation radius. */
+static inline float grow(float sigma_r) { return sigma_r * 1.0001f + 1e-6f; }
+
+/* Opaque spheres (paper §5.2): nearest hit of radius scale * r_i through the
+ * same BVH, shaded with the particle's TF colour and the headlight. */
+static inline void trace_spheres(const lc_kparticles *s, const lc_kframe *f, const vray *ray, vmask valid, int32_t *stack,
+                          vfloat *thit, vcolor *surf, lc_kstats *st)
+{
+    vfloat inf = vf_set1(3.0e38f);
+    vfloat best = inf, nx = vf_zero(), ny = vf_zero(), nz = vf_zero(), sr = vf_zero(), sg = vf_zero(), sb = vf_zero();
+    vfloat ix = dvr_inv_dir(ray->dx), iy = dvr_inv_dir(ray->dy), iz = dvr_inv_dir(ray->dz);
+    float scale = s->sphere_scale;
+    int sp = 0;
+    stack[sp++] = 0;
+    while (sp > 0) {
+        int32_t n = stack[--sp];
+        const lc_kpnode *node = &s->nodes[n];
+        vfloat tn, tf;
+        dvr_slab(ray->ox, ray->oy, ray->oz, ix, iy, iz, node->lo, node->hi, grow(scale * s->node_rmax[n]), &tn, &tf);
+        vmask hit = vm_and(valid, vm_and(vf_le(vf_max(tn, vf_zero()), tf), vf_lt(tn, best)));
+        st->nodes++;
+        if (vm_none(hit)) continue;
+        if (node->count == 0) {
+            stack[sp++] = node->first;
+            stack[sp++] = node->first + 1;
+            continue;
+        }
+        st->leaves++;
+        for (int32_t i = node->first; i < node->first + node->count; i++) {
+            float rr = scale * s->r[i];
+            vfloat ocx = vf_sub(vf_set1(s->px[i]), ray->ox), ocy = vf_sub(vf_set1(s->py[i]), ray->oy),
+                   ocz = vf_sub(vf_set1(s->pz[i]), ray->oz);
+            vfloat tc = vf_fma(ocx, ray->dx, vf_fma(ocy, ray->dy, vf_mul(ocz, ray->dz)));
+            vfloat d2 = perp2(ocx, ocy, ocz, ray->dx, ray->dy, ray->dz, tc);
+            vfloat h2 = vf_sub(vf_set1(rr * rr), d2);
+            vmask m = vm_and(hit, vf_ge(h2, vf_zero()));
+            if (vm_none(m)) continue;
+            vfloat h = vf_sqrt(vf_max(h2, vf_zero()));
+            vfloat t = vf_sub(tc, h);
+            t = vf_select(vf_gt(t, vf_zero()), t, vf_add(tc, h)); /* eye inside: the far side */
+            m = vm_and(m, vm_and(vf_gt(t, vf_zero()), vf_lt(t, best)));
+            if (vm_none(m)) continue;
+            best = vf_select(m, t, best);
+            vfloat inv = vf_set1(1.0f / rr);
+            nx = vf_select(m, vf_mul(vf_fms(ray->dx, t, ocx), inv), nx);
+            ny = vf_select(m, vf_mul(vf_fms(ray->dy, t, ocy), inv), ny);
+            nz = vf_select(m, vf_mul(vf_fms(ray->dz, t, ocz), inv), nz);
+            vfloat r, g, b, tau;
+            dvr_classify(&f->tf[s->field[i]], vf_set1(s->kappa * s->k[i]), &r, &g, &b, &tau);
+            sr = vf_select(m, r, sr), sg = vf_select(m, g, sg), sb = vf_select(m, b, sb);
+        }
+    }
+    vmask hit = vf_lt(best, inf);
+    /* diffuse (+ specular for phong) with the headlight: n.l = -n.dir */
+    vfloat ndl = vf_abs(vf_fma(nx, ray->dx, vf_fma(ny, ray->dy, vf_mul(nz, ray->dz))));
+    vfloat k = vf_fma(vf_set1(f->kd), ndl, vf_set1(f->ka));
+    vfloat spec = f->shade == LC_KSHADE_PHONG ? vf_mul(vf_set1(f->ks), vf_powi(ndl, f->phong_exp)) : vf_zero();
+    surf->r = vf_select(hit, vf_fma(sr, k, spec), vf_zero());
+    surf->g = vf_select(hit, vf_fma(sg, k, spec), vf_zero());
+    surf->b = vf_select(hit, vf_fma(sb, k, spec), vf_zero());
+    surf->a = vf_select(hit, vf_set1(1.0f), vf_zero());
+    *thit = best;
+}
+
+/* Rays, lattice range and (with spheres) the opaque hit for one vector of the
+ * group: the ray, its lattice range [kf, kl] (empty for rays outside the tile
+ * or the data) and the surface colour to composite behind the volume. */
+static inline void setup_vector(const lc_kparticles *s, const lc_kframe *f, const lc_ktile *t, int x, int y,
+                                int32_t *stack, vray *ray, vint *kf, vint *kl, vcolor *surf, lc_kstats *st)
+{
+    vint px, py;
+    dvr_packet_pixels(x, y, &px, &py);
+    vmask valid = vm_and(vi_lt(px, vi_set1(t->x1)), vi_lt(py, vi_set1(t->y1)));
+    *ray = dvr_camera_rays(&f->cam, px, py);
+    vfloat t0, t1;
+    dvr_clip_box(ray, s->lo, s->hi, &t0, &t1);
+    valid = vm_and(valid, vf_le(t0, t1));
+    dvr_lattice(vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), f->dt, kf, kl);
+    surf->r = surf->g = surf->b = surf->a = vf_zero();
+    if (s->sphere_scale > 0.0f && s->nnodes > 0 && vm_any(valid)) {
+        vfloat thit;
+        trace_spheres(s, f, ray, valid, stack, &thit, surf, st);
+        /* only samples strictly in front of the surface: k dt < t_hit */
+        vfloat kh = vf_floor(vf_div(thit, vf_set1(f->dt)));
+        kh = vf_select(vf_lt(vf_mul(kh, vf_set1(f->dt)), thit), kh, vf_sub(kh, vf_set1(1.0f)));
+        vmask h = vf_gt(surf->a, vf_zero());
+        *kl = vi_select(h, vi_min(*kl, vf_to_vi(vf_min(kh, vf_set1(LC_KLATTICE_MAX)))), *kl);
+    }
+    st->rays += (uint64_t)vm_popcnt(valid);
+}
+
+/* Finishes the rays in the mode, composites the opaque surface behind them
+ * and writes the pixels. */
+static inline void finish_vector(const lc_kframe *f, const lc_ktile *t, int x, int y, vcolor *c, const vcolor *surf)
+{
+    vint px, py;
+    dvr_packet_pixels(x, y, &px, &py);
+    mode_finish(f, c);
+    vfloat w = vf_sub(vf_set1(1.0f), c->a);
+    c->r = vf_fma(w, surf->r, c->r);
+    c->g = vf_fma(w, surf->g, c->g);
+    c->b = vf_fma(w, surf->b, c->b);
+    c->a = vf_fma(w, surf->a, c->a);
+    dvr_store(t, px, py, c);
+}
+
+#endif
