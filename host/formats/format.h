@@ -35,7 +35,7 @@ void lci_loaded_free(lci_loaded *l);
 
 typedef struct lci_format {
     const char *name;        /* "pdb" */
-    lc_kind kind;
+    lc_kind kind;            /* LC_KIND_NONE: the file says (kind_of), e.g. HDF5 holds particles or volumes */
     const char *extensions;  /* ".pdb .ent": space-separated, lower case, matched case-insensitively
                                 after a ".gz" is looked through */
     const char *options;     /* keys the reader takes, space-separated */
@@ -48,6 +48,9 @@ typedef struct lci_format {
      * lc_load_desc.frame > 0 is refused */
     lc_status (*frames)(lc_device *dev, const char *path, int64_t *out);
     int companion;           /* 1: the reader uses lc_load_desc.companion */
+    /* formats of kind LC_KIND_NONE: the kind this file (and load request)
+     * holds; the reader then fills that kind's descriptor */
+    lc_status (*kind_of)(lc_device *dev, const char *path, const lc_load_desc *desc, lc_kind *out);
 } lci_format;
 
 /* The option of the given key, or NULL. */

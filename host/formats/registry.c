@@ -124,6 +124,20 @@ static lc_status decide(lc_device *dev, const char *path, const lc_load_desc *d,
                      path, ext);
 }
 
+/* The kind a file of format f holds: the format's, or what the file says. */
+static lc_status kind_of(lc_device *dev, const lci_format *f, const char *path, const lc_load_desc *d, lc_kind *out)
+{
+    *out = f->kind;
+    if (f->kind != LC_KIND_NONE) return LC_OK;
+    if (!f->kind_of || !f->read)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: cannot tell what kind of data this %s file holds", path,
+                         f->name);
+    lc_status s = f->kind_of(dev, path, d, out);
+    if (s == LC_OK && !lci_kind(*out))
+        return lci_error(dev, LC_ERROR_INTERNAL, "%s: the %s reader named kind %d", path, f->name, (int)*out);
+    return s;
+}
+
 lc_status lc_file_probe(lc_device *dev, const char *path, const lc_load_desc *desc, lc_file_info *out)
 {
     if (!path || !out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_file_probe: path and out must not be NULL");
@@ -131,9 +145,9 @@ lc_status lc_file_probe(lc_device *dev, const char *path, const lc_load_desc *de
     const lci_format *f;
     int gzip;
     lc_status s = decide(dev, path, desc ? desc : &none, &f, &gzip);
+    if (s == LC_OK) s = kind_of(dev, f, path, desc ? desc : &none, &out->kind);
     if (s != LC_OK) return s;
     out->format = f->name;
-    out->kind = f->kind;
     out->frames = 1;
     out->gzip = gzip;
     if (f->frames && f->read) {
@@ -151,10 +165,9 @@ lc_status lc_file_probe(lc_device *dev, const char *path, const lc_load_desc *de
 
 /* Splits the options: the format's to the reader (in fopts), the kind's
  * applied to the descriptor after reading; anything else is an error. */
-static lc_status split_options(lc_device *dev, const char *path, const lci_format *f, const lc_load_desc *d,
-                               lc_option *fopts, int *nf)
+static lc_status split_options(lc_device *dev, const char *path, const lci_format *f, const lci_kind_ops *k,
+                               const lc_load_desc *d, lc_option *fopts, int *nf)
 {
-    const lci_kind_ops *k = lci_kind(f->kind);
     *nf = 0;
     for (int i = 0; i < d->noptions; i++) {
         const lc_option *o = &d->options[i];
@@ -195,14 +208,16 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
     lc_option *fopts = malloc(sizeof *fopts * (size_t)(d->noptions + 1));
     if (!fopts) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_volume_load: out of memory");
     int nf;
-    s = split_options(dev, path, f, d, fopts, &nf);
+    lc_kind kind;
+    s = kind_of(dev, f, path, d, &kind);
+    const lci_kind_ops *k = lci_kind(kind);
+    if (s == LC_OK) s = split_options(dev, path, f, k, d, fopts, &nf);
     lci_loaded l;
     memset(&l, 0, sizeof l);
     if (s == LC_OK) {
         lci_read_args a = {path, d, fopts, nf};
         s = f->read(dev, &a, &l);
     }
-    const lci_kind_ops *k = lci_kind(f->kind);
     for (int i = 0; s == LC_OK && i < d->noptions; i++)
         if (in_list(k->option_keys, d->options[i].key, strlen(d->options[i].key)))
             s = k->set_option(dev, l.desc, &d->options[i], path);
