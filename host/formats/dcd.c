@@ -212,7 +212,7 @@ static lc_status dcd_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     if ((s = header(dev, a->path, &d)) != LC_OK) goto out;
     int64_t k = a->desc->frame;
     if (k >= d.nframes) {
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: frame %lld is past the end: the file holds %lld frame%s",
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld frame%s",
                       a->path, (long long)k, (long long)d.nframes, d.nframes == 1 ? "" : "s");
         goto out;
     }

@@ -320,7 +320,7 @@ static lc_status lammps_read(lc_device *dev, const lci_read_args *a, lci_loaded 
         }
         if (rc == 0) {
             s = k == 0 ? lci_error(dev, LC_ERROR_FORMAT, "%s: empty file, expected 'ITEM: TIMESTEP'", a->path)
-                       : lci_error(dev, LC_ERROR_FORMAT, "%s: frame %lld is past the end: the file holds %lld frame%s",
+                       : lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld frame%s",
                                    a->path, (long long)a->desc->frame, (long long)k, k == 1 ? "" : "s");
             break;
         }
