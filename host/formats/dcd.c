@@ -211,6 +211,11 @@ static lc_status dcd_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     char why[4300] = "";
     if ((s = header(dev, a->path, &d)) != LC_OK) goto out;
     int64_t k = a->desc->frame;
+    if (d.nframes == 0) {
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: the file ends inside frame 0 (%lld bytes needed, %lld left)",
+                      a->path, (long long)d.first, (long long)d.frame0, (long long)d.tail);
+        goto out;
+    }
     if (k >= d.nframes) {
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld frame%s",
                       a->path, (long long)k, (long long)d.nframes, d.nframes == 1 ? "" : "s");
