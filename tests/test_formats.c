@@ -59,7 +59,7 @@ static size_t particle_count(const lc_volume *v)
 static void rows(void)
 {
     static const char *const want[] = {"nrrd", "metaimage", "pdb", "rbf", "rbf-binary", "xyz",
-                                       "gro", "raw-particles", "raw-volume"};
+                                       "gro", "raw-particles", "raw-volume", "dcd", "lammps", "gadget"};
     int n = lc_format_count(), found = 0;
     CHECK(n == (int)(sizeof want / sizeof want[0]), "lc_format_count = %d", n);
     for (int i = 0; i < n; i++) {
@@ -193,9 +193,10 @@ static void probe_shared(const char *data_dir)
         {"volumes/hydrogen.nhdr", "nrrd", LC_KIND_GRID, 0},
         {"volumes/embryo.nhdr", "nrrd", LC_KIND_GRID, 0},
         {"volumes/HeadMRVolume.mhd", "metaimage", LC_KIND_GRID, 0},
-        {"particles/adk.dcd", NULL, LC_KIND_NONE, 0},
-        {"particles/adk.psf", NULL, LC_KIND_NONE, 0},
-        {"particles/gadget_galaxy.dat", NULL, LC_KIND_NONE, 0},
+        {"particles/adk.dcd", "dcd", LC_KIND_PARTICLES, 0},
+        {"particles/adk.psf", NULL, LC_KIND_NONE, 0}, /* a topology: read as a DCD's companion */
+        {"particles/gadget_galaxy.dat", "gadget", LC_KIND_PARTICLES, 0},
+        {"particles/gadget_lcdm_gas.dat", "gadget", LC_KIND_PARTICLES, 0},
     };
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         char p[1024];

@@ -40,4 +40,7 @@ typedef struct cli_kind {
 
 extern const cli_kind cli_particles, cli_grid, cli_rbf;
 
+/* The row of a kind (cmd_render.c's table), or NULL. */
+const cli_kind *cli_kind_of(lc_kind kind);
+
 #endif

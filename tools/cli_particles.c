@@ -7,12 +7,21 @@
 
 static const char help[] =
     "particles (sums of truncated Gaussians, Knoll et al. 2014):\n"
-    "  INPUT                 .xyz (element x y z), .pdb/.ent (ATOM/HETATM), optionally .gz;\n"
+    "  INPUT                 .xyz/.extxyz (element x y z, frames), .pdb/.ent (ATOM/HETATM, MODELs as\n"
+    "                        frames), .gro (frames), optionally .gz; .dcd (CHARMM/NAMD trajectory, with\n"
+    "                        --topology FILE.psf), LAMMPS text dumps, GADGET snapshots (format 1 or 2);\n"
     "                        raw float32 x,y,z triples with --raw-particles\n"
     "  --raw-particles N     INPUT holds exactly N little-endian float32 xyz triples (needs --radius)\n"
     "  --radius R            radius of every particle (default: covalent radius by element)\n"
     "  --radius-scale S      multiply element radii by S\n"
-    "  --fields MODE         none (one field) or element (one field per element, up to 8)\n"
+    "  --fields MODE         none (one field), element (one field per element, up to 8) or type\n"
+    "                        (LAMMPS: atom type T is field T-1; GADGET: each particle type present,\n"
+    "                        the default there)\n"
+    "  --value COLUMN        LAMMPS: take k_i from this per-atom column (e.g. c_pe, vx, q);\n"
+    "                        GADGET: none (default), mass, u, rho or hsml (u, rho, hsml: gas only)\n"
+    "  --knn K               GADGET: radius = distance to the K-th nearest particle of the same type\n"
+    "                        where there is no smoothing length (default 32)\n"
+    "  --types LIST          GADGET: the particle types to read, e.g. 0,1 (default: all)\n"
     "  --drop-invalid        drop particles with bad data (counted) instead of failing\n"
     "  --leaf N              particles per BVH leaf, 1..32 (default 4)\n"
     "  --method coherent|direct   coherent packets with sample buffers (default) or the per-sample\n"
@@ -25,6 +34,8 @@ static const char help[] =
     "  for several fields) with a peak extinction of 1 / the largest radius\n"
     "  examples: lanecast render 1tii.pdb -o 1tii.png --shade --fields element --tf demo\n"
     "            lanecast render atoms.f32 --raw-particles 1000000 --radius 0.5 -o big.exr --stats\n"
+    "            lanecast render melt.lammpstrj --fields type --frame 10 -o melt.png\n"
+    "            lanecast render gadget_lcdm_gas.dat --types 0 --value u --knn 16 -o gas.png\n"
     "\n";
 
 static lc_particle_params params;
@@ -33,7 +44,8 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
 {
     const char *a = argv[*i], *v;
     static const char *const flags[] = {"--raw-particles", "--radius", "--radius-scale", "--fields", "--drop-invalid",
-                                        "--leaf",          "--sigma",  "--kappa",        "--spheres", "--buffer"};
+                                        "--leaf",          "--sigma",  "--kappa",        "--spheres", "--buffer",
+                                        "--value",         "--knn",    "--types"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -53,12 +65,15 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
         return cli_load_add(load, cmd, a[8] ? "radius_scale" : "radius", v) ? -1 : 1;
     }
     if (!strcmp(a, "--fields")) {
-        if (strcmp(v, "element") && strcmp(v, "none")) {
-            fprintf(stderr, "%s: --fields: '%s' is not none or element\n", cmd, v);
+        if (strcmp(v, "element") && strcmp(v, "none") && strcmp(v, "type")) {
+            fprintf(stderr, "%s: --fields: '%s' is not none, element or type\n", cmd, v);
             return -1;
         }
         return cli_load_add(load, cmd, "fields", v) ? -1 : 1;
     }
+    if (!strcmp(a, "--value")) return cli_load_add(load, cmd, "value", v) ? -1 : 1;
+    if (!strcmp(a, "--types")) return cli_load_add(load, cmd, "types", v) ? -1 : 1;
+    if (!strcmp(a, "--knn")) return arg_int(cmd, a, v, 1, 1024, &n) || cli_load_add(load, cmd, "knn", v) ? -1 : 1;
     if (!strcmp(a, "--leaf")) return arg_int(cmd, a, v, 1, 32, &n) || cli_load_add(load, cmd, "leaf_size", v) ? -1 : 1;
     if (!strcmp(a, "--sigma")) return arg_float(cmd, a, v, 1e-3f, 100.0f, &params.sigma) ? -1 : 1;
     if (!strcmp(a, "--spheres")) return arg_float(cmd, a, v, 1e-3f, 100.0f, &params.sphere_scale) ? -1 : 1;

@@ -23,6 +23,13 @@ static const char render_help[] =
     "\n"
     "input: the format is decided by the file's magic bytes, then its extension (see the kind\n"
     "sections below for the formats and flags of each kind of data)\n"
+    "  --frame N             read frame N (from 0) of a trajectory (lanecast info INPUT counts them)\n"
+    "  --frames A:B[:S]      render frames A, A+S, ... before B (B omitted: to the end; S default 1)\n"
+    "                        as an image sequence; -o then names each image with a printf-style\n"
+    "                        frame number, e.g. -o out_%04d.png; the first error stops the sequence\n"
+    "  --topology FILE       a companion file: the PSF topology of a DCD trajectory (default: the\n"
+    "                        DCD's name with .psf, when it exists)\n"
+    "  example: lanecast render adk.dcd --topology adk.psf --frames 0:98:10 -o adk_%02d.png\n"
     "\n"
     "camera (default: perspective, looking down -z at the data, framing it):\n"
     "  --size WxH            image size in pixels (default 1024x1024)\n"
@@ -76,7 +83,18 @@ typedef struct ropts {
     float tau;
     lc_vec3 background;
     int alpha, stats, quiet, progress;
+    /* trajectories: --frame, or --frames first:end:step (end -1 = to the last) */
+    int64_t frame, first, end, step;
+    int seq;
+    const char *topology;
 } ropts;
+
+const cli_kind *cli_kind_of(lc_kind kind)
+{
+    for (int k = 0; k < NKINDS; k++)
+        if (kinds[k]->kind == kind) return kinds[k];
+    return NULL;
+}
 
 int cli_load_add(cli_load *l, const char *cmd, const char *key, const char *value)
 {
@@ -182,6 +200,72 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
     return 1;
 }
 
+/* The input flags --frame, --frames and --topology: 1 consumed, 0 not one, -1 bad. */
+static int parse_input(ropts *o, int argc, char **argv, int *i)
+{
+    const char *a = argv[*i], *v;
+    if (strcmp(a, "--frame") && strcmp(a, "--frames") && strcmp(a, "--topology")) return 0;
+    if (!(v = arg_value(o->cmd, argc, argv, i))) return -1;
+    if (!strcmp(a, "--topology")) return o->topology = v, 1;
+    char *end;
+    if (!strcmp(a, "--frame")) {
+        long long f = strtoll(v, &end, 10);
+        if (end == v || *end || f < 0) {
+            fprintf(stderr, "%s: --frame: '%s' is not a frame number (0, 1, ...)\n", o->cmd, v);
+            return -1;
+        }
+        return o->frame = f, 1;
+    }
+    long long x[3] = {0, -1, 1};
+    const char *p = v;
+    for (int k = 0; k < 3; k++) {
+        if (k == 1 && *p == ':' && (p[1] == '\0' || p[1] == ':')) { /* A: or A::S = to the end */
+            if (!*++p) break;
+            continue;
+        }
+        if (k > 0 && *p++ != ':') goto bad;
+        x[k] = strtoll(p, &end, 10);
+        if (end == p || x[k] < 0) goto bad;
+        p = end;
+        if (!*p) break;
+    }
+    if (*p || x[2] < 1 || (x[1] >= 0 && x[1] <= x[0])) goto bad;
+    o->first = x[0], o->end = x[1], o->step = x[2], o->seq = 1;
+    return 1;
+bad:
+    fprintf(stderr, "%s: --frames: '%s' is not A:B[:S] with 0 <= A < B (B may be empty: to the end) and S >= 1\n",
+            o->cmd, v);
+    return -1;
+}
+
+/* Checks an image-sequence name: exactly one %d conversion (flags 0 and a
+ * width allowed), other percent signs doubled. */
+static int sequence_name_ok(const char *name)
+{
+    int n = 0;
+    for (const char *p = name; *p; p++) {
+        if (*p != '%') continue;
+        if (p[1] == '%') {
+            p++;
+            continue;
+        }
+        p++;
+        while (*p == '0') p++;
+        while (*p >= '0' && *p <= '9') p++;
+        if (*p != 'd') return 0;
+        n++;
+    }
+    return n == 1;
+}
+
+static void frame_name(const char *pattern, int64_t f, char *out, size_t n)
+{
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+    snprintf(out, n, pattern, (int)f); /* checked by sequence_name_ok */
+#pragma GCC diagnostic pop
+}
+
 static void print_help(void)
 {
     fputs(render_help, stdout);
@@ -205,7 +289,8 @@ static int parse(ropts *o, int argc, char **argv, int want_input)
         else if (!strcmp(a, "--stats")) o->stats = 1;
         else if (!strcmp(a, "--progress")) o->progress = 1;
         else if (!strcmp(a, "--quiet")) o->quiet = 1;
-        else if ((r = parse_view(o, argc, argv, &i, &camera_set)) || (r = parse_render(o, argc, argv, &i))) {
+        else if ((r = parse_view(o, argc, argv, &i, &camera_set)) || (r = parse_render(o, argc, argv, &i)) ||
+                 (want_input && (r = parse_input(o, argc, argv, &i)))) {
             if (r < 0) return -1;
         } else {
             for (int k = 0; k < NKINDS && !r; k++)
@@ -235,6 +320,19 @@ static int parse(ropts *o, int argc, char **argv, int want_input)
         fprintf(stderr, "%s: no output image: give -o OUT.png\n", o->cmd);
         return -1;
     }
+    if (o->seq && o->frame) {
+        fprintf(stderr, "%s: give --frame or --frames, not both\n", o->cmd);
+        return -1;
+    }
+    if (o->seq && !sequence_name_ok(o->output)) {
+        fprintf(stderr, "%s: --frames needs an output name with one frame number in it, e.g. -o out_%%04d.png "
+                "(got '%s')\n", o->cmd, o->output);
+        return -1;
+    }
+    if (o->seq && o->end >= 0 && (o->end - o->first + o->step - 1) / o->step > 1000000) {
+        fprintf(stderr, "%s: --frames: more than a million images\n", o->cmd);
+        return -1;
+    }
     if (o->quiet) o->progress = 0;
     return 0;
 }
@@ -249,17 +347,19 @@ static void progress(void *user, float f)
 /* The kind of the input, decided once through the formats registry; flags of
  * another kind are an error (they would be ignored). Returns the row or NULL
  * (message printed; *usage set when the flags were at fault). */
-static const cli_kind *decide_kind(ropts *o, lc_device *dev, lc_kind forced, int *usage)
+static const cli_kind *decide_kind(ropts *o, lc_device *dev, lc_kind forced, int *usage, int64_t *frames)
 {
     lc_kind kind = forced;
+    *frames = 1;
     if (kind == LC_KIND_NONE) {
         lc_file_info fi;
-        lc_load_desc ld = {.format = o->load.format};
+        lc_load_desc ld = {.format = o->load.format, .companion = o->topology};
         if (lc_file_probe(dev, o->input, &ld, &fi) != LC_OK) {
             fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
             return NULL;
         }
         kind = fi.kind;
+        *frames = fi.frames;
     }
     const cli_kind *row = NULL;
     for (int k = 0; k < NKINDS; k++)
@@ -299,13 +399,15 @@ static void print_stats(const ropts *o, const cli_kind *kind, const lc_volume *v
 }
 
 /* Loads (or makes) the volume and its TF. */
-static lc_status load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, lc_volume **vol, lc_tf **tf)
+static lc_status load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, int64_t frame, lc_volume **vol,
+                      lc_tf **tf)
 {
     lc_status s;
     if (demo) {
         s = cli_demo_scene(dev, vol, o->tf ? NULL : tf);
     } else {
-        lc_load_desc ld = {.format = o->load.format, .options = o->load.opt, .noptions = o->load.n};
+        lc_load_desc ld = {.format = o->load.format, .companion = o->topology, .frame = frame,
+                           .options = o->load.opt, .noptions = o->load.n};
         s = lc_volume_load(dev, o->input, &ld, vol);
     }
     if (s != LC_OK) return s;
@@ -315,35 +417,78 @@ static lc_status load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, 
     return kind->default_tf(dev, *vol, o->tf, o->tau, tf);
 }
 
+/* Warnings (a missing topology, ...) on stderr; errors are printed by the caller. */
+static void log_warning(void *user, lc_log_level level, const char *msg)
+{
+    static char last[1024]; /* once per sequence, not once per frame */
+    if (level != LC_LOG_WARNING || !strncmp(last, msg, sizeof last - 1)) return;
+    snprintf(last, sizeof last, "%s", msg);
+    fprintf(stderr, "%s: warning: %s\n", (const char *)user, msg);
+}
+
+/* Loads frame f, renders it and writes it to out. */
+static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *kind, int64_t f, const char *out,
+                            lc_tf **tf, float *rgba)
+{
+    lc_volume *vol = NULL;
+    struct timespec ts0;
+    clock_gettime(CLOCK_MONOTONIC, &ts0);
+    lc_status s = load(o, dev, demo, kind, f, &vol, tf);
+    if (s == LC_OK) {
+        double load_s = seconds_since(&ts0);
+        o->rd.volume = vol;
+        o->rd.tf = *tf;
+        lc_render_stats st;
+        s = lc_render(dev, &o->rd, rgba, &st);
+        lc_image_desc id = {o->rd.width, o->rd.height, rgba, o->background, o->alpha};
+        if (s == LC_OK) s = lc_image_write(dev, out, &id);
+        if (s == LC_OK && !o->quiet) printf("wrote %s (%dx%d)\n", out, o->rd.width, o->rd.height);
+        if (s == LC_OK && o->stats) print_stats(o, kind, vol, load_s, &st);
+    }
+    o->rd.volume = NULL;
+    lc_volume_destroy(vol);
+    return s;
+}
+
 static int run(ropts *o, int demo)
 {
     int rc = CLI_EXIT_FAIL, usage = 0;
     lc_device *dev = NULL;
-    lc_volume *vol = NULL;
     lc_tf *tf = NULL;
     float *rgba = NULL;
+    char out[4096];
+    snprintf(out, sizeof out, "%s", o->output);
+    if (o->seq) frame_name(o->output, o->first, out, sizeof out);
     /* fail on an unwritable output before any long work */
-    if (lc_image_check(NULL, o->output) != LC_OK) {
+    if (lc_image_check(NULL, out) != LC_OK) {
         fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
         return CLI_EXIT_FAIL;
     }
-    lc_device_desc dd = {.target = o->target_set ? o->target : LC_TARGET_AUTO, .threads = o->threads};
+    lc_device_desc dd = {.target = o->target_set ? o->target : LC_TARGET_AUTO, .threads = o->threads,
+                         .log = o->quiet ? NULL : log_warning, .log_user = (void *)o->cmd};
     if (lc_device_create(&dd, &dev) != LC_OK) {
         fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
         return CLI_EXIT_FAIL;
     }
-    const cli_kind *kind = decide_kind(o, dev, demo ? LC_KIND_PARTICLES : LC_KIND_NONE, &usage);
+    int64_t frames = 1;
+    const cli_kind *kind = decide_kind(o, dev, demo ? LC_KIND_PARTICLES : LC_KIND_NONE, &usage, &frames);
     if (!kind) {
         lc_device_destroy(dev);
         return usage ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
     }
-    struct timespec ts0;
-    clock_gettime(CLOCK_MONOTONIC, &ts0);
-    lc_status s = load(o, dev, demo, kind, &vol, &tf);
-    if (s != LC_OK) goto fail;
-    double load_s = seconds_since(&ts0);
-    o->rd.volume = vol;
-    o->rd.tf = tf;
+    /* the frames to render: one, or first, first + step, ... before end */
+    int64_t first = o->seq ? o->first : o->frame, end = o->seq ? o->end : o->frame + 1, step = o->seq ? o->step : 1;
+    if (end < 0) end = frames; /* "A:" = to the last frame (0 frames = could not count: the load says why) */
+    if (frames > 0 && (first >= frames || (o->seq && end > frames))) {
+        char asked[64];
+        if (o->seq) snprintf(asked, sizeof asked, "frames %lld:%lld", (long long)first, (long long)end);
+        else snprintf(asked, sizeof asked, "frame %lld", (long long)first);
+        fprintf(stderr, "%s: %s holds %lld frame%s (0 to %lld); %s was asked for\n", o->cmd, o->input,
+                (long long)frames, frames == 1 ? "" : "s", (long long)frames - 1, asked);
+        lc_device_destroy(dev);
+        return CLI_EXIT_FAIL;
+    }
+    if (frames == 0 && end <= first) end = first + 1; /* uncounted: try, and let the load say why */
     if (demo && o->rd.shading == LC_SHADE_NONE) o->rd.shading = LC_SHADE_PHONG;
     if (o->progress) o->rd.progress = progress;
     rgba = malloc(sizeof(float) * 4 * (size_t)o->rd.width * (size_t)o->rd.height);
@@ -351,22 +496,21 @@ static int run(ropts *o, int demo)
         fprintf(stderr, "%s: out of memory for a %dx%d image\n", o->cmd, o->rd.width, o->rd.height);
         goto out;
     }
-    lc_render_stats st;
-    s = lc_render(dev, &o->rd, rgba, &st);
-    if (s != LC_OK) goto fail;
-    lc_image_desc id = {o->rd.width, o->rd.height, rgba, o->background, o->alpha};
-    s = lc_image_write(dev, o->output, &id);
-    if (s != LC_OK) goto fail;
-    if (!o->quiet) printf("wrote %s (%dx%d)\n", o->output, o->rd.width, o->rd.height);
-    if (o->stats) print_stats(o, kind, vol, load_s, &st);
+    for (int64_t f = first; f < end; f += step) {
+        if (o->seq) frame_name(o->output, f, out, sizeof out);
+        if (render_one(o, dev, demo, kind, f, out, &tf, rgba) != LC_OK) {
+            if (o->seq)
+                fprintf(stderr, "%s: frame %lld (%s): %s; the sequence stops here\n", o->cmd, (long long)f, out,
+                        lc_last_error());
+            else
+                fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
+            goto out;
+        }
+    }
     rc = 0;
-    goto out;
-fail:
-    fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
 out:
     free(rgba);
     lc_tf_destroy(tf);
-    lc_volume_destroy(vol);
     lc_device_destroy(dev);
     return rc;
 }

@@ -16,6 +16,8 @@ static const char usage[] =
     "  targets               list SIMD targets: compiled, supported by this CPU, active\n"
     "  formats               list the file formats (kind, extensions, options) and the\n"
     "                        optional features of this build (gzip input, JSON TFs)\n"
+    "  info FILE             what lanecast reads from FILE: format, kind, frames, count,\n"
+    "                        bounds, fields, value range, spacing (lanecast info --help)\n"
     "\n"
     "options:\n"
     "  --help, -h            this text\n"
@@ -46,6 +48,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "formats")) return cli_formats(argc - 1, argv + 1);
     if (!strcmp(cmd, "render")) return cli_render(argc - 1, argv + 1);
     if (!strcmp(cmd, "demo")) return cli_demo(argc - 1, argv + 1);
+    if (!strcmp(cmd, "info")) return cli_info(argc - 1, argv + 1);
     fprintf(stderr, "lanecast: unknown command '%s' (try lanecast --help)\n", cmd);
     return 2;
 }

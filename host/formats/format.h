@@ -60,5 +60,6 @@ const lc_option *lci_option_find(const lci_read_args *a, const char *key);
 extern const lci_format lci_format_xyz, lci_format_pdb, lci_format_gro, lci_format_raw_particles;
 extern const lci_format lci_format_nrrd, lci_format_metaimage, lci_format_raw_volume;
 extern const lci_format lci_format_rbf, lci_format_rbf_binary;
+extern const lci_format lci_format_dcd, lci_format_lammps, lci_format_gadget;
 
 #endif

@@ -1,6 +1,8 @@
-/* Protein Data Bank files (wwPDB format 3.3): ATOM and HETATM records of the
- * first model, element from columns 77-78 or else the atom name. Plain or
- * gzip. Every error names the file and line. */
+/* Protein Data Bank files (wwPDB format 3.3): ATOM and HETATM records,
+ * element from columns 77-78 or else the atom name. MODEL records are
+ * frames: lc_load_desc.frame N reads the (N+1)-th MODEL of the file (MODEL
+ * N+1 in a file numbered from 1), up to its ENDMDL; a file without MODEL
+ * records is one frame. Plain or gzip. Every error names the file and line. */
 #include <ctype.h>
 #include <stdio.h>
 #include <string.h>
@@ -28,12 +30,26 @@ static void pdb_element(const char *line, char *el, size_t n)
     snprintf(el, n, "%c", s[0] ? s[0] : 'X');
 }
 
-static lc_status read_atoms(lci_text *t, lci_atoms *p)
+static int is_model(const char *s) { return !strncmp(s, "MODEL", 5) && (!s[5] || strchr(" \r\n", s[5])); }
+
+/* Reads the atoms of frame `frame`: the frame-th MODEL (in file order), or,
+ * in a file without MODEL records, every ATOM/HETATM record as frame 0. */
+static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p)
 {
     int rc;
+    int64_t model = -1; /* index of the MODEL we are in, -1 before the first */
     while ((rc = lci_text_line(t)) == 1) {
-        if (!strncmp(t->line, "ENDMDL", 6)) break; /* first model only */
+        if (is_model(t->line)) {
+            model++;
+            if (model == frame) p->n = 0; /* atoms before the first MODEL belong to no model */
+            continue;
+        }
+        if (!strncmp(t->line, "ENDMDL", 6)) {
+            if (model == frame) break;
+            continue;
+        }
         if (strncmp(t->line, "ATOM  ", 6) && strncmp(t->line, "HETATM", 6)) continue;
+        if (model != frame && !(model < 0 && frame == 0)) continue;
         char xs[16], ys[16], zs[16], el[8];
         lci_column(t->line, 31, 38, xs, sizeof xs);
         lci_column(t->line, 39, 46, ys, sizeof ys);
@@ -48,7 +64,13 @@ static lc_status read_atoms(lci_text *t, lci_atoms *p)
             return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", t->path, t->lineno);
     }
     if (rc < 0) return LC_ERROR_IO;
-    if (p->n == 0) return lci_error(t->dev, LC_ERROR_FORMAT, "%s: no ATOM or HETATM records", t->path);
+    if (frame > 0 && model < frame)
+        return lci_error(t->dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld MODEL%s",
+                         t->path, (long long)frame, (long long)(model + 1 > 1 ? model + 1 : 1),
+                         model + 1 > 1 ? "s" : "");
+    if (p->n == 0)
+        return lci_error(t->dev, LC_ERROR_FORMAT, "%s: no ATOM or HETATM records%s", t->path,
+                         model >= 0 ? " in the MODEL read" : "");
     return LC_OK;
 }
 
@@ -61,9 +83,26 @@ static lc_status pdb_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     lci_text t;
     s = lci_text_open(dev, a->path, &t);
     if (s != LC_OK) return s;
-    s = read_atoms(&t, &p);
+    s = read_atoms(&t, a->desc->frame, &p);
     lci_text_close(&t);
     return lci_atoms_finish(dev, a->path, s, &p, out);
+}
+
+/* Frames are MODEL records (1 when there are none). */
+static lc_status pdb_frames(lc_device *dev, const char *path, int64_t *out)
+{
+    lci_text t;
+    lc_status s = lci_text_open(dev, path, &t);
+    *out = 0;
+    if (s != LC_OK) return s;
+    int rc;
+    int64_t n = 0;
+    while ((rc = lci_text_line(&t)) == 1)
+        if (is_model(t.line)) n++;
+    lci_text_close(&t);
+    if (rc < 0) return LC_ERROR_IO;
+    *out = n > 0 ? n : 1;
+    return LC_OK;
 }
 
 /* A PDB file starts with one of its record names in columns 1-6. */
@@ -78,5 +117,5 @@ static int pdb_magic(const unsigned char *h, size_t n)
 
 const lci_format lci_format_pdb = {
     .name = "pdb", .kind = LC_KIND_PARTICLES, .extensions = ".pdb .ent", .options = "radius radius_scale fields",
-    .description = "Protein Data Bank: ATOM/HETATM records, element from columns 77-78 or the atom name",
-    .magic = pdb_magic, .read = pdb_read};
+    .description = "Protein Data Bank: ATOM/HETATM records, element from columns 77-78 or the atom name; MODEL records as frames",
+    .magic = pdb_magic, .read = pdb_read, .frames = pdb_frames};
