@@ -1,16 +1,21 @@
 /* lc_image_write: SPEC.md "Output" conversion, then OpenImageIO through the
- * C++ shim. Files appear complete or not at all (temporary name, rename). */
+ * C++ shim. Files appear complete or not at all: the image goes to a private
+ * temporary file next to the target (created with O_EXCL by mkstemps, so a
+ * planted name or symlink is never followed), written with checked writes
+ * and fsync, then renamed over the target. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include "host/internal.h"
 
-int lci_oiio_write(const char *path, int width, int height, int channels, int is_float, const void *pixels,
-                   char *err, size_t errlen);
+int lci_oiio_encode(const char *path, const char *format_name, int width, int height, int channels, int is_float,
+                    const void *pixels, void **bytes, size_t *nbytes, char *err, size_t errlen);
 int lci_oiio_can_write(const char *path);
 
 static const char *extension(const char *path)
@@ -29,14 +34,54 @@ static int is_float_format(const char *ext)
     return 0;
 }
 
-/* A temporary name next to the target with the same extension, so OIIO picks
- * the same format. */
-static int temp_name(const char *path, char *out, size_t n)
+/* Creates a private temporary file next to the target with the same
+ * extension (so OpenImageIO picks the same format): its name in out, its fd
+ * returned, or -1 with errno set. */
+static int temp_file(const char *path, char *out, size_t n)
 {
     const char *ext = extension(path);
     size_t stem = strlen(path) - strlen(ext);
-    int w = snprintf(out, n, "%.*s.lanecast-tmp-%ld%s", (int)stem, path, (long)getpid(), ext);
-    return w > 0 && (size_t)w < n;
+    int w = snprintf(out, n, "%.*s.lanecast-XXXXXX%s", (int)stem, path, ext);
+    if (w <= 0 || (size_t)w >= n) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    int fd = mkstemps(out, (int)strlen(ext));
+    if (fd < 0) return -1;
+    mode_t um = umask(0);
+    umask(um);
+    fchmod(fd, 0666 & ~um); /* the permissions an ordinary new file gets */
+    return fd;
+}
+
+/* Test hook: LANECAST_TEST_WRITE_LIMIT=N makes image writes fail with ENOSPC
+ * after N bytes, as on a full disk. */
+static long long write_limit(void)
+{
+    const char *e = getenv("LANECAST_TEST_WRITE_LIMIT");
+    return e && *e ? atoll(e) : -1;
+}
+
+/* Writes all n bytes or fails with errno set. */
+static int write_all(int fd, const unsigned char *b, size_t n)
+{
+    long long limit = write_limit();
+    size_t done = 0;
+    while (done < n) {
+        size_t chunk = n - done > (1u << 20) ? (1u << 20) : n - done;
+        if (limit >= 0 && (long long)(done + chunk) > limit) {
+            errno = ENOSPC;
+            return -1;
+        }
+        ssize_t k = write(fd, b + done, chunk);
+        if (k < 0 && errno == EINTR) continue;
+        if (k <= 0) {
+            if (k == 0) errno = EIO;
+            return -1;
+        }
+        done += (size_t)k;
+    }
+    return 0;
 }
 
 lc_status lc_image_check(lc_device *device, const char *path)
@@ -49,11 +94,10 @@ lc_status lc_image_check(lc_device *device, const char *path)
     if (!lci_oiio_can_write(path))
         return lci_error(device, LC_ERROR_UNSUPPORTED, "%s: OpenImageIO cannot write '%s' files", path, ext);
     char tmp[4096];
-    if (!temp_name(path, tmp, sizeof tmp)) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "%s: path too long", path);
-    FILE *fp = fopen(tmp, "wb");
-    if (!fp) return lci_error(device, LC_ERROR_IO, "%s: cannot write here: %s", path, strerror(errno));
-    fclose(fp);
-    remove(tmp);
+    int fd = temp_file(path, tmp, sizeof tmp);
+    if (fd < 0) return lci_error(device, LC_ERROR_IO, "%s: cannot write here: %s", path, strerror(errno));
+    close(fd);
+    unlink(tmp);
     return LC_OK;
 }
 
@@ -96,12 +140,28 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
             for (int c = 0; c < ch; c++) ((unsigned char *)buf)[i * (size_t)ch + (size_t)c] = quantise(o[c]);
     }
     char tmp[4096], err[512] = "";
-    temp_name(path, tmp, sizeof tmp);
-    int r = lci_oiio_write(tmp, d->width, d->height, ch, fl, buf, err, sizeof err);
+    int fd = temp_file(path, tmp, sizeof tmp);
+    if (fd < 0) {
+        free(buf);
+        return lci_error(device, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
+    }
+    void *bytes = NULL;
+    size_t nbytes = 0;
+    int r = lci_oiio_encode(tmp, path, d->width, d->height, ch, fl, buf, &bytes, &nbytes, err, sizeof err);
     free(buf);
+    if (r == 0 && bytes && write_all(fd, bytes, nbytes) != 0)
+        r = -1, snprintf(err, sizeof err, "writing %zu bytes failed: %s", nbytes, strerror(errno));
+    free(bytes);
+    struct stat st;
+    if (r == 0 && (fsync(fd) != 0 || fstat(fd, &st) != 0))
+        r = -1, snprintf(err, sizeof err, "flushing the image to disk failed: %s", strerror(errno));
+    if (r == 0 && (st.st_size == 0 || (nbytes && (size_t)st.st_size != nbytes)))
+        r = -1, snprintf(err, sizeof err, "the written file holds %lld bytes, expected %zu", (long long)st.st_size,
+                         nbytes);
+    if (close(fd) != 0 && r == 0) r = -1, snprintf(err, sizeof err, "closing the image failed: %s", strerror(errno));
     if (r != 0) {
-        remove(tmp);
-        return lci_error(device, LC_ERROR_IO, "%s: %s", path, err);
+        unlink(tmp);
+        return lci_error(device, LC_ERROR_IO, "%s: %s (nothing written)", path, err);
     }
     if (rename(tmp, path) != 0) {
         int e = errno;
