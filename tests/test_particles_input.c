@@ -54,6 +54,18 @@ static void create_errors(void)
     lc_volume_destroy(p);
     d.drop_invalid = 0;
     for (int i = 0; i < N; i++) r[i] = 0.5f;
+    /* coordinates near float's limit (finite, so drop_invalid would keep them before) used to abort
+       inside Embree's binning; they are refused, and particles 2e18 apart still build and render */
+    xyz[3 * 4] = 1.7e38f, xyz[3 * 8 + 1] = -3e38f;
+    EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "coordinates 1.7e38, -3e38 at 4, 8", "particle 4",
+           "2 of 10", "1e18");
+    xyz[3 * 4] = 1e18f, xyz[3 * 8 + 1] = -1e18f;
+    s = lc_particles_create(dev, &d, &p);
+    float img[4 * 8 * 8];
+    lc_status rs = s == LC_OK ? lc_render(dev, &(lc_render_desc){.width = 8, .height = 8, .volume = p}, img, NULL) : s;
+    CHECK(s == LC_OK && rs == LC_OK, "particles 2e18 apart build and render: %s", lc_status_string(rs));
+    lc_volume_destroy(p);
+    xyz[3 * 4] = 4.0f, xyz[3 * 8 + 1] = 0.0f;
     /* one shared radius that is bad: every particle is bad */
     d.radii = NULL, d.radius = 0.0f;
     EXPECT(lc_particles_create(dev, &d, &p), LC_ERROR_INVALID_ARGUMENT, "shared radius 0", "particle 0", "10 of 10");

@@ -83,12 +83,20 @@ static void node_sums(particles *p)
 }
 
 /* Why particle i is invalid, or NULL. */
+/* Coordinates and radii are bounded so that every extent the BVH builder and
+ * the kernels form (max - min, centre +- sigma r with sigma <= 100) stays far
+ * from float overflow: Embree's binning asserts (aborts) on infinite extents. */
+#define MAX_COORD 1e18f
+
 static const char *invalid(const lc_particles_desc *d, size_t i, int nfields)
 {
     const float *x = d->positions + 3 * i;
     if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) return "non-finite position";
+    if (fabsf(x[0]) > MAX_COORD || fabsf(x[1]) > MAX_COORD || fabsf(x[2]) > MAX_COORD)
+        return "a coordinate beyond +-1e18";
     float r = d->radii ? d->radii[i] : d->radius;
     if (!(r > 0.0f) || !isfinite(r)) return "radius not finite and > 0";
+    if (r > MAX_COORD) return "radius beyond 1e18";
     if (d->values && !isfinite(d->values[i])) return "non-finite value";
     if (d->fields && d->fields[i] >= nfields) return "field id >= nfields";
     return NULL;
