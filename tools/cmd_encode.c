@@ -41,7 +41,7 @@ static const char encode_help[] =
     "  --fit-samples N        fit on a fixed-seed subsample of at most N samples (default 2097152;\n"
     "                         the report is over all of them)\n"
     "  --lm-samples N         samples Levenberg-Marquardt sees per step (default 2048)\n"
-    "  --local-rbfs N         RBFs refitted per step: the new one and its nearest neighbours (default 12)\n"
+    "  --local-rbfs N         RBFs refitted per step: the new one and its nearest neighbours (default 4)\n"
     "  --seed N               subsampling seed (default 1)\n"
     "\n"
     "output:\n"

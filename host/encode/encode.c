@@ -25,7 +25,7 @@
 #define DEFAULT_MAX_RBFS 16384
 #define DEFAULT_FIT_SAMPLES ((size_t)1 << 21)
 #define DEFAULT_LM_SAMPLES 2048
-#define DEFAULT_LOCAL 12
+#define DEFAULT_LOCAL 4
 #define GLOBAL_SAMPLES ((size_t)1 << 18)
 #define GLOBAL_MAX_RBFS 4096 /* normal equations of (m+1)^2 doubles */
 
@@ -345,7 +345,10 @@ void lc_rbf_encoded_free(lc_rbf_encoded *o)
 
 /* ---------------------------------------------------------------- driver */
 
-static int pow2(size_t m) { return m >= 4 && !(m & (m - 1)); }
+/* Global refits when the count has grown by an eighth since the last one
+ * (and at 4, 8, ...): their cost grows as m^3, so the sum stays a few times
+ * the last one's. */
+static int refit_due(size_t m, size_t last) { return m >= 4 && m >= last + (last >> 3) + 1; }
 
 static double rms_rel(const lci_enc *e)
 {
@@ -376,7 +379,7 @@ static lc_status run(lci_enc *e, lc_rbf_encode_report *rep, double t0)
             continue;
         }
         it++;
-        if (pow2(e->R.m)) s = global_refit(e), refit_at = (int)e->R.m;
+        if (refit_due(e->R.m, (size_t)(refit_at < 0 ? 0 : refit_at))) s = global_refit(e), refit_at = (int)e->R.m;
         if (e->d.progress) {
             lc_rbf_encode_progress p = {it, e->R.m, rms_rel(e), lci_now() - t0, e->d.max_error, e->d.max_rbfs};
             e->d.progress(e->d.progress_user, &p);

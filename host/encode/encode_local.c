@@ -1,7 +1,6 @@
 /* The encoder's samples in buckets and the local refit that adds one RBF
  * (encode_local.h; the paper's sec. 4 step, with its cost bounded). */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/encode/encode_local.h"
@@ -320,14 +319,10 @@ lc_status lci_enc_add(lci_enc *e, const double mu[3], double s0, int *added)
     double after_local = ok ? local_sse(&L, L.s, 1) : -1.0;
     ok = ok && after_local < before * (1.0 - 1e-9) && L.w[0] != 0.0;
     for (int i = 0; ok && i < L.k; i++) ok = fabs(L.w[i]) <= LCI_ENC_MAX_WEIGHT * (e->vhi - e->vlo);
-    if (getenv("LC_ENC_DEBUG"))
-        fprintf(stderr, "add m=%zu k=%d region=%zu s0=%g s=%g w=%g local %g -> %g\n", q, L.k, m, s0, L.s[0], L.w[0],
-                before, after_local);
     if (ok) {
         double total = lci_enc_total_sse(e);
         R->m++;
         commit(e, &L, olds, oldw);
-        if (getenv("LC_ENC_DEBUG")) fprintf(stderr, "  total %g -> %g\n", total, lci_enc_total_sse(e));
         if (lci_enc_total_sse(e) < total) {
             *added = 1;
         } else { /* the neighbours' changes cost more outside the region than they won */

@@ -532,7 +532,7 @@ typedef struct lc_rbf_encode_desc {
        most fit_samples samples (a fixed-seed uniform subsample; 0 = 2^21,
        the report is over all), Levenberg-Marquardt sees at most lm_samples
        of the new RBF's neighbourhood (0 = 2048) and the local least squares
-       at most 4 * lm_samples; local_rbfs RBFs (0 = 12, the new one and its
+       at most 4 * lm_samples; local_rbfs RBFs (0 = 4, the new one and its
        nearest overlapping neighbours) are refitted per iteration. */
     size_t fit_samples, lm_samples;
     int local_rbfs;
