@@ -200,7 +200,7 @@ static void report(const eopts *o, const lc_samples_info *si, const lc_rbf_encod
     printf("samples      %zu (%zu in the fit range %g..%g)\n", r->samples, r->fitted, (double)r->range[0],
            (double)r->range[1]);
     printf("rbfs         %zu, %d iterations; target RMS %.3g%%: %s\n", r->rbfs, r->iterations,
-           100.0 * (o->d.max_error > 0.0f ? o->d.max_error : 0.02), r->reached ? "reached" : "NOT reached (RBF limit)");
+           100.0 * (o->d.max_error > 0.0f ? o->d.max_error : 0.02), r->reached ? "reached" : "NOT reached");
     printf("error        RMS %.4f%%, max %.3f%% of the value range\n", 100.0 * r->rms, 100.0 * r->max_error);
     uint64_t binary = 32 + 20 * (uint64_t)r->rbfs;
     printf("compression  %llu input bytes (%s) / %llu bytes (binary .rbf) = %.1f : 1\n",
