@@ -81,14 +81,17 @@ static void rows(void)
               lc_format_get(0, NULL) == LC_ERROR_INVALID_ARGUMENT,
           "lc_format_get out of range or without out fails");
     int nf = lc_feature_count();
-    lc_feature_info z = {0}, j = {0};
+    lc_feature_info z = {0}, j = {0}, l = {0};
     for (int i = 0; i < nf; i++) {
         lc_feature_info x;
         if (lc_feature_get(i, &x) != LC_OK) continue;
         if (!strcmp(x.name, "zlib")) z = x;
         if (!strcmp(x.name, "json")) j = x;
+        if (!strcmp(x.name, "lapacke")) l = x;
     }
-    CHECK(nf == 2 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
+    CHECK(l.name && l.available == LC_HAVE_LAPACKE && !strcmp(l.package, "liblapacke-dev"),
+          "feature lapacke %d (this build: LC_HAVE_LAPACKE %d)", l.available, LC_HAVE_LAPACKE);
+    CHECK(nf == 3 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
               !strcmp(z.package, "zlib1g-dev") && !strcmp(j.package, "libjson-c-dev") &&
               lc_feature_get(nf, &z) == LC_ERROR_INVALID_ARGUMENT,
           "features: zlib %d, json %d (this build: LC_HAVE_ZLIB %d, LC_HAVE_JSON %d)", z.available, j.available,

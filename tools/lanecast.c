@@ -13,6 +13,8 @@ static const char usage[] =
     "  render INPUT -o OUT   render particle data or a volume to an image\n"
     "                        (lanecast render --help for every option)\n"
     "  demo -o OUT           render the built-in demo scene (procedural, two fields)\n"
+    "  encode INPUT -o OUT.rbf   fit an RBF set to a volume or scattered samples (CSV, VTK)\n"
+    "                        (lanecast encode --help)\n"
     "  targets               list SIMD targets: compiled, supported by this CPU, active\n"
     "  formats               list the file formats (kind, extensions, options) and the\n"
     "                        optional features of this build (gzip input, JSON TFs)\n"
@@ -49,6 +51,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "render")) return cli_render(argc - 1, argv + 1);
     if (!strcmp(cmd, "demo")) return cli_demo(argc - 1, argv + 1);
     if (!strcmp(cmd, "info")) return cli_info(argc - 1, argv + 1);
+    if (!strcmp(cmd, "encode")) return cli_encode(argc - 1, argv + 1);
     fprintf(stderr, "lanecast: unknown command '%s' (try lanecast --help)\n", cmd);
     return 2;
 }

@@ -9,6 +9,8 @@ static const lc_feature_info features[] = {
                           "gzip-compressed inputs: .gz particle files, NRRD gzip encoding, MetaImage compressed data"},
     [LCI_FEATURE_JSON] = {"json", "json-c", LC_HAVE_JSON, "libjson-c-dev",
                           "JSON transfer functions (SPEC.md): lc_tf_load, lc_tf_parse, --tf FILE.json"},
+    [LCI_FEATURE_LAPACKE] = {"lapacke", "LAPACKE", LC_HAVE_LAPACKE, "liblapacke-dev",
+                             "RBF encoding (least squares): lc_rbf_encode, lanecast encode"},
 };
 #define NFEATURES ((int)(sizeof features / sizeof features[0]))
 

@@ -62,4 +62,9 @@ extern const lci_format lci_format_nrrd, lci_format_metaimage, lci_format_raw_vo
 extern const lci_format lci_format_rbf, lci_format_rbf_binary;
 extern const lci_format lci_format_dcd, lci_format_lammps, lci_format_gadget;
 
+/* Reads a structured volume's lc_grid_desc without creating the volume (the
+ * RBF encoder's input); *format = the format's name. */
+lc_status lci_read_grid(lc_device *dev, const char *path, const lc_load_desc *desc, const char **format,
+                        lci_loaded *out);
+
 #endif

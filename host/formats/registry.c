@@ -234,3 +234,38 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
     free(fopts);
     return s;
 }
+
+/* For the encoder (host/encode/samples.c): reads a structured volume through
+ * its format's reader without creating the volume; the grid descriptor is in
+ * out->desc (free with lci_loaded_free). Files of another kind fail, naming
+ * the kind. */
+lc_status lci_read_grid(lc_device *dev, const char *path, const lc_load_desc *desc, const char **format,
+                        lci_loaded *out)
+{
+    memset(out, 0, sizeof *out);
+    lc_load_desc none = {0};
+    const lc_load_desc *d = desc ? desc : &none;
+    if (d->noptions < 0 || (d->noptions > 0 && !d->options) || d->frame != 0 || (d->companion && d->companion[0]))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: bad options list, frame or companion for a volume", path);
+    const lci_format *f;
+    int gzip;
+    lc_status s = decide(dev, path, d, &f, &gzip);
+    if (s != LC_OK) return s;
+    if (f->kind != LC_KIND_GRID)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "%s: %s files hold %s data; the encoder reads structured volumes, CSV (x,y,z,value) and "
+                         "VTK legacy point data",
+                         path, f->name, lc_kind_name(f->kind));
+    if (!f->read)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: %s files are not supported by this build (install %s and rebuild)",
+                         path, f->name, f->package ? f->package : "its library");
+    for (int i = 0; i < d->noptions; i++)
+        if (!d->options[i].key || !d->options[i].value || !in_list(f->options, d->options[i].key, strlen(d->options[i].key)))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to %s files (they take: %s)",
+                             path, d->options[i].key ? d->options[i].key : "(null)", f->name, f->options);
+    *format = f->name;
+    lci_read_args a = {path, d, d->options, d->noptions};
+    s = f->read(dev, &a, out);
+    if (s != LC_OK) lci_loaded_free(out);
+    return s;
+}

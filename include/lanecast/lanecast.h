@@ -428,11 +428,11 @@ LC_API int lc_format_count(void);
 LC_API lc_status lc_format_get(int index, lc_format_info *out);
 
 /* Optional features of this build ("zlib": gzip-compressed inputs; "json":
- * JSON transfer functions). What needs a missing one fails with
+ * JSON transfer functions; "lapacke": RBF encoding, lc_rbf_encode). What needs a missing one fails with
  * LC_ERROR_UNSUPPORTED and a message naming the library and its package. */
 typedef struct lc_feature_info {
-    const char *name;        /* "zlib", "json" */
-    const char *library;     /* "zlib", "json-c" */
+    const char *name;        /* "zlib", "json", "lapacke" */
+    const char *library;     /* "zlib", "json-c", "LAPACKE" */
     int available;           /* 1: compiled in */
     const char *package;     /* the Debian package whose -dev files enable it */
     const char *description; /* what needs it */
@@ -463,6 +463,126 @@ LC_API lc_status lc_file_probe(lc_device *device, const char *path, const lc_loa
  * without zlib, naming the Debian package)
  * name the file and the line or byte offset. */
 LC_API lc_status lc_volume_load(lc_device *device, const char *path, const lc_load_desc *desc, lc_volume **out);
+
+/* ---------------------------------------------------------------- encoding (RBF sets from samples, Jang et al. 2004 sec. 4) */
+
+/* Samples to fit: scattered points with values, or the nodes of a
+ * structured volume (any value type; node positions from its spacing and
+ * origin). An encoder input, not a render kind: lc_samples is not a volume. */
+typedef struct lc_samples lc_samples;
+
+typedef struct lc_samples_desc {
+    size_t count;          /* scattered: samples */
+    const float *points;   /* 3 * count floats, x y z interleaved */
+    const float *values;   /* count values */
+    const lc_grid_desc *grid; /* or (points NULL) a structured volume; only size, type, data,
+                                 spacing and origin are read */
+} lc_samples_desc;
+
+typedef struct lc_samples_info {
+    size_t count;
+    lc_box3 bounds;        /* of the points */
+    float value_min, value_max;
+    int grid;              /* 1: from a structured volume */
+    int size[3];           /* its node counts (grid only) */
+    uint64_t input_bytes;  /* the data as given: voxel bytes of a grid, else 16 per sample
+                              (x y z value as float32); the numerator of a compression ratio */
+    const char *format;    /* the file format read ("csv", "vtk", "nrrd", ...), "" if none */
+} lc_samples_info;
+
+/* Copies the samples. Fails with LC_ERROR_INVALID_ARGUMENT for a
+ * non-finite point or value (naming the first bad index, or node (i, j, k)
+ * of a grid, and the number of bad ones), count 0, more than 2^31 - 1
+ * samples, or a bad grid descriptor. */
+LC_API lc_status lc_samples_create(lc_device *device, const lc_samples_desc *desc, lc_samples **out);
+/* Reads samples from a file: CSV with a header naming the columns x, y, z
+ * and value (any order, other columns ignored; '#' comments), a VTK legacy
+ * file (POLYDATA or UNSTRUCTURED_GRID, ASCII or BINARY: its points and its
+ * first scalar point data array), or any structured volume lanecast reads
+ * (lanecast formats; desc as for lc_volume_load, NULL = detect). Errors name
+ * the file and the line or byte offset. */
+LC_API lc_status lc_samples_load(lc_device *device, const char *path, const lc_load_desc *desc, lc_samples **out);
+LC_API lc_status lc_samples_get_info(const lc_samples *samples, lc_samples_info *out);
+/* NULL is ignored. */
+LC_API void lc_samples_destroy(lc_samples *samples);
+
+typedef enum lc_rbf_centre {
+    LC_RBF_CENTRE_MEAN = 0,   /* the cluster's mean weighted by the value still to fit (|residual|) */
+    LC_RBF_CENTRE_MAXERR = 1  /* the cluster's sample of largest |residual| */
+} lc_rbf_centre;
+
+/* Where the encoder is, after each iteration (one RBF added). */
+typedef struct lc_rbf_encode_progress {
+    int iteration;
+    size_t rbfs;
+    double rms;       /* RMS error over the fitted samples, relative to their value range */
+    double seconds;   /* since the start */
+    double target;    /* the max_error asked for */
+    size_t max_rbfs;
+} lc_rbf_encode_progress;
+
+typedef struct lc_rbf_encode_desc {
+    float max_error;      /* stop at an RMS error <= max_error * (value range); 0 = 0.02 */
+    size_t max_rbfs;      /* stop at this many RBFs; 0 = min(4096, fitted samples - 1);
+                             more than fitted samples - 1 is an error */
+    lc_rbf_centre centre;
+    int fit_range_set;    /* 1: fit only samples with values in fit_range (inclusive) */
+    float fit_range[2];
+    /* Bounded cost per iteration (docs/BENCHMARKS-rbf.md): the fit runs on at
+       most fit_samples samples (a fixed-seed uniform subsample; 0 = 2^21,
+       the report is over all), Levenberg-Marquardt sees at most lm_samples
+       of the new RBF's neighbourhood (0 = 2048) and the local least squares
+       at most 4 * lm_samples; local_rbfs RBFs (0 = 4, the new one and its
+       nearest overlapping neighbours) are refitted per iteration. */
+    size_t fit_samples, lm_samples;
+    int local_rbfs;
+    uint32_t seed;        /* subsampling seed; 0 = 1 */
+    /* Called on the calling thread after each iteration; NULL = none. */
+    void (*progress)(void *user, const lc_rbf_encode_progress *p);
+    void *progress_user;
+} lc_rbf_encode_desc;
+
+typedef struct lc_rbf_encode_report {
+    size_t rbfs;
+    size_t samples, fitted;    /* all samples, and those in the fit range */
+    float range[2];            /* value range of the fitted samples */
+    /* errors of the result over every fitted sample, with the truncation a
+       loaded set uses by default (lc_rbf_desc.eps = 0), relative to range */
+    double rms, max_error;
+    int iterations;
+    int reached;               /* 1: rms <= max_error was reached */
+    double seconds;
+} lc_rbf_encode_report;
+
+/* An encoded set: an lc_rbf_desc (eps, domain and leaf_size zero) whose
+ * arrays the library owns; free with lc_rbf_encoded_free. */
+typedef struct lc_rbf_encoded {
+    lc_rbf_desc desc;
+} lc_rbf_encoded;
+
+/* Fits an RBF set to the samples (Jang 2004 sec. 4): clusters split by PCA
+ * along the principal axis of the cluster of largest error, each new RBF
+ * centred in it (desc->centre), widths by Levenberg-Marquardt on the mean
+ * squared error, weights and the bias by linear least squares (LAPACKE),
+ * until the RMS error relative to the value range is at most max_error or
+ * there are max_rbfs RBFs. desc may be NULL (defaults). Fails with
+ * LC_ERROR_UNSUPPORTED when this build lacks LAPACKE (lc_feature_get
+ * "lapacke"), LC_ERROR_INVALID_ARGUMENT for an empty fit range or fewer
+ * fitted samples than max_rbfs + 1. *out is NULL on failure; report may be
+ * NULL. Uses the device's threads. */
+LC_API lc_status lc_rbf_encode(lc_device *device, const lc_samples *samples, const lc_rbf_encode_desc *desc,
+                               lc_rbf_encoded **out, lc_rbf_encode_report *report);
+/* NULL is ignored. */
+LC_API void lc_rbf_encoded_free(lc_rbf_encoded *set);
+
+typedef enum lc_rbf_file { LC_RBF_FILE_BINARY = 0, LC_RBF_FILE_TEXT = 1 } lc_rbf_file;
+
+/* Writes an RBF set as a .rbf file (docs/FORMATS-rbf.md; count, centres,
+ * widths, weights and bias; eps, domain and leaf_size are not stored). The
+ * file appears complete or not at all: it is written under a temporary name
+ * in the same folder and renamed. Fails with LC_ERROR_INVALID_ARGUMENT for
+ * data lc_rbf_create would refuse, LC_ERROR_IO naming the file otherwise. */
+LC_API lc_status lc_rbf_write(lc_device *device, const char *path, const lc_rbf_desc *desc, lc_rbf_file variant);
 
 /* ---------------------------------------------------------------- rendering */
 
