@@ -8,7 +8,9 @@
  * entries, or when splitting would not help: the children's lists, weighted
  * by the children's volumes (the expected terms per uniformly placed sample),
  * keep more than 90% of the parent's ("further subdivision does not
- * significantly reduce the number of basis functions"), or at depth 20.
+ * significantly reduce the number of basis functions"), when its longest
+ * edge is below half the mean support of its list (splitting would otherwise
+ * go on along the supports' boundary surfaces), or at depth 20.
  *
  * Significant mode (the paper's interactive variant): a leaf with more than
  * cell_max entries keeps the cell_max most significant, ranked by the largest
@@ -30,6 +32,7 @@
 #include <string.h>
 
 #define MAX_DEPTH 20
+#define MIN_CELL 0.5 /* a cell whose longest edge is below this times its list's mean R stays a leaf */
 
 typedef struct ctx {
     const lci_octree_in *in;
@@ -240,6 +243,12 @@ static int node(ctx *c, int32_t ci, const int32_t *ids, int64_t n, const float l
     lci_octree *o = c->o;
     o->depth = depth > o->depth ? depth : o->depth;
     if (n <= in->cell_max || depth >= MAX_DEPTH) return leaf(c, ci, ids, n, lo, hi);
+    /* cells well below the supports they list gain little more from a split
+       (they lie inside most of them), and splitting on along the supports'
+       boundaries alone would never end */
+    double rsum = 0.0, ext = fmax(fmax((double)hi[0] - lo[0], (double)hi[1] - lo[1]), (double)hi[2] - lo[2]);
+    for (int64_t j = 0; j < n; j++) rsum += in->R[ids[j]];
+    if (ext < MIN_CELL * rsum / (double)n) return leaf(c, ci, ids, n, lo, hi);
     float s[3], clo[8][3], chi[8][3];
     choose_split(c, ids, n, lo, hi, s);
     int64_t cnt[8] = {0};

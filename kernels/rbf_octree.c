@@ -112,14 +112,16 @@ static inline void fill_ray(const lc_krbf *s, const float o[3], const float d[3]
             vint kv = vi_add(vi_set1(k), iota);
             vfloat tk = vf_mul(vi_to_vf(kv), vf_set1(dt));
             vfloat px = vf_fma(dx, tk, ox), py = vf_fma(dy, tk, oy), pz = vf_fma(dz, tk, oz);
-            if (ci < 0) ci = locate(s->cells, vf_lane(px, 0), vf_lane(py, 0), vf_lane(pz, 0), &steps), cells++;
+            int fresh = ci < 0;
+            if (fresh) ci = locate(s->cells, vf_lane(px, 0), vf_lane(py, 0), vf_lane(pz, 0), &steps), cells++;
             const lc_kcell *c = &s->cells[ci];
             vmask in = vm_and(vi_lt(kv, end),
                               vm_and(vm_and(vm_and(vf_ge(px, vf_set1(c->lo[0])), vf_lt(px, vf_set1(c->hi[0]))),
                                             vm_and(vf_ge(py, vf_set1(c->lo[1])), vf_lt(py, vf_set1(c->hi[1])))),
                                      vm_and(vf_ge(pz, vf_set1(c->lo[2])), vf_lt(pz, vf_set1(c->hi[2])))));
             int lead = __builtin_ctz(~vm_bits(in)); /* samples from k on inside the leaf */
-            if (lead == 0) lead = 1;                /* cannot happen (the descent and the test agree); progress */
+            if (lead == 0 && !fresh) break;         /* sample k left the leaf: find its own */
+            if (lead == 0) lead = 1; /* cannot happen (the descent and the test agree); progress */
             vmask m = vm_first_n(lead);
             vfloat gx, gy, gz;
             vmask hit;
