@@ -9,7 +9,7 @@
  * by the children's volumes (the expected terms per uniformly placed sample),
  * keep more than 90% of the parent's ("further subdivision does not
  * significantly reduce the number of basis functions"), when its longest
- * edge is below half the mean support of its list (splitting would otherwise
+ * edge is below twice the mean support of its list (splitting would otherwise
  * go on along the supports' boundary surfaces), or at depth 20.
  *
  * Significant mode (the paper's interactive variant): a leaf with more than
@@ -32,7 +32,7 @@
 #include <string.h>
 
 #define MAX_DEPTH 20
-#define MIN_CELL 0.5 /* a cell whose longest edge is below this times its list's mean R stays a leaf */
+#define MIN_CELL 2.0 /* a cell whose longest edge is below this times its list's mean R stays a leaf */
 
 typedef struct ctx {
     const lci_octree_in *in;

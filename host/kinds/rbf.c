@@ -56,7 +56,7 @@ static int box_is_zero(const lc_box3 *b)
 
 /* LC_RBF_ACCEL_DEFAULT: the faster of the two on the measured sets
  * (docs/BENCHMARKS-rbf.md). */
-static lc_rbf_accel resolve_accel(lc_rbf_accel a) { return a == LC_RBF_ACCEL_DEFAULT ? LC_RBF_ACCEL_BVH : a; }
+static lc_rbf_accel resolve_accel(lc_rbf_accel a) { return a == LC_RBF_ACCEL_DEFAULT ? LC_RBF_ACCEL_OCTREE : a; }
 
 /* The descriptor's scalar checks; the per-RBF ones follow in create. */
 static lc_status check_desc(lc_device *dev, const lc_rbf_desc *d)
@@ -268,7 +268,16 @@ static lc_status build(lc_device *dev, rbf *p, const lc_rbf_desc *d, const float
     }
     if (p->bvh.order) free(p->bvh.order), p->bvh.order = NULL;
     lc_status s = range_bound(dev, p, in->range);
-    return s == LC_OK && in->accel == LC_RBF_ACCEL_OCTREE ? build_octree(dev, p, n) : s;
+    if (s != LC_OK || in->accel != LC_RBF_ACCEL_OCTREE) return s;
+    s = build_octree(dev, p, n);
+    if (s != LC_OK && d->accel == LC_RBF_ACCEL_DEFAULT) {
+        /* the default never fails where the BVH alone would not: the BVH it is */
+        lci_log(dev, LC_LOG_WARNING, "rbf: %s; rendering through the BVH instead", lc_last_error());
+        lci_octree_free(&p->oct);
+        in->accel = LC_RBF_ACCEL_BVH, in->cell_max = 0, in->significant = 0;
+        s = LC_OK;
+    }
+    return s;
 }
 
 static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
@@ -292,7 +301,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     in->eps = pick_eps(d);
     in->leaf_size = d->leaf_size ? d->leaf_size : 4;
     in->accel = resolve_accel(d->accel);
-    if (in->accel == LC_RBF_ACCEL_OCTREE) in->cell_max = d->cell_max ? d->cell_max : 16, in->significant = d->significant;
+    if (in->accel == LC_RBF_ACCEL_OCTREE) in->cell_max = d->cell_max ? d->cell_max : 32, in->significant = d->significant;
     double t0 = lci_now();
     size_t n = keep(d, in->eps, xyz, R, src, &in->support_bounds);
     in->count = n;

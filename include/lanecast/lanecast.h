@@ -356,7 +356,8 @@ LC_API lc_status lc_grid_set_params(lc_volume *grid, const lc_grid_params *param
  * LC_METHOD_DEFAULT renders (the BVH is always built: LC_METHOD_BVH and
  * LC_METHOD_BRUTE stay available on either). */
 typedef enum lc_rbf_accel {
-    LC_RBF_ACCEL_DEFAULT = 0, /* the faster on measured sets (docs/BENCHMARKS-rbf.md): the BVH */
+    LC_RBF_ACCEL_DEFAULT = 0, /* the faster on most measured sets (docs/BENCHMARKS-rbf.md): the octree,
+                                 or the BVH when the octree's lists would exceed their limit */
     LC_RBF_ACCEL_BVH = 1,     /* per-sample gather through the BVH of the supports */
     LC_RBF_ACCEL_OCTREE = 2   /* the adaptive octree of Jang 2004 §5: per-cell lists of the RBFs whose
                                  support reaches the cell, evaluated along each ray cell by cell */
@@ -382,7 +383,7 @@ typedef struct lc_rbf_desc {
     int leaf_size;        /* RBFs per BVH leaf, 1..32; 0 = 4 */
     lc_rbf_accel accel;   /* what LC_METHOD_DEFAULT renders through; 0 = LC_RBF_ACCEL_DEFAULT */
     /* octree: a cell splits while its list holds more than cell_max RBFs (and
-       splitting still shortens the lists), 1..LC_RBF_MAX_CELL; 0 = 16 */
+       splitting still shortens the lists), 1..LC_RBF_MAX_CELL; 0 = 32 */
     int cell_max;
     /* octree only, 0 or 1: each cell keeps only its cell_max most significant
        RBFs (largest |w_i| exp(-d^2 / 2 s_i^2) over the cell) and adds the
