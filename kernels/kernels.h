@@ -21,4 +21,10 @@ uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kf
 /* the grid methods live in two files; the sub-table is in grid_bvh.c */
 void LC_KFN(grid_brute)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st);
 
+/* the RBF octree method (rbf_octree.c); the sub-table is in rbf.c */
+struct lc_krbf;
+void LC_KFN(rbf_octree)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st);
+uint64_t LC_KFN(rbf_octree_scratch_bytes)(const void *scene, const lc_kframe *f);
+void LC_KFN(rbf_octree_sample)(const struct lc_krbf *s, const float *xyz, int64_t n, float *phi, float *grad);
+
 #endif

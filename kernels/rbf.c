@@ -9,39 +9,12 @@
  *     and evaluates the leaf terms on the lanes inside their support;
  *   brute (base): the same sample loop over every RBF, for checking.
  * Both sum the terms in leaf order with the same arithmetic (term()), so they
- * agree to the last bit. The paper's octree with per-cell RBF lists (§5) is
- * not used: the particle BVH answers the same question, "which supports hold
- * this point". */
-#include "mode.h"
-#include "shared/krbf.h"
+ * agree to the last bit.
+ *   octree (cells, rbf_octree.c): the paper's adaptive octree with per-cell
+ *     RBF lists (§5), when the volume was built with accel = octree. */
+#include "rbf_common.h"
 #include "shared/ktable.h"
 #include "kernels.h"
-
-/* Boxes grow a little more than R so float round-off in the box test never
- * drops a sample inside a support (the exact test is d2 < R^2 in term()). */
-static inline float grow(float r) { return r * 1.0001f + 1e-6f; }
-
-/* Term i at the points p on the lanes in m: adds w_i exp(d2 nis_i) to *phi
- * and, with grad, its gradient -(p - mu_i) / s_i^2 phi_i to g*. Returns the
- * lanes inside the support. */
-static inline vmask term(const lc_krbf *s, int32_t i, vfloat px, vfloat py, vfloat pz, vmask m, int grad, vfloat *phi,
-                         vfloat *gx, vfloat *gy, vfloat *gz)
-{
-    vfloat ex = vf_sub(px, vf_set1(s->cx[i])), ey = vf_sub(py, vf_set1(s->cy[i])), ez = vf_sub(pz, vf_set1(s->cz[i]));
-    vfloat d2 = vf_fma(ex, ex, vf_fma(ey, ey, vf_mul(ez, ez)));
-    vmask in = vm_and(m, vf_lt(d2, vf_set1(s->r2[i])));
-    if (vm_none(in)) return in;
-    float nis = s->nis[i];
-    vfloat p = vf_select(in, vf_mul(vf_set1(s->w[i]), vf_exp(vf_mul(d2, vf_set1(nis)))), vf_zero());
-    *phi = vf_add(*phi, p);
-    if (grad) {
-        vfloat gp = vf_mul(p, vf_set1(2.0f * nis));
-        *gx = vf_fma(ex, gp, *gx);
-        *gy = vf_fma(ey, gp, *gy);
-        *gz = vf_fma(ez, gp, *gz);
-    }
-    return in;
-}
 
 /* f (and with grad its gradient) at the points on the lanes in m: through
  * the BVH when stack is not NULL, else over every RBF. *found: some term
@@ -153,6 +126,10 @@ static void rbf_brute(const void *scene, const lc_kframe *f, const lc_ktile *t, 
 static void rbf_sample(const void *scene, const float *xyz, int64_t n, float *phi, float *grad, void *scratch)
 {
     const lc_krbf *s = scene;
+    if (s->cells) { /* an octree volume samples what its default method renders */
+        LC_KFN(rbf_octree_sample)(s, xyz, n, phi, grad);
+        return;
+    }
     for (int64_t base = 0; base < n; base += LC_W) {
         int cnt = n - base < LC_W ? (int)(n - base) : LC_W;
         float tx[LC_W], ty[LC_W], tz[LC_W];
@@ -189,8 +166,9 @@ static uint64_t render_scratch_bytes(const void *scene, const lc_kframe *f)
 }
 
 const lc_kkind LC_KFN(lc_kkind_rbf) = {
-    .render = {[LC_KMETHOD_FAST] = rbf_bvh, [LC_KMETHOD_BASE] = rbf_brute},
-    .scratch_bytes = {[LC_KMETHOD_FAST] = render_scratch_bytes, [LC_KMETHOD_BASE] = render_scratch_bytes},
+    .render = {[LC_KMETHOD_FAST] = rbf_bvh, [LC_KMETHOD_BASE] = rbf_brute, [LC_KMETHOD_CELLS] = LC_KFN(rbf_octree)},
+    .scratch_bytes = {[LC_KMETHOD_FAST] = render_scratch_bytes, [LC_KMETHOD_BASE] = render_scratch_bytes,
+                      [LC_KMETHOD_CELLS] = LC_KFN(rbf_octree_scratch_bytes)},
     .sample = rbf_sample,
     .sample_scratch_bytes = stack_bytes,
 };

@@ -13,8 +13,14 @@ static const char help[] =
     "  --domain x0,y0,z0,x1,y1,z1   box where rays sample (default: the union of the supports);\n"
     "                        with a bias the field is w0 everywhere else, so the box bounds it\n"
     "  --rbf-leaf N          RBFs per BVH leaf, 1..32 (default 4)\n"
-    "  --method bvh|brute    gather the RBFs through a BVH (default) or every RBF at every sample\n"
-    "  defaults: method bvh (brute: every RBF at every sample), dt a quarter of the smallest width,\n"
+    "  --rbf-accel bvh|octree   what the default method renders through: the adaptive octree of\n"
+    "                        Jang 2004 §5 (default: faster on most sets in docs/BENCHMARKS-rbf.md; the BVH\n"
+    "                        is faster on dense clusters of wide supports) or the BVH gather\n"
+    "  --rbf-cell N          octree: split cells holding more than N RBFs, 1..4096 (default 32)\n"
+    "  --rbf-significant     octree: keep only the N most significant RBFs per cell and interpolate\n"
+    "                        the dropped terms from the cell corners (approximate; --stats shows the bound)\n"
+    "  --method bvh|brute    force the BVH gather or every RBF at every sample (default: the accel)\n"
+    "  defaults: method = the accel (brute: every RBF at every sample), dt a quarter of the smallest width,\n"
     "  range a conservative bound of the field (w0 plus the weight sums reaching each BVH leaf),\n"
     "  TF heat with a peak extinction of 1 / the largest width\n"
     "  example: lanecast render jet.rbf -o jet.png --shade phong --eps 1e-3 --stats\n"
@@ -23,7 +29,13 @@ static const char help[] =
 static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *load, const char **first)
 {
     const char *a = argv[*i], *v;
-    if (strcmp(a, "--eps") && strcmp(a, "--domain") && strcmp(a, "--rbf-leaf")) return 0;
+    if (!strcmp(a, "--rbf-significant")) {
+        if (!*first) *first = a;
+        return cli_load_add(load, cmd, "significant", "1") ? -1 : 1;
+    }
+    if (strcmp(a, "--eps") && strcmp(a, "--domain") && strcmp(a, "--rbf-leaf") && strcmp(a, "--rbf-accel") &&
+        strcmp(a, "--rbf-cell"))
+        return 0;
     if (!*first) *first = a;
     if (!(v = arg_value(cmd, argc, argv, i))) return -1;
     if (!strcmp(a, "--eps")) {
@@ -34,7 +46,12 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
         int n;
         return arg_int(cmd, a, v, 1, 32, &n) || cli_load_add(load, cmd, "leaf_size", v) ? -1 : 1;
     }
-    /* --domain: the library checks lo < hi and names the file */
+    if (!strcmp(a, "--rbf-cell")) {
+        int n;
+        return arg_int(cmd, a, v, 1, LC_RBF_MAX_CELL, &n) || cli_load_add(load, cmd, "cell_max", v) ? -1 : 1;
+    }
+    /* --rbf-accel and --domain: the library checks the value and names the file */
+    if (!strcmp(a, "--rbf-accel")) return cli_load_add(load, cmd, "accel", v) ? -1 : 1;
     return cli_load_add(load, cmd, "domain", v) ? -1 : 1;
 }
 
@@ -63,9 +80,17 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
     fprintf(f, "domain        %g,%g,%g .. %g,%g,%g; range bound %g..%g\n", (double)ri.bounds.lo.x,
             (double)ri.bounds.lo.y, (double)ri.bounds.lo.z, (double)ri.bounds.hi.x, (double)ri.bounds.hi.y,
             (double)ri.bounds.hi.z, (double)ri.range[0], (double)ri.range[1]);
-    fprintf(f, "load          %.3f s (reading, BVH build and range bound)\n", load_seconds);
+    fprintf(f, "load          %.3f s (reading, BVH build, range bound, octree)\n", load_seconds);
     fprintf(f, "bvh           %d nodes, depth %d, %.2f MB, build %.3f s; RBF data %.2f MB\n", ri.bvh_nodes,
             ri.bvh_depth, (double)ri.bvh_bytes / 1e6, ri.build_seconds, (double)ri.data_bytes / 1e6);
+    if (ri.accel == LC_RBF_ACCEL_OCTREE)
+        fprintf(f, "octree        %d cells (%d leaves), depth %d, %zu list entries (longest %zu, cell max %d), %.2f MB, "
+                   "build %.3f s\n",
+                ri.octree_cells, ri.octree_leaves, ri.octree_depth, ri.octree_refs, ri.octree_max_list, ri.cell_max,
+                (double)ri.octree_bytes / 1e6, ri.octree_seconds);
+    if (ri.significant)
+        fprintf(f, "significant   %zu list entries dropped, |f - f_exact| <= %.4g (per-cell bound)\n", ri.truncated,
+                ri.truncation_bound);
 }
 
 const cli_kind cli_rbf = {LC_KIND_RBF, help, parse_flag, apply, default_tf, print_stats, "rbf terms    "};

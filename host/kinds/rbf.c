@@ -8,12 +8,14 @@
 #include <string.h>
 #include "host/kinds/kind.h"
 #include "bvh/particle_bvh.h"
+#include "bvh/rbf_octree.h"
 #include "kernels/shared/krbf.h"
 
 typedef struct rbf {
     lc_volume base; /* first: the kind-neutral handle */
     lc_rbf_info info;
     lci_pbvh bvh;
+    lci_octree oct; /* accel = octree */
     float *cx, *cy, *cz, *r2, *nis, *w, *R; /* leaf order */
 } rbf;
 
@@ -22,6 +24,7 @@ static void destroy(lc_volume *v)
     rbf *p = (rbf *)v;
     if (!p) return;
     lci_pbvh_free(&p->bvh);
+    lci_octree_free(&p->oct);
     free(p->cx), free(p->cy), free(p->cz), free(p->r2), free(p->nis), free(p->w), free(p->R);
     free(p);
 }
@@ -51,6 +54,10 @@ static int box_is_zero(const lc_box3 *b)
            b->hi.z == 0.0f;
 }
 
+/* LC_RBF_ACCEL_DEFAULT: the faster of the two on the measured sets
+ * (docs/BENCHMARKS-rbf.md). */
+static lc_rbf_accel resolve_accel(lc_rbf_accel a) { return a == LC_RBF_ACCEL_DEFAULT ? LC_RBF_ACCEL_OCTREE : a; }
+
 /* The descriptor's scalar checks; the per-RBF ones follow in create. */
 static lc_status check_desc(lc_device *dev, const lc_rbf_desc *d)
 {
@@ -65,6 +72,18 @@ static lc_status check_desc(lc_device *dev, const lc_rbf_desc *d)
                          d->leaf_size);
     if (!isfinite(d->bias))
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: bias = %g, expected a finite value", fn, (double)d->bias);
+    if ((int)d->accel < 0 || (int)d->accel > LC_RBF_ACCEL_OCTREE)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: accel = %d, expected 0 (default), %d (bvh) or %d (octree)",
+                         fn, (int)d->accel, LC_RBF_ACCEL_BVH, LC_RBF_ACCEL_OCTREE);
+    if (d->cell_max < 0 || d->cell_max > LC_RBF_MAX_CELL)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: cell_max = %d, expected 0 (default) or 1 to %d", fn,
+                         d->cell_max, LC_RBF_MAX_CELL);
+    if (d->significant != 0 && d->significant != 1)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: significant = %d, expected 0 or 1", fn, d->significant);
+    if (d->significant && resolve_accel(d->accel) != LC_RBF_ACCEL_OCTREE)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "%s: significant = 1 keeps the most significant RBFs of octree cells; it needs accel = octree",
+                         fn);
     if (!(d->eps >= 0.0f) || !isfinite(d->eps))
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: eps = %g, expected 0 (default) or a finite value > 0",
                          fn, (double)d->eps);
@@ -188,7 +207,35 @@ static size_t keep(const lc_rbf_desc *d, float eps, float *xyz, float *R, size_t
     return n;
 }
 
-/* BVH over the kept supports, leaf-ordered arrays, the range bound. */
+/* The octree over the kept RBFs (leaf order). Its root holds the clip box
+ * and every support, so lc_volume_sample anywhere finds a leaf whose list
+ * has every term reaching the point; grown a little for round-off. */
+static lc_status build_octree(lc_device *dev, rbf *p, size_t n)
+{
+    lc_rbf_info *in = &p->info;
+    double t0 = lci_now();
+    lci_octree_in oi = {p->cx, p->cy, p->cz, p->R, p->w, p->nis, n, {0}, {0}, in->cell_max, in->significant};
+    const lc_box3 *a = &in->bounds, *b = &in->support_bounds;
+    const float alo[3] = {a->lo.x, a->lo.y, a->lo.z}, ahi[3] = {a->hi.x, a->hi.y, a->hi.z};
+    const float blo[3] = {b->lo.x, b->lo.y, b->lo.z}, bhi[3] = {b->hi.x, b->hi.y, b->hi.z};
+    for (int k = 0; k < 3; k++) {
+        float lo = n ? fminf(alo[k], blo[k]) : alo[k], hi = n ? fmaxf(ahi[k], bhi[k]) : ahi[k];
+        float g = 1e-4f * (hi - lo) + 1e-6f * (fabsf(lo) + fabsf(hi)) + 1e-30f;
+        oi.lo[k] = lo - g, oi.hi[k] = hi + g;
+    }
+    char err[256];
+    if (lci_octree_build(&oi, &p->oct, err, sizeof err) != 0)
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: octree build failed: %s", err);
+    in->octree_cells = p->oct.ncells, in->octree_leaves = p->oct.nleaves, in->octree_depth = p->oct.depth;
+    in->octree_refs = (size_t)p->oct.nlist, in->octree_max_list = (size_t)p->oct.max_leaf;
+    in->octree_bytes = lci_octree_bytes(&p->oct);
+    in->truncated = (size_t)p->oct.truncated, in->truncation_bound = p->oct.err_bound;
+    in->octree_seconds = lci_now() - t0;
+    return LC_OK;
+}
+
+/* BVH over the kept supports, leaf-ordered arrays, the range bound, the
+ * octree when asked for. */
 static lc_status build(lc_device *dev, rbf *p, const lc_rbf_desc *d, const float *xyz, const float *R,
                        const size_t *src, size_t n)
 {
@@ -220,7 +267,17 @@ static lc_status build(lc_device *dev, rbf *p, const lc_rbf_desc *d, const float
         in->max_support = fmaxf(in->max_support, R[o]);
     }
     if (p->bvh.order) free(p->bvh.order), p->bvh.order = NULL;
-    return range_bound(dev, p, in->range);
+    lc_status s = range_bound(dev, p, in->range);
+    if (s != LC_OK || in->accel != LC_RBF_ACCEL_OCTREE) return s;
+    s = build_octree(dev, p, n);
+    if (s != LC_OK && d->accel == LC_RBF_ACCEL_DEFAULT) {
+        /* the default never fails where the BVH alone would not: the BVH it is */
+        lci_log(dev, LC_LOG_WARNING, "rbf: %s; rendering through the BVH instead", lc_last_error());
+        lci_octree_free(&p->oct);
+        in->accel = LC_RBF_ACCEL_BVH, in->cell_max = 0, in->significant = 0;
+        s = LC_OK;
+    }
+    return s;
 }
 
 static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
@@ -243,6 +300,8 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     in->bias = d->bias;
     in->eps = pick_eps(d);
     in->leaf_size = d->leaf_size ? d->leaf_size : 4;
+    in->accel = resolve_accel(d->accel);
+    if (in->accel == LC_RBF_ACCEL_OCTREE) in->cell_max = d->cell_max ? d->cell_max : 32, in->significant = d->significant;
     double t0 = lci_now();
     size_t n = keep(d, in->eps, xyz, R, src, &in->support_bounds);
     in->count = n;
@@ -262,6 +321,10 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     lci_log(dev, LC_LOG_INFO, "rbf: %zu RBFs (%zu without support at eps %g), BVH %d nodes depth %d, range %g..%g, %.3f s",
             n, in->dropped, (double)in->eps, in->bvh_nodes, in->bvh_depth, (double)in->range[0],
             (double)in->range[1], in->build_seconds);
+    if (in->accel == LC_RBF_ACCEL_OCTREE)
+        lci_log(dev, LC_LOG_INFO, "rbf: octree %d cells (%d leaves) depth %d, %zu list entries (longest %zu), %.3f s",
+                in->octree_cells, in->octree_leaves, in->octree_depth, in->octree_refs, in->octree_max_list,
+                in->octree_seconds);
     *out = &p->base;
     return LC_OK;
 }
@@ -314,6 +377,8 @@ static lc_krbf *kscene(lc_device *dev, const rbf *p)
     const lc_box3 *b = &p->info.bounds;
     k->lo[0] = b->lo.x, k->lo[1] = b->lo.y, k->lo[2] = b->lo.z;
     k->hi[0] = b->hi.x, k->hi[1] = b->hi.y, k->hi[2] = b->hi.z;
+    k->cells = p->oct.cells, k->cell_list = p->oct.list, k->cell_corr = p->oct.corr;
+    k->ncells = p->oct.ncells;
     return k;
 }
 
@@ -325,9 +390,13 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (m != LC_METHOD_DEFAULT && m != LC_METHOD_BVH && m != LC_METHOD_BRUTE)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %s does not apply to RBF sets (bvh or brute)",
                          (int)m >= 0 && (int)m < 5 ? names[m] : "(unknown)");
-    lc_krbf *k = kscene(dev, (const rbf *)v);
+    const rbf *p = (const rbf *)v;
+    lc_krbf *k = kscene(dev, p);
     if (!k) return LC_ERROR_OUT_OF_MEMORY;
-    int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
+    /* DEFAULT: the set's accel; BVH and BRUTE on any set (the BVH is always built) */
+    int km = m == LC_METHOD_BRUTE                                                ? LC_KMETHOD_BASE
+             : m == LC_METHOD_DEFAULT && p->info.accel == LC_RBF_ACCEL_OCTREE ? LC_KMETHOD_CELLS
+                                                                              : LC_KMETHOD_FAST;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_RBF];
     out->tile = kk->render[km];
     out->kscene = k;
@@ -351,6 +420,16 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
     lc_rbf_desc *d = desc;
     if (!strcmp(o->key, "leaf_size")) return lci_option_int(dev, file, o, 1, 32, &d->leaf_size);
     if (!strcmp(o->key, "eps")) return lci_option_float(dev, file, o, 0.0f, 1e30f, &d->eps);
+    if (!strcmp(o->key, "cell_max")) return lci_option_int(dev, file, o, 1, LC_RBF_MAX_CELL, &d->cell_max);
+    if (!strcmp(o->key, "significant")) return lci_option_int(dev, file, o, 0, 1, &d->significant);
+    if (!strcmp(o->key, "accel")) {
+        if (!strcmp(o->value, "bvh")) d->accel = LC_RBF_ACCEL_BVH;
+        else if (!strcmp(o->value, "octree")) d->accel = LC_RBF_ACCEL_OCTREE;
+        else
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: accel = '%s', expected bvh or octree", file,
+                             o->value);
+        return LC_OK;
+    }
     if (!strcmp(o->key, "domain")) {
         float v[6];
         lc_status s = lci_option_floats(dev, file, o, 6, v);
@@ -364,7 +443,7 @@ const lci_kind_ops lci_rbf_ops = {
     .kind = LC_KIND_RBF,
     .name = "rbf",
     .krow = LC_KKIND_RBF,
-    .option_keys = "leaf_size eps domain",
+    .option_keys = "leaf_size eps domain accel cell_max significant",
     .create = create,
     .set_option = set_option,
     .destroy = destroy,

@@ -351,6 +351,21 @@ LC_API lc_status lc_grid_set_params(lc_volume *grid, const lc_grid_params *param
  * RBF sets have no per-render parameters (no lc_rbf_params or
  * lc_rbf_set_params): eps and the domain change the supports, hence the BVH,
  * so they are build parameters; create a new set to change them. */
+
+/* Which structure finds the RBFs whose support holds a sample, i.e. what
+ * LC_METHOD_DEFAULT renders (the BVH is always built: LC_METHOD_BVH and
+ * LC_METHOD_BRUTE stay available on either). */
+typedef enum lc_rbf_accel {
+    LC_RBF_ACCEL_DEFAULT = 0, /* the faster on most measured sets (docs/BENCHMARKS-rbf.md): the octree,
+                                 or the BVH when the octree's lists would exceed their limit */
+    LC_RBF_ACCEL_BVH = 1,     /* per-sample gather through the BVH of the supports */
+    LC_RBF_ACCEL_OCTREE = 2   /* the adaptive octree of Jang 2004 §5: per-cell lists of the RBFs whose
+                                 support reaches the cell, evaluated along each ray cell by cell */
+} lc_rbf_accel;
+
+/* Largest lc_rbf_desc.cell_max. */
+#define LC_RBF_MAX_CELL 4096
+
 typedef struct lc_rbf_desc {
     size_t count;
     const float *centres; /* 3 * count floats, x y z interleaved (mu_i) */
@@ -366,6 +381,16 @@ typedef struct lc_rbf_desc {
        bounds the constant region that rays integrate. lo < hi on every axis. */
     lc_box3 domain;
     int leaf_size;        /* RBFs per BVH leaf, 1..32; 0 = 4 */
+    lc_rbf_accel accel;   /* what LC_METHOD_DEFAULT renders through; 0 = LC_RBF_ACCEL_DEFAULT */
+    /* octree: a cell splits while its list holds more than cell_max RBFs (and
+       splitting still shortens the lists), 1..LC_RBF_MAX_CELL; 0 = 32 */
+    int cell_max;
+    /* octree only, 0 or 1: each cell keeps only its cell_max most significant
+       RBFs (largest |w_i| exp(-d^2 / 2 s_i^2) over the cell) and adds the
+       trilinear interpolation of the dropped terms' sum stored at its
+       corners (Jang 2004 §5); lc_rbf_info.truncation_bound bounds the error.
+       0 = every RBF whose support reaches the cell (the exact field). */
+    int significant;
 } lc_rbf_desc;
 
 typedef struct lc_rbf_info {
@@ -382,6 +407,19 @@ typedef struct lc_rbf_info {
     double build_seconds; /* BVH build, flattening and range bound */
     size_t bvh_bytes, data_bytes;
     int bvh_nodes, bvh_depth, leaf_size;
+    lc_rbf_accel accel;   /* the one in use (default resolved) */
+    int cell_max, significant; /* as built (0 without an octree) */
+    /* the octree (all 0 without one): cells (inner and leaves), leaves,
+       depth, list entries, the longest leaf list, bytes (cells, lists and
+       corner errors), build time (also counted in build_seconds) */
+    int octree_cells, octree_leaves, octree_depth;
+    size_t octree_refs, octree_max_list, octree_bytes;
+    double octree_seconds;
+    /* significant mode: list entries dropped, and the largest per-cell bound
+       of |f - f_exact| (the sum over a cell's dropped terms of their largest
+       magnitude in the cell; 0 when exact) */
+    size_t truncated;
+    double truncation_bound;
 } lc_rbf_info;
 
 /* Copies the RBFs (the caller's arrays may be freed afterwards) and builds
@@ -389,8 +427,10 @@ typedef struct lc_rbf_info {
  * LC_ERROR_INVALID_ARGUMENT, naming the first bad index and the number of bad
  * ones, for a non-finite centre, width or weight or a width <= 0; and for a
  * non-finite bias, eps < 0 or non-finite, a domain with lo >= hi on an axis
- * (other than all zero), or a bad leaf size. count = 0 is valid (the field is
- * the bias inside the domain). */
+ * (other than all zero), a bad leaf size, accel, cell_max or significant
+ * (significant without accel = octree). count = 0 is valid (the field is
+ * the bias inside the domain). LC_ERROR_OUT_OF_MEMORY when the octree's
+ * lists would exceed 2^30 entries. */
 LC_API lc_status lc_rbf_create(lc_device *device, const lc_rbf_desc *desc, lc_volume **out);
 LC_API lc_status lc_rbf_get_info(const lc_volume *rbf, lc_rbf_info *out);
 
@@ -599,7 +639,8 @@ typedef enum lc_mode {
 
 /* How a kind walks its data; each kind takes its own (DEFAULT = the fast one). */
 typedef enum lc_method {
-    LC_METHOD_DEFAULT = 0,  /* coherent for particles, bvh for grids and RBF sets */
+    LC_METHOD_DEFAULT = 0,  /* coherent for particles, bvh for grids, the set's accel for RBF sets
+                               (lc_rbf_desc.accel: the BVH gather or the octree) */
     LC_METHOD_COHERENT = 1, /* particles: coherent packet traversal with sample buffers (Knoll 2014) */
     LC_METHOD_DIRECT = 2,   /* particles: per-sample gather through the BVH (the paper's baseline) */
     LC_METHOD_BVH = 3,      /* grids: implicit min-max BVH traversal (Knoll 2011); RBF sets:

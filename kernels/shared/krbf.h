@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 #include "kparticles.h" /* lc_kpnode: the same node layout and builder */
+#include "koctree.h"    /* lc_kcell: the optional octree (accel = octree) */
 
 typedef struct lc_krbf {
     const lc_kpnode *nodes;  /* nodes[0] is the root; NULL when no RBF is kept */
@@ -21,7 +22,13 @@ typedef struct lc_krbf {
     float bias;              /* w0 */
     int32_t empty;           /* 1: the clip box is empty, no ray samples */
     float lo[4], hi[4];      /* lattice clip box: the domain or the union of the supports */
+    /* the octree (LC_KMETHOD_CELLS and point sampling when built; NULL otherwise) */
+    const lc_kcell *cells;   /* cells[0] is the root */
+    const int32_t *cell_list; /* RBF indices per leaf, ascending */
+    const float *cell_corr;  /* significant mode: LC_KCORR floats per cell; NULL: exact lists */
+    int32_t ncells;
+    int32_t pad;
 } lc_krbf;
-_Static_assert(sizeof(lc_krbf) == 8 * 8 + 8 + 8 + 8 + 32, "lc_krbf layout");
+_Static_assert(sizeof(lc_krbf) == 8 * 8 + 8 + 8 + 8 + 32 + 3 * 8 + 8, "lc_krbf layout");
 
 #endif

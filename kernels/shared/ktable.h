@@ -14,8 +14,11 @@ typedef void (*lc_ktile_fn)(const void *scene, const lc_kframe *frame, const lc_
 
 /* A kind's methods: the accelerated one (particles: coherent packets, grids:
  * the min-max BVH, RBF sets: per-sample gather through the BVH) and the
- * baseline (particles: per-sample gather, grids and RBF sets: brute force). The host maps lc_method onto these. */
-enum { LC_KMETHOD_FAST = 0, LC_KMETHOD_BASE = 1, LC_KMETHOD_COUNT = 2 };
+ * baseline (particles: per-sample gather, grids and RBF sets: brute force). The host maps lc_method onto these.
+ * CELLS: a kind's second accelerated method over a spatial subdivision (RBF
+ * sets: the octree of Jang 2004 §5, when the volume built one); NULL in the
+ * kinds without one. */
+enum { LC_KMETHOD_FAST = 0, LC_KMETHOD_BASE = 1, LC_KMETHOD_CELLS = 2, LC_KMETHOD_COUNT = 3 };
 
 /* One data kind's kernels on this target. */
 typedef struct lc_kkind {
