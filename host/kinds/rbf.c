@@ -17,6 +17,7 @@ typedef struct rbf {
     lci_pbvh bvh;
     lci_octree oct; /* accel = octree */
     float *cx, *cy, *cz, *r2, *nis, *w, *R; /* leaf order */
+    float peak[2]; /* the field's range at the centres (with the bias): the default TF range */
 } rbf;
 
 static void destroy(lc_volume *v)
@@ -280,6 +281,27 @@ static lc_status build(lc_device *dev, rbf *p, const lc_rbf_desc *d, const float
     return s;
 }
 
+/* The field's extremes are near the centres: its values there (at most 4096
+ * centres, evenly strided) and the bias give the default TF range, far
+ * tighter than the bound in info.range, which adds every overlapping weight. */
+static void peaks(lc_device *dev, rbf *p)
+{
+    p->peak[0] = p->peak[1] = p->info.bias;
+    size_t n = p->info.count, m = n < 4096 ? n : 4096;
+    float *xyz = m ? malloc(sizeof(float) * 3 * m) : NULL, *v = m ? malloc(sizeof(float) * m) : NULL;
+    if (!xyz || !v) {
+        free(xyz), free(v);
+        return; /* the bias alone: the bound is used (frame_info) */
+    }
+    for (size_t i = 0; i < m; i++) {
+        size_t j = i * n / m;
+        xyz[3 * i] = p->cx[j], xyz[3 * i + 1] = p->cy[j], xyz[3 * i + 2] = p->cz[j];
+    }
+    if (lc_volume_sample(dev, &p->base, m, xyz, v, NULL) == LC_OK)
+        for (size_t i = 0; i < m; i++) p->peak[0] = fminf(p->peak[0], v[i]), p->peak[1] = fmaxf(p->peak[1], v[i]);
+    free(xyz), free(v);
+}
+
 static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
 {
     const lc_rbf_desc *d = desc;
@@ -325,6 +347,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         lci_log(dev, LC_LOG_INFO, "rbf: octree %d cells (%d leaves) depth %d, %zu list entries (longest %zu), %.3f s",
                 in->octree_cells, in->octree_leaves, in->octree_depth, in->octree_refs, in->octree_max_list,
                 in->octree_seconds);
+    peaks(dev, p);
     *out = &p->base;
     return LC_OK;
 }
@@ -352,8 +375,14 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
     float dx = b->hi.x - b->lo.x, dy = b->hi.y - b->lo.y, dz = b->hi.z - b->lo.z;
     float diag = sqrtf(dx * dx + dy * dy + dz * dz);
     out->default_dt = p->info.count ? 0.25f * p->info.min_width : diag > 0.0f ? diag / 256.0f : 1.0f;
-    out->default_range[0] = p->info.range[0];
-    out->default_range[1] = p->info.range[1];
+    /* the TF maps from the bias, the set's background (an encoded volume's empty
+       space), to the largest value at the centres, so the background is
+       transparent by default; a set of only negative terms maps from its
+       smallest value to the bias */
+    float w0 = p->info.bias;
+    out->default_range[0] = p->peak[1] > w0 ? w0 : p->peak[0];
+    out->default_range[1] = p->peak[1] > w0 ? p->peak[1] : w0;
+    if (!(out->default_range[1] > out->default_range[0])) out->default_range[1] = out->default_range[0] + 1.0f;
     out->nfields = 1;
     return LC_OK;
 }
