@@ -205,7 +205,8 @@ typedef struct lc_volume_info {
     lc_box3 bounds;   /* where the field may be non-zero with the current parameters */
     int nfields;      /* fields (1..LC_MAX_FIELDS) */
     float range[2];   /* the value range a TF maps by default (grids: the voxel range;
-                         particles: [0, |kappa|]; RBF sets: a conservative bound, lc_rbf_info) */
+                         particles: [0, |kappa|]; RBF sets: from the bias, their background,
+                         to the largest value at the centres; lc_rbf_info.range is a bound) */
 } lc_volume_info;
 
 /* NULL is ignored. Objects are destroyed before their device. */
