@@ -9,6 +9,10 @@ static const lc_feature_info features[] = {
                           "gzip-compressed inputs: .gz particle files, NRRD gzip encoding, MetaImage compressed data"},
     [LCI_FEATURE_JSON] = {"json", "json-c", LC_HAVE_JSON, "libjson-c-dev",
                           "JSON transfer functions (SPEC.md): lc_tf_load, lc_tf_parse, --tf FILE.json"},
+    [LCI_FEATURE_NIFTI] = {"nifti", "nifti_clib (libnifti2)", LC_HAVE_NIFTI, "libnifti2-dev",
+                           "NIfTI-1/2 volumes: .nii, .nii.gz, .hdr/.img pairs"},
+    [LCI_FEATURE_HDF5] = {"hdf5", "libhdf5", LC_HAVE_HDF5, "libhdf5-dev",
+                          "HDF5 files: GADGET/AREPO/SWIFT PartTypeN snapshots, a dataset as a grid or particles"},
 };
 #define NFEATURES ((int)(sizeof features / sizeof features[0]))
 
