@@ -64,7 +64,7 @@ lc_status lci_option_floats(lc_device *dev, const char *file, const lc_option *o
 lc_status lci_option_ints(lc_device *dev, const char *file, const lc_option *o, int n, int lo, int hi, int *out);
 
 /* Optional features (host/api/features.c), indexed like lc_feature_get. */
-enum { LCI_FEATURE_ZLIB = 0, LCI_FEATURE_JSON = 1, LCI_FEATURE_LAPACKE = 2 };
+enum { LCI_FEATURE_ZLIB = 0, LCI_FEATURE_JSON = 1, LCI_FEATURE_LAPACKE = 2, LCI_FEATURE_NIFTI = 3, LCI_FEATURE_HDF5 = 4 };
 /* The error for something this build lacks: "WHERE: WHAT needs LIB, which this
  * build of lanecast lacks (install PKG and rebuild)", LC_ERROR_UNSUPPORTED. */
 lc_status lci_missing(lc_device *dev, const char *where, const char *what, int feature);

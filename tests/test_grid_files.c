@@ -212,7 +212,7 @@ int main(void)
     bad(dev, "ok.nhdr", NULL, bad_layout, NOPT(bad_layout), "layout = 'morton'");
     const lc_option other_type[] = {{"type", "float32"}};
     bad(dev, "ok.nhdr", NULL, other_type, NOPT(other_type), "type");
-    bad(dev, "ok.nhdr", "vtk", NULL, 0, "'vtk'");
+    bad(dev, "ok.nhdr", "nosuch", NULL, 0, "'nosuch'");
     bad(dev, "ok.nhdr", "xyz", NULL, 0, "ok.nhdr");
     lc_device_destroy(dev);
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);

@@ -30,6 +30,9 @@ static const char render_help[] =
     "  --topology FILE       a companion file: the PSF topology of a DCD trajectory (default: the\n"
     "                        DCD's name with .psf, when it exists)\n"
     "  example: lanecast render adk.dcd --topology adk.psf --frames 0:98:10 -o adk_%02d.png\n"
+    "  --dataset PATH        HDF5: render this dataset (3-D: a grid; N x 3: particle positions)\n"
+    "                        instead of the PartTypeN groups of a snapshot\n"
+    "  example: lanecast render sim.h5 --dataset /fields/density -o density.png\n"
     "\n"
     "camera (default: perspective, looking down -z at the data, framing it):\n"
     "  --size WxH            image size in pixels (default 1024x1024)\n"
@@ -200,13 +203,14 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
     return 1;
 }
 
-/* The input flags --frame, --frames and --topology: 1 consumed, 0 not one, -1 bad. */
+/* The input flags --frame, --frames, --topology and --dataset: 1 consumed, 0 not one, -1 bad. */
 static int parse_input(ropts *o, int argc, char **argv, int *i)
 {
     const char *a = argv[*i], *v;
-    if (strcmp(a, "--frame") && strcmp(a, "--frames") && strcmp(a, "--topology")) return 0;
+    if (strcmp(a, "--frame") && strcmp(a, "--frames") && strcmp(a, "--topology") && strcmp(a, "--dataset")) return 0;
     if (!(v = arg_value(o->cmd, argc, argv, i))) return -1;
     if (!strcmp(a, "--topology")) return o->topology = v, 1;
+    if (!strcmp(a, "--dataset")) return cli_load_add(&o->load, o->cmd, "dataset", v) ? -1 : 1;
     char *end;
     if (!strcmp(a, "--frame")) {
         long long f = strtoll(v, &end, 10);
@@ -353,7 +357,9 @@ static const cli_kind *decide_kind(ropts *o, lc_device *dev, lc_kind forced, int
     *frames = 1;
     if (kind == LC_KIND_NONE) {
         lc_file_info fi;
-        lc_load_desc ld = {.format = o->load.format, .companion = o->topology};
+        /* the options too: a container's kind may depend on them (HDF5 --dataset) */
+        lc_load_desc ld = {.format = o->load.format, .companion = o->topology, .options = o->load.opt,
+                           .noptions = o->load.n};
         if (lc_file_probe(dev, o->input, &ld, &fi) != LC_OK) {
             fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
             return NULL;

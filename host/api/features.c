@@ -11,6 +11,10 @@ static const lc_feature_info features[] = {
                           "JSON transfer functions (SPEC.md): lc_tf_load, lc_tf_parse, --tf FILE.json"},
     [LCI_FEATURE_LAPACKE] = {"lapacke", "LAPACKE", LC_HAVE_LAPACKE, "liblapacke-dev",
                              "RBF encoding (least squares): lc_rbf_encode, lanecast encode"},
+    [LCI_FEATURE_NIFTI] = {"nifti", "nifti_clib (libnifti2)", LC_HAVE_NIFTI, "libnifti2-dev",
+                           "NIfTI-1/2 volumes: .nii, .nii.gz, .hdr/.img pairs"},
+    [LCI_FEATURE_HDF5] = {"hdf5", "libhdf5", LC_HAVE_HDF5, "libhdf5-dev",
+                          "HDF5 files: GADGET/AREPO/SWIFT PartTypeN snapshots, a dataset as a grid or particles"},
 };
 #define NFEATURES ((int)(sizeof features / sizeof features[0]))
 

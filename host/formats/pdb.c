@@ -2,10 +2,12 @@
  * element from columns 77-78 or else the atom name. MODEL records are
  * frames: lc_load_desc.frame N reads the (N+1)-th MODEL of the file (MODEL
  * N+1 in a file numbered from 1), up to its ENDMDL; a file without MODEL
- * records is one frame. Plain or gzip. Every error names the file and line. */
+ * records is one frame. Alternate locations (column 17): the first of each
+ * atom is kept (altloc.h). Plain or gzip. Every error names the file and line. */
 #include <ctype.h>
 #include <stdio.h>
 #include <string.h>
+#include "host/formats/altloc.h"
 #include "host/formats/elements.h"
 #include "host/formats/text_reader.h"
 
@@ -34,14 +36,14 @@ static int is_model(const char *s) { return !strncmp(s, "MODEL", 5) && (!s[5] ||
 
 /* Reads the atoms of frame `frame`: the frame-th MODEL (in file order), or,
  * in a file without MODEL records, every ATOM/HETATM record as frame 0. */
-static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p)
+static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p, lci_altlocs *alt)
 {
     int rc;
     int64_t model = -1; /* index of the MODEL we are in, -1 before the first */
     while ((rc = lci_text_line(t)) == 1) {
         if (is_model(t->line)) {
             model++;
-            if (model == frame) p->n = 0; /* atoms before the first MODEL belong to no model */
+            if (model == frame) p->n = 0, alt->residue[0] = 0, alt->n = 0; /* atoms before the first MODEL belong to no model */
             continue;
         }
         if (!strncmp(t->line, "ENDMDL", 6)) {
@@ -59,8 +61,15 @@ static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p)
             return lci_error(t->dev, LC_ERROR_FORMAT,
                              "%s:%ld: ATOM record with coordinates '%s' '%s' '%s' in columns 31-54 that are not numbers",
                              t->path, t->lineno, xs, ys, zs);
+        /* the atom: residue = chain (22), number (23-26), insertion code (27); name 13-16 */
+        char res[16], name[8];
+        lci_column(t->line, 22, 27, res, sizeof res);
+        lci_column(t->line, 13, 16, name, sizeof name);
+        int blank = strlen(t->line) < 17 || t->line[16] == ' ';
+        int keep = lci_altloc_keep(alt, res, name, blank);
+        if (keep == 0) continue;
         pdb_element(t->line, el, sizeof el);
-        if (lci_atoms_add(p, x, y, z, el))
+        if (keep < 0 || lci_atoms_add(p, x, y, z, el))
             return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", t->path, t->lineno);
     }
     if (rc < 0) return LC_ERROR_IO;
@@ -83,8 +92,14 @@ static lc_status pdb_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     lci_text t;
     s = lci_text_open(dev, a->path, &t);
     if (s != LC_OK) return s;
-    s = read_atoms(&t, a->desc->frame, &p);
+    lci_altlocs alt;
+    memset(&alt, 0, sizeof alt);
+    s = read_atoms(&t, a->desc->frame, &p, &alt);
     lci_text_close(&t);
+    if (s == LC_OK && alt.skipped)
+        lci_log(dev, LC_LOG_INFO, "%s: %zu alternate-location records skipped (the first of each atom kept)", a->path,
+                alt.skipped);
+    lci_altlocs_free(&alt);
     return lci_atoms_finish(dev, a->path, s, &p, out);
 }
 

@@ -469,7 +469,8 @@ LC_API int lc_format_count(void);
 LC_API lc_status lc_format_get(int index, lc_format_info *out);
 
 /* Optional features of this build ("zlib": gzip-compressed inputs; "json":
- * JSON transfer functions; "lapacke": RBF encoding, lc_rbf_encode). What needs a missing one fails with
+ * JSON transfer functions; "lapacke": RBF encoding, lc_rbf_encode; "nifti": NIfTI volumes; "hdf5":
+ * HDF5 files). What needs a missing one fails with
  * LC_ERROR_UNSUPPORTED and a message naming the library and its package. */
 typedef struct lc_feature_info {
     const char *name;        /* "zlib", "json", "lapacke" */

@@ -1,0 +1,497 @@
+/* HDF5 files through libhdf5: a container whose kind the file (and the
+ * load request) tells (lci_format.kind_of).
+ *
+ * Particle snapshots in the GADGET-3 / AREPO / SWIFT layout: groups
+ * PartType0..5 with Coordinates (N x 3), and when present Masses (else the
+ * /Header attribute MassTable), SmoothingLength(s), Density/Densities,
+ * InternalEnergy/InternalEnergies. Options as the GADGET reader's: types,
+ * fields = type|none, value = none|mass|u|rho|hsml, radius, radius_scale,
+ * knn (radius = SmoothingLength when the type has it, else the distance to
+ * the knn-th neighbour).
+ *
+ * `dataset = PATH`: a 3-D dataset (C order, so its last dimension is x)
+ * becomes a grid (uint8, int16, uint16 and float32 as they are, other
+ * numbers as float32; spacing and origin options); an N x 3 dataset becomes
+ * particle positions (radius option or k-NN radii).
+ *
+ * Errors name the file and the object (and the byte where HDF5 gives one:
+ * the signature, a contiguous dataset's address). libhdf5's own error
+ * printing is switched off while this file calls it; its innermost message
+ * is quoted instead. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "host/formats/plist.h"
+#include "host/formats/volume_data.h"
+#include "host/kinds/grid.h"
+
+#if LC_HAVE_HDF5
+#include <hdf5.h>
+
+#define MAX_PARTICLES ((int64_t)1 << 31)
+
+/* libhdf5's automatic error printing off while reading, and back after. */
+typedef struct quiet {
+    H5E_auto2_t fn;
+    void *data;
+} quiet;
+static void quiet_on(quiet *q)
+{
+    H5Eget_auto2(H5E_DEFAULT, &q->fn, &q->data);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+}
+static void quiet_off(const quiet *q) { H5Eset_auto2(H5E_DEFAULT, q->fn, q->data); }
+
+static herr_t innermost(unsigned n, const H5E_error2_t *e, void *user)
+{
+    if (n == 0 && e->desc) snprintf(user, 200, "%s", e->desc);
+    return 0;
+}
+
+/* The deepest message on HDF5's error stack, or "". */
+static const char *h5_why(void)
+{
+    static _Thread_local char buf[200];
+    buf[0] = 0;
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost, buf);
+    return buf;
+}
+
+/* Opens path read-only after finding its signature (at 0, 512, 1024, ...). */
+static lc_status h5_open(lc_device *dev, const char *path, hid_t *out)
+{
+    static const unsigned char sig[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+    FILE *f = fopen(path, "rb");
+    if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open", path);
+    long long at = -1;
+    unsigned char b[8];
+    for (long long o = 0; o <= (1LL << 40) && at < 0; o = o ? 2 * o : 512) {
+        if (fseeko(f, o, SEEK_SET) || fread(b, 1, 8, f) != 8) break;
+        if (!memcmp(b, sig, 8)) at = o;
+    }
+    fclose(f);
+    if (at < 0) return lci_error(dev, LC_ERROR_FORMAT, "%s: byte 0: not an HDF5 file (no \\211HDF signature at byte 0, 512, 1024, ...)", path);
+    *out = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (*out < 0)
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: libhdf5 cannot open it (%s): truncated or damaged", path, at,
+                         h5_why());
+    return LC_OK;
+}
+
+static int exists(hid_t loc, const char *name) { return H5Lexists(loc, name, H5P_DEFAULT) > 0; }
+
+/* A dataset's shape (rank <= 3) and its place for messages ("byte N" of a contiguous one). */
+typedef struct dinfo {
+    int rank;
+    hsize_t dims[3];
+    H5T_class_t cls;
+    size_t size;
+    int is_signed;
+    char where[64];
+} dinfo;
+
+static lc_status dataset_info(lc_device *dev, const char *path, const char *name, hid_t ds, dinfo *d)
+{
+    memset(d, 0, sizeof *d);
+    hid_t sp = H5Dget_space(ds), ty = H5Dget_type(ds);
+    int rank = sp >= 0 ? H5Sget_simple_extent_ndims(sp) : -1;
+    if (rank >= 0 && rank <= 3) H5Sget_simple_extent_dims(sp, d->dims, NULL);
+    d->rank = rank;
+    d->cls = ty >= 0 ? H5Tget_class(ty) : H5T_NO_CLASS;
+    d->size = ty >= 0 ? H5Tget_size(ty) : 0;
+    d->is_signed = d->cls == H5T_INTEGER && H5Tget_sign(ty) == H5T_SGN_2;
+    haddr_t addr = H5Dget_offset(ds);
+    if (addr != HADDR_UNDEF) snprintf(d->where, sizeof d->where, " (byte %llu)", (unsigned long long)addr);
+    if (sp >= 0) H5Sclose(sp);
+    if (ty >= 0) H5Tclose(ty);
+    if (rank < 0 || rank > 3)
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: a dataset of rank %d, expected 1 to 3", path, name, d->where, rank);
+    if (d->cls != H5T_INTEGER && d->cls != H5T_FLOAT)
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: not a dataset of numbers (HDF5 class %d)", path, name, d->where,
+                         (int)d->cls);
+    /* a contiguous dataset's bytes must be in the file */
+    if (addr != HADDR_UNDEF) {
+        hsize_t need = d->size;
+        for (int k = 0; k < rank; k++) need *= d->dims[k];
+        hid_t f = H5Iget_file_id(ds);
+        hsize_t fsize = 0;
+        if (f >= 0) H5Fget_filesize(f, &fsize), H5Fclose(f);
+        if (fsize && addr + need > fsize)
+            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s (byte %llu): its %llu bytes run past the end of the %llu-byte file",
+                             path, name, (unsigned long long)addr, (unsigned long long)need, (unsigned long long)fsize);
+    }
+    return LC_OK;
+}
+
+/* Reads all of ds as floats into out (n values), checking they are finite. */
+static lc_status read_floats(lc_device *dev, const char *path, const char *name, hid_t ds, const dinfo *di, float *out,
+                             size_t n)
+{
+    if (H5Dread(ds, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0)
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: libhdf5 cannot read it (%s)", path, name, di->where, h5_why());
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(out[i]))
+            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: value %zu is not finite", path, name, di->where, i);
+    return LC_OK;
+}
+
+/* One per-particle dataset of group g (the first of names that exists): 1-D
+ * of n values (or n x 1). *found = 0 when none exists. */
+static lc_status per_particle(lc_device *dev, const char *path, hid_t g, int type, const char *const *names, int64_t n,
+                              float *out, int *found)
+{
+    *found = 0;
+    for (; *names; names++) {
+        if (!exists(g, *names)) continue;
+        char name[96];
+        snprintf(name, sizeof name, "/PartType%d/%s", type, *names);
+        hid_t ds = H5Dopen2(g, *names, H5P_DEFAULT);
+        if (ds < 0) return lci_error(dev, LC_ERROR_FORMAT, "%s: %s: not a dataset (%s)", path, name, h5_why());
+        dinfo di;
+        lc_status s = dataset_info(dev, path, name, ds, &di);
+        if (s == LC_OK && !((di.rank == 1 || (di.rank == 2 && di.dims[1] == 1)) && (int64_t)di.dims[0] == n))
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: shape %llu%s, expected %lld values (one per particle of "
+                          "Coordinates)", path, name, di.where, (unsigned long long)di.dims[0],
+                          di.rank == 2 ? " x N" : di.rank == 3 ? " x N x M" : "", (long long)n);
+        if (s == LC_OK) s = read_floats(dev, path, name, ds, &di, out, (size_t)n);
+        H5Dclose(ds);
+        *found = s == LC_OK;
+        return s;
+    }
+    return LC_OK;
+}
+
+/* A /Header attribute of up to 6 numbers as doubles; 0 when absent. */
+static int header_attr(hid_t f, const char *name, double v[6])
+{
+    if (!exists(f, "Header") || H5Aexists_by_name(f, "Header", name, H5P_DEFAULT) <= 0) return 0;
+    hid_t a = H5Aopen_by_name(f, "Header", name, H5P_DEFAULT, H5P_DEFAULT);
+    if (a < 0) return 0;
+    hid_t sp = H5Aget_space(a);
+    hssize_t n = H5Sget_simple_extent_npoints(sp);
+    H5Sclose(sp);
+    int ok = n == 6 && H5Aread(a, H5T_NATIVE_DOUBLE, v) >= 0;
+    H5Aclose(a);
+    return ok;
+}
+
+enum { V_NONE, V_MASS, V_U, V_RHO, V_HSML };
+static const char *const vnames[] = {"none", "mass", "u", "rho", "hsml"};
+static const char *const mass_names[] = {"Masses", NULL};
+static const char *const u_names[] = {"InternalEnergy", "InternalEnergies", NULL};
+static const char *const rho_names[] = {"Density", "Densities", NULL};
+static const char *const hsml_names[] = {"SmoothingLength", "SmoothingLengths", NULL};
+static const char *const *const vdatasets[] = {NULL, mass_names, u_names, rho_names, hsml_names};
+
+typedef struct hopts {
+    int types[6], types_given, by_type, value, knn;
+    float radius, radius_scale;
+    const char *dataset;
+} hopts;
+
+static lc_status parse_opts(lc_device *dev, const lci_read_args *a, hopts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->by_type = 1;
+    o->knn = 32;
+    const lc_option *x;
+    lc_status s = LC_OK;
+    if ((x = lci_option_find(a, "dataset"))) o->dataset = x->value;
+    if ((x = lci_option_find(a, "radius"))) s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius);
+    if (s == LC_OK && (x = lci_option_find(a, "radius_scale")))
+        s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius_scale);
+    if (s == LC_OK && (x = lci_option_find(a, "knn"))) s = lci_option_int(dev, a->path, x, 1, 1024, &o->knn);
+    if (s == LC_OK && (x = lci_option_find(a, "fields"))) {
+        if (!strcmp(x->value, "none")) o->by_type = 0;
+        else if (strcmp(x->value, "type"))
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected type or none", a->path, x->value);
+    }
+    if (s == LC_OK && (x = lci_option_find(a, "value"))) {
+        o->value = -1;
+        for (int i = 0; i < 5; i++)
+            if (!strcmp(x->value, vnames[i])) o->value = i;
+        if (o->value < 0)
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option value = '%s', expected none, mass, u, rho or hsml",
+                          a->path, x->value);
+    }
+    if (s == LC_OK && (x = lci_option_find(a, "types"))) {
+        o->types_given = 1;
+        for (const char *p = x->value;; p += 2) {
+            if (*p < '0' || *p > '5' || (p[1] && p[1] != ',')) {
+                s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                              "%s: option types = '%s': expected particle types 0 to 5, comma-separated", a->path, x->value);
+                break;
+            }
+            o->types[*p - '0'] = 1;
+            if (!p[1]) break;
+        }
+    }
+    if (!o->types_given)
+        for (int t = 0; t < 6; t++) o->types[t] = 1;
+    return s;
+}
+
+/* Radii of n points: radius option, else k-NN, zeros replaced by the smallest. */
+static lc_status fill_radii(lc_device *dev, const char *path, const hopts *o, const float *x, int64_t n, float *r, int have)
+{
+    if (o->radius > 0.0f)
+        for (int64_t i = 0; i < n; i++) r[i] = o->radius;
+    else if (!have && lci_knn_radii(x, (size_t)n, o->knn, r))
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for the neighbour search", path);
+    float rmin = INFINITY;
+    for (int64_t i = 0; i < n; i++)
+        if (r[i] > 0.0f && r[i] < rmin) rmin = r[i];
+    for (int64_t i = 0; i < n; i++) {
+        if (!(r[i] > 0.0f)) r[i] = isfinite(rmin) ? rmin : 1.0f;
+        if (o->radius_scale > 0.0f) r[i] *= o->radius_scale;
+    }
+    return LC_OK;
+}
+
+static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, const hopts *o, lci_loaded *out)
+{
+    lci_plist p;
+    memset(&p, 0, sizeof p);
+    lc_status s = LC_OK;
+    double mtab[6] = {0}, npart[6] = {0};
+    int have_mtab = header_attr(f, "MassTable", mtab), have_np = header_attr(f, "NumPart_ThisFile", npart);
+    int nfields = 0, any = 0;
+    for (int t = 0; t < 6 && s == LC_OK; t++) {
+        char gname[16], name[96];
+        snprintf(gname, sizeof gname, "PartType%d", t);
+        if (!o->types[t] || !exists(f, gname)) continue;
+        hid_t g = H5Gopen2(f, gname, H5P_DEFAULT);
+        if (g < 0) {
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: /%s: not a group (%s)", path, gname, h5_why());
+            break;
+        }
+        snprintf(name, sizeof name, "/%s/Coordinates", gname);
+        hid_t ds = exists(g, "Coordinates") ? H5Dopen2(g, "Coordinates", H5P_DEFAULT) : -1;
+        dinfo di;
+        int64_t n = 0;
+        if (ds < 0) s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s: missing (every PartTypeN group needs its positions)", path, name);
+        if (s == LC_OK) s = dataset_info(dev, path, name, ds, &di);
+        if (s == LC_OK && (di.rank != 2 || di.dims[1] != 3))
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: shape %llu x %llu, expected N x 3", path, name, di.where,
+                          (unsigned long long)di.dims[0], (unsigned long long)(di.rank == 2 ? di.dims[1] : 0));
+        if (s == LC_OK) {
+            n = (int64_t)di.dims[0];
+            if (n > MAX_PARTICLES - (int64_t)p.n)
+                s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s: %lld particles, more than lanecast's 2^31", path, name, (long long)n);
+            else if (have_np && npart[t] != (double)n)
+                s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s holds %lld particles, /Header NumPart_ThisFile[%d] says %.0f",
+                              path, name, di.where, (long long)n, t, npart[t]);
+        }
+        if (s == LC_OK && n > 0) {
+            if (lci_plist_reserve(&p, (size_t)n)) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+            size_t base = p.n;
+            float *x = p.xyz + 3 * base, *r = p.r + base, *v = p.v + base;
+            if (s == LC_OK) s = read_floats(dev, path, name, ds, &di, x, 3 * (size_t)n);
+            int have = 0;
+            if (s == LC_OK && !(o->radius > 0.0f)) s = per_particle(dev, path, g, t, hsml_names, n, r, &have);
+            if (s == LC_OK) s = fill_radii(dev, path, o, x, n, r, have);
+            int vfound = 1;
+            if (s == LC_OK && o->value != V_NONE) s = per_particle(dev, path, g, t, vdatasets[o->value], n, v, &vfound);
+            if (s == LC_OK && o->value == V_MASS && !vfound) {
+                if (have_mtab && mtab[t] > 0.0) {
+                    for (int64_t i = 0; i < n; i++) v[i] = (float)mtab[t];
+                    vfound = 1;
+                } else
+                    s = lci_error(dev, LC_ERROR_FORMAT, "%s: /%s: value = mass, but there is no Masses dataset and no "
+                                  "/Header MassTable entry for type %d", path, gname, t);
+            }
+            if (s == LC_OK && o->value != V_NONE && !vfound) {
+                if (o->types_given)
+                    s = lci_error(dev, LC_ERROR_FORMAT, "%s: /%s: value = %s, but the group has no %s dataset", path, gname,
+                                  vnames[o->value], vdatasets[o->value][0]);
+                else
+                    lci_log(dev, LC_LOG_INFO, "%s: /%s skipped: no %s for value = %s", path, gname,
+                            vdatasets[o->value][0], vnames[o->value]);
+            }
+            if (s == LC_OK && vfound) {
+                if (o->value == V_NONE)
+                    for (int64_t i = 0; i < n; i++) v[i] = 1.0f;
+                for (int64_t i = 0; i < n; i++) p.f[base + (size_t)i] = (uint8_t)(o->by_type ? nfields : 0);
+                p.n += (size_t)n;
+                nfields++;
+                any = 1;
+            }
+        }
+        if (ds >= 0) H5Dclose(ds);
+        H5Gclose(g);
+    }
+    if (s == LC_OK && !any)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: no particles in the chosen PartTypeN groups%s", path,
+                      o->value != V_NONE ? " with that value" : "");
+    double nfiles[6];
+    if (s == LC_OK && H5Aexists_by_name(f, "Header", "NumFilesPerSnapshot", H5P_DEFAULT) > 0) {
+        hid_t at = H5Aopen_by_name(f, "Header", "NumFilesPerSnapshot", H5P_DEFAULT, H5P_DEFAULT);
+        if (at >= 0 && H5Aread(at, H5T_NATIVE_DOUBLE, nfiles) >= 0 && nfiles[0] > 1)
+            lci_log(dev, LC_LOG_INFO, "%s: one file of a %.0f-file snapshot (its own particles only)", path, nfiles[0]);
+        if (at >= 0) H5Aclose(at);
+    }
+    return lci_plist_finish(dev, path, s, &p, o->by_type ? nfields : 1, o->value != V_NONE, out);
+}
+
+static lc_status read_dataset(lc_device *dev, const lci_read_args *a, hid_t f, const hopts *o, lci_loaded *out)
+{
+    const char *path = a->path, *name = o->dataset;
+    if (!exists(f, name) && strcmp(name, "/"))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option dataset = '%s': no such object", path, name);
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+    if (ds < 0) return lci_error(dev, LC_ERROR_FORMAT, "%s: %s: not a dataset (%s)", path, name, h5_why());
+    dinfo di;
+    lc_status s = dataset_info(dev, path, name, ds, &di);
+    void *data = NULL;
+    if (s == LC_OK && di.rank == 2 && di.dims[1] == 3) { /* particle positions */
+        lci_plist p;
+        memset(&p, 0, sizeof p);
+        int64_t n = (int64_t)di.dims[0];
+        if (n < 1 || n > MAX_PARTICLES) s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: %lld positions, expected 1 to 2^31", path, name, di.where, (long long)n);
+        else if (lci_plist_reserve(&p, (size_t)n)) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+        if (s == LC_OK) s = read_floats(dev, path, name, ds, &di, p.xyz, 3 * (size_t)n);
+        if (s == LC_OK) s = fill_radii(dev, path, o, p.xyz, n, p.r, 0);
+        if (s == LC_OK) {
+            memset(p.f, 0, (size_t)n);
+            p.n = (size_t)n;
+        }
+        H5Dclose(ds);
+        return lci_plist_finish(dev, path, s, &p, 1, 0, out);
+    }
+    if (s == LC_OK && di.rank != 3)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: rank %d, expected a 3-D dataset (a grid) or N x 3 (positions)", path,
+                      name, di.where, di.rank);
+    for (int k = 0; s == LC_OK && k < 3; k++)
+        if (di.dims[k] < 2 || di.dims[k] > INT32_MAX)
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: shape %llu x %llu x %llu: each must be 2 or more", path, name,
+                          di.where, (unsigned long long)di.dims[0], (unsigned long long)di.dims[1],
+                          (unsigned long long)di.dims[2]);
+    uint64_t count = (uint64_t)di.dims[0] * di.dims[1] * di.dims[2];
+    if (s == LC_OK && (di.dims[1] * di.dims[2] > INT32_MAX || count > INT32_MAX - 64))
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: more than 2^31 values", path, name, di.where);
+    lc_value_type t = LC_VALUE_FLOAT32;
+    hid_t mem = H5T_NATIVE_FLOAT;
+    if (di.cls == H5T_INTEGER && di.size == 1 && !di.is_signed) t = LC_VALUE_UINT8, mem = H5T_NATIVE_UCHAR;
+    else if (di.cls == H5T_INTEGER && di.size == 2) t = di.is_signed ? LC_VALUE_INT16 : LC_VALUE_UINT16,
+                                                    mem = di.is_signed ? H5T_NATIVE_SHORT : H5T_NATIVE_USHORT;
+    lci_vol_opts vo;
+    if (s == LC_OK) s = lci_vol_options(dev, a, &vo);
+    if (s == LC_OK && vo.type != LC_VALUE_DEFAULT && vo.type != t)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %s: the dataset's type differs from the requested one", path, name);
+    int es = lci_value_size(t);
+    if (s == LC_OK && !(data = malloc(count * (uint64_t)es + 64)))
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu values", path, (unsigned long long)count);
+    if (s == LC_OK && t == LC_VALUE_FLOAT32) s = read_floats(dev, path, name, ds, &di, data, (size_t)count);
+    else if (s == LC_OK && H5Dread(ds, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: libhdf5 cannot read it (%s)", path, name, di.where, h5_why());
+    if (s == LC_OK && t == LC_VALUE_FLOAT32 && !(di.cls == H5T_FLOAT && di.size == 4))
+        lci_log(dev, LC_LOG_INFO, "%s: %s: %s of %zu bytes read as float32", path, name,
+                di.cls == H5T_FLOAT ? "floats" : "integers", di.size);
+    H5Dclose(ds);
+    lc_grid_desc *d = s == LC_OK ? calloc(1, sizeof *d) : NULL;
+    if (s == LC_OK && !d) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    if (s != LC_OK) {
+        free(data);
+        return s;
+    }
+    for (int k = 0; k < 3; k++) d->size[k] = (int)di.dims[2 - k];
+    d->type = t;
+    d->spacing = vo.spacing;
+    d->origin = vo.origin;
+    d->data = data;
+    out->desc = d;
+    lci_loaded_keep(out, data);
+    return LC_OK;
+}
+
+static lc_status hdf5_read(lc_device *dev, const lci_read_args *a, lci_loaded *out)
+{
+    hopts o;
+    lc_status s = parse_opts(dev, a, &o);
+    if (s != LC_OK) return s;
+    quiet q;
+    quiet_on(&q);
+    hid_t f;
+    if ((s = h5_open(dev, a->path, &f)) == LC_OK) {
+        s = o.dataset ? read_dataset(dev, a, f, &o, out) : read_snapshot(dev, a->path, f, &o, out);
+        H5Fclose(f);
+    }
+    quiet_off(&q);
+    return s;
+}
+
+static herr_t list_names(hid_t g, const char *name, const H5L_info_t *info, void *user)
+{
+    (void)g, (void)info;
+    char *b = user;
+    size_t n = strlen(b);
+    if (n < 200) snprintf(b + n, 256 - n, "%s%s", n ? ", " : "", name);
+    return 0;
+}
+
+static lc_status hdf5_kind(lc_device *dev, const char *path, const lc_load_desc *desc, lc_kind *out)
+{
+    const char *dataset = NULL;
+    for (int i = 0; i < desc->noptions; i++)
+        if (desc->options[i].key && !strcmp(desc->options[i].key, "dataset")) dataset = desc->options[i].value;
+    quiet q;
+    quiet_on(&q);
+    hid_t f;
+    lc_status s = h5_open(dev, path, &f);
+    if (s != LC_OK) {
+        quiet_off(&q);
+        return s;
+    }
+    if (dataset) {
+        hid_t ds = exists(f, dataset) ? H5Dopen2(f, dataset, H5P_DEFAULT) : -1;
+        dinfo di;
+        if (ds < 0) s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option dataset = '%s': no such dataset", path, dataset);
+        else s = dataset_info(dev, path, dataset, ds, &di);
+        if (s == LC_OK) {
+            if (di.rank == 3) *out = LC_KIND_GRID;
+            else if (di.rank == 2 && di.dims[1] == 3) *out = LC_KIND_PARTICLES;
+            else
+                s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: rank %d, expected a 3-D dataset (a grid) or N x 3 (positions)",
+                              path, dataset, di.where, di.rank);
+        }
+        if (ds >= 0) H5Dclose(ds);
+    } else {
+        int parts = 0;
+        for (int t = 0; t < 6; t++) {
+            char g[16];
+            snprintf(g, sizeof g, "PartType%d", t);
+            parts |= exists(f, g);
+        }
+        if (parts) *out = LC_KIND_PARTICLES;
+        else {
+            char names[256] = "";
+            H5Literate(f, H5_INDEX_NAME, H5_ITER_INC, NULL, list_names, names);
+            s = lci_error(dev, LC_ERROR_FORMAT,
+                          "%s: no PartType0..5 groups (a GADGET/AREPO/SWIFT snapshot); name a dataset with the option "
+                          "dataset = PATH (top level: %s)", path, names[0] ? names : "empty");
+        }
+    }
+    H5Fclose(f);
+    quiet_off(&q);
+    return s;
+}
+#define HDF5_READ hdf5_read
+#define HDF5_KIND hdf5_kind
+#else
+#define HDF5_READ NULL
+#define HDF5_KIND NULL
+#endif
+
+static int hdf5_magic(const unsigned char *h, size_t n)
+{
+    static const unsigned char sig[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+    return (n >= 8 && !memcmp(h, sig, 8)) || (n >= 520 && !memcmp(h + 512, sig, 8));
+}
+
+const lci_format lci_format_hdf5 = {
+    .name = "hdf5", .kind = LC_KIND_NONE, .extensions = ".hdf5 .h5 .he5",
+    .options = "dataset types value knn radius radius_scale fields spacing origin type",
+    .description = "HDF5: GADGET/AREPO/SWIFT PartTypeN snapshots (types as fields, value = none|mass|u|rho|hsml), "
+                   "or dataset = PATH: 3-D as a grid, N x 3 as particles",
+    .magic = hdf5_magic, .read = HDF5_READ, .package = "libhdf5-dev", .kind_of = HDF5_KIND};
