@@ -2,9 +2,11 @@
  * element from columns 77-78 or else the atom name. MODEL records are
  * frames: lc_load_desc.frame N reads the (N+1)-th MODEL of the file (MODEL
  * N+1 in a file numbered from 1), up to its ENDMDL; a file without MODEL
- * records is one frame. Plain or gzip. Every error names the file and line. */
+ * records is one frame. The `select` option sees name (13-16), resname
+ * (18-21), chain (22), resid (23-26) and segid (73-76). Plain or gzip. Every error names the file and line. */
 #include <ctype.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "host/formats/elements.h"
 #include "host/formats/text_reader.h"
@@ -60,7 +62,16 @@ static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p)
                              "%s:%ld: ATOM record with coordinates '%s' '%s' '%s' in columns 31-54 that are not numbers",
                              t->path, t->lineno, xs, ys, zs);
         pdb_element(t->line, el, sizeof el);
-        if (lci_atoms_add(p, x, y, z, el))
+        char name[8], resname[8], chain[4], resid[8], segid[8];
+        lci_column(t->line, 13, 16, name, sizeof name);
+        lci_column(t->line, 18, 21, resname, sizeof resname); /* 18-20, and 21 for CHARMM's TIP3 */
+        lci_column(t->line, 22, 22, chain, sizeof chain);
+        lci_column(t->line, 23, 26, resid, sizeof resid);
+        lci_column(t->line, 73, 76, segid, sizeof segid);
+        char *rend;
+        long rnum = strtol(resid, &rend, 10);
+        lci_atom_attr at = {name, resname, chain, segid, NULL, rnum, rend != resid && !*rend};
+        if (lci_atoms_add_attr(p, x, y, z, el, &at))
             return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", t->path, t->lineno);
     }
     if (rc < 0) return LC_ERROR_IO;
@@ -116,6 +127,6 @@ static int pdb_magic(const unsigned char *h, size_t n)
 }
 
 const lci_format lci_format_pdb = {
-    .name = "pdb", .kind = LC_KIND_PARTICLES, .extensions = ".pdb .ent", .options = "radius radius_scale fields",
+    .name = "pdb", .kind = LC_KIND_PARTICLES, .extensions = ".pdb .ent", .options = "radius radius_scale fields select",
     .description = "Protein Data Bank: ATOM/HETATM records, element from columns 77-78 or the atom name; MODEL records as frames",
     .magic = pdb_magic, .read = pdb_read, .frames = pdb_frames};
