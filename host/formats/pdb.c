@@ -22,7 +22,10 @@ static void pdb_element(const char *line, char *el, size_t n)
     const char *s = name;
     while (*s && !isalpha((unsigned char)*s)) s++;
     int starts_at_13 = strlen(line) > 12 && isalpha((unsigned char)line[12]);
-    if (starts_at_13 && isalpha((unsigned char)s[0]) && isalpha((unsigned char)s[1])) {
+    /* a four-character name starting with H in column 13 is a hydrogen (HG23,
+     * HE22, HD11 in CHARMM and PDB files), not mercury or helium */
+    int h4 = starts_at_13 && toupper((unsigned char)s[0]) == 'H' && strlen(name) == 4;
+    if (starts_at_13 && !h4 && isalpha((unsigned char)s[0]) && isalpha((unsigned char)s[1])) {
         char two[3] = {s[0], (char)tolower((unsigned char)s[1]), 0};
         if (lci_element_radius(two) > 0.0f) {
             snprintf(el, n, "%s", two);
@@ -43,7 +46,7 @@ static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p)
     while ((rc = lci_text_line(t)) == 1) {
         if (is_model(t->line)) {
             model++;
-            if (model == frame) p->n = 0; /* atoms before the first MODEL belong to no model */
+            if (model == frame) p->n = p->seen = p->nsolvent = 0; /* atoms before the first MODEL belong to no model */
             continue;
         }
         if (!strncmp(t->line, "ENDMDL", 6)) {
@@ -79,7 +82,7 @@ static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p)
         return lci_error(t->dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld MODEL%s",
                          t->path, (long long)frame, (long long)(model + 1 > 1 ? model + 1 : 1),
                          model + 1 > 1 ? "s" : "");
-    if (p->n == 0)
+    if (p->seen == 0)
         return lci_error(t->dev, LC_ERROR_FORMAT, "%s: no ATOM or HETATM records%s", t->path,
                          model >= 0 ? " in the MODEL read" : "");
     return LC_OK;

@@ -336,3 +336,12 @@ int lci_select_match(const lci_select *s, size_t index, const char *element, con
 {
     return eval(s, s->root, index, element ? element : "", a, missing);
 }
+
+lc_status lc_select_check(const char *expr)
+{
+    if (!expr) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_select_check: expr is NULL");
+    lci_select *s = NULL;
+    lc_status st = lci_select_parse(NULL, "select", expr, &s);
+    lci_select_free(s);
+    return st;
+}

@@ -480,6 +480,18 @@ typedef struct lc_format_info {
     const char *package;     /* the Debian package whose -dev files enable it when unavailable, or "" */
 } lc_format_info;
 
+/* Checks an atom selection, the `select` option of the molecular formats
+ * (pdb, gro, xyz, dcd: `lanecast formats` lists who takes it), without a
+ * file: LC_ERROR_INVALID_ARGUMENT with a message naming the 1-based position
+ * of what is wrong. The language (after VMD and MDAnalysis): all, none,
+ * protein, backbone, water, ion, solvent, element W..., name W..., resname
+ * W..., chain W..., segid W..., type W..., index N|N:M..., resid N|N:M...
+ * combined with and, or, not and parentheses; a word may end in '*'
+ * (prefix); index counts a frame's atoms from 0 in file order, ranges are
+ * inclusive. A keyword the file cannot answer (resname in an XYZ file)
+ * fails the load, and so does a selection that matches no atom. */
+LC_API lc_status lc_select_check(const char *expr);
+
 /* Formats are numbered 0 .. lc_format_count() - 1. */
 LC_API int lc_format_count(void);
 LC_API lc_status lc_format_get(int index, lc_format_info *out);
