@@ -26,7 +26,7 @@ static const char help[] =
     "  map viridis (--colormap to change it); with --tf PRESET: the data's min..max and a peak\n"
     "  extinction of 8 / the diagonal\n"
     "  examples: lanecast render engine.nhdr -o engine.png --shade phong --stats\n"
-    "            lanecast render HeadMRVolume.mhd -o head.png --colormap inferno --orbit 36 -o head_%02d.png\n"
+    "            lanecast render HeadMRVolume.mhd --colormap inferno --orbit 36 -o head_%02d.png\n"
     "\n";
 
 /* Parameters the flags set; applied to the volume once it is loaded. */
