@@ -20,9 +20,13 @@ static const char help[] =
     "  --rda R               differential sampling: the step grows by R*dt per sample (default 0)\n"
     "  --delta-c C --delta-p P --delta-sv S   BVH heuristics (eqs. 5-7; defaults 1e-3, 1.5, 1e-4;\n"
     "                        a negative value turns one off)\n"
-    "  defaults: method bvh, dt half the smallest spacing, range the data's min..max, TF heat with\n"
-    "  a peak extinction of 8 / the volume's diagonal\n"
-    "  example: lanecast render engine.nhdr -o engine.png --shade phong --stats\n"
+    "  defaults: method bvh, dt half the smallest spacing; TF from the histogram (lc_tf_auto): the\n"
+    "  dominant value's hill is transparent background, the range runs from its edge to the 99th\n"
+    "  percentile of the other values, opacity rises over it to 16 / the volume's diagonal, colour\n"
+    "  map viridis (--colormap to change it); with --tf PRESET: the data's min..max and a peak\n"
+    "  extinction of 8 / the diagonal\n"
+    "  examples: lanecast render engine.nhdr -o engine.png --shade phong --stats\n"
+    "            lanecast render HeadMRVolume.mhd --colormap inferno --orbit 36 -o head_%02d.png\n"
     "\n";
 
 /* Parameters the flags set; applied to the volume once it is loaded. */
@@ -93,15 +97,16 @@ static lc_status apply(lc_volume *v, lc_render_desc *rd)
     return lc_grid_set_params(v, &params);
 }
 
-static lc_status default_tf(lc_device *dev, const lc_volume *v, const char *preset, float tau, lc_tf **out)
+static lc_status default_tf(lc_device *dev, const lc_volume *v, const cli_tf_req *req, lc_tf **out)
 {
+    if (!req->preset) return lc_tf_auto(dev, v, req->colormap, req->tau, out); /* from the histogram */
     lc_grid_info gi;
     lc_status s = lc_grid_get_info(v, &gi);
     if (s != LC_OK) return s;
-    /* peak extinction so the densest material stops a ray in about 1/8 of the diagonal */
+    /* a preset: peak extinction so the densest material stops a ray in about 1/8 of the diagonal */
     float dx = gi.bounds.hi.x - gi.bounds.lo.x, dy = gi.bounds.hi.y - gi.bounds.lo.y, dz = gi.bounds.hi.z - gi.bounds.lo.z;
-    float t = tau > 0.0f ? tau : 8.0f / sqrtf(dx * dx + dy * dy + dz * dz);
-    return lc_tf_preset(dev, preset ? preset : "heat", 1, t, out);
+    float t = req->tau > 0.0f ? req->tau : 8.0f / sqrtf(dx * dx + dy * dy + dz * dz);
+    return lc_tf_preset(dev, req->preset, 1, t, out);
 }
 
 static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
@@ -121,4 +126,4 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
     fprintf(f, "load          %.3f s (reading, bricking and BVH build)\n", load_seconds);
 }
 
-const cli_kind cli_grid = {LC_KIND_GRID, help, parse_flag, apply, default_tf, print_stats, "voxel samples"};
+const cli_kind cli_grid = {LC_KIND_GRID, help, parse_flag, apply, NULL, default_tf, print_stats, "voxel samples"};

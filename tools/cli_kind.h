@@ -15,12 +15,18 @@
 typedef struct cli_load {
     const char *format; /* NULL = detect */
     lc_option opt[CLI_MAX_OPTIONS];
-    char val[CLI_MAX_OPTIONS][96];
+    char val[CLI_MAX_OPTIONS][1024]; /* a --select expression may be long */
     int n;
 } cli_load;
 
 /* Adds option key = value; -1 (message printed) when full. */
 int cli_load_add(cli_load *l, const char *cmd, const char *key, const char *value);
+
+typedef struct cli_tf_req {
+    const char *preset;   /* --tf NAME, or NULL */
+    const char *colormap; /* --colormap NAME, or NULL */
+    float tau;            /* --tau, 0 = default */
+} cli_tf_req;
 
 typedef struct cli_kind {
     lc_kind kind;
@@ -31,9 +37,15 @@ typedef struct cli_kind {
     int (*parse_flag)(const char *cmd, int argc, char **argv, int *i, cli_load *load, const char **first);
     /* After loading: the kind's parameters onto the volume and the desc. */
     lc_status (*apply)(lc_volume *v, lc_render_desc *rd);
-    /* The default TF for a preset name (NULL = the kind's default) and the
-     * --tau value (0 = the kind's default). */
-    lc_status (*default_tf)(lc_device *dev, const lc_volume *v, const char *preset, float tau, lc_tf **out);
+    /* Before loading: load options the kind adds by default for a file of
+     * this format (its option keys in format_options), knowing whether the
+     * user chose the classification (tf_given: --tf, --colormap, --opacity).
+     * NULL = none. 0 ok, -1 error (message printed). */
+    int (*defaults)(const char *cmd, cli_load *load, const char *format_options, int tf_given);
+    /* The default TF: a preset (--tf NAME: the preset's own ramp, as it
+     * always was), else the colour map (--colormap, NULL = the kind's) on the
+     * kind's default opacity; tau = --tau (0 = the kind's default). */
+    lc_status (*default_tf)(lc_device *dev, const lc_volume *v, const cli_tf_req *req, lc_tf **out);
     void (*print_stats)(const lc_volume *v, double load_seconds, FILE *f);
     const char *evals; /* --stats label of lc_render_stats.kernel_evals, 13 characters */
 } cli_kind;

@@ -14,9 +14,14 @@ static const char help[] =
     "  --raw-particles N     INPUT holds exactly N little-endian float32 xyz triples (needs --radius)\n"
     "  --radius R            radius of every particle (default: covalent radius by element)\n"
     "  --radius-scale S      multiply element radii by S\n"
-    "  --fields MODE         none (one field), element (one field per element, up to 8) or type\n"
-    "                        (LAMMPS: atom type T is field T-1; GADGET: each particle type present,\n"
-    "                        the default there)\n"
+    "  --fields MODE         none (one field), element (one field per element, up to 8), cpk\n"
+    "                        (fields by element class: C, N, O, S, P, H, other, and solvent) or\n"
+    "                        type (LAMMPS: atom type T is field T-1; GADGET: each particle type\n"
+    "                        present, the default there)\n"
+    "  --select EXPR         read only the atoms EXPR selects (PDB, GRO, XYZ, DCD with its PSF): all,\n"
+    "                        protein, backbone, water, ion, solvent, element C N O, name CA, resname\n"
+    "                        ALA, chain A, segid PROA, type CT1, index 0:999, resid 10:20, joined by\n"
+    "                        and, or, not and parentheses; words may end in * (prefix)\n"
     "  --value COLUMN        LAMMPS: take k_i from this per-atom column (e.g. c_pe, vx, q);\n"
     "                        GADGET: none (default), mass, u, rho or hsml (u, rho, hsml: gas only)\n"
     "  --knn K               GADGET: radius = distance to the K-th nearest particle of the same type\n"
@@ -30,22 +35,28 @@ static const char help[] =
     "  --kappa K             global density scale (default 1)\n"
     "  --spheres SCALE       also ray-trace opaque spheres of radius SCALE * r (paper §5.2)\n"
     "  --buffer K            coherent buffer samples per ray (default 32, 64/M for M fields)\n"
-    "  defaults: method coherent, dt a quarter of the smallest radius, range 0..kappa, TF heat (demo\n"
-    "  for several fields) with a peak extinction of 1 / the largest radius\n"
+    "  defaults: method coherent, dt a quarter of the smallest radius, range 0..kappa; molecules\n"
+    "  (PDB, GRO, XYZ, DCD) with no --fields, --tf, --colormap or --opacity: --fields cpk coloured\n"
+    "  by element (C grey, N blue, O red, S yellow, P orange, H white, others green) with water and\n"
+    "  ions (by residue name) a faint blue haze; otherwise TF heat (demo for several fields) with a\n"
+    "  peak extinction of 1 / the largest radius\n"
     "  examples: lanecast render 1tii.pdb -o 1tii.png --shade --fields element --tf demo\n"
+    "            lanecast render 1tw7_solvated.pdb --select 'protein and not element H' -o prot.png\n"
+    "            lanecast render 1tw7_solvated.pdb --select 'water and index 0:2999' --colormap magma -o w.png\n"
     "            lanecast render atoms.f32 --raw-particles 1000000 --radius 0.5 -o big.exr --stats\n"
     "            lanecast render melt.lammpstrj --fields type --frame 10 -o melt.png\n"
     "            lanecast render gadget_lcdm_gas.dat --types 0 --value u --knn 16 -o gas.png\n"
     "\n";
 
 static lc_particle_params params;
+static int fields_given, cpk;
 
 static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *load, const char **first)
 {
     const char *a = argv[*i], *v;
     static const char *const flags[] = {"--raw-particles", "--radius", "--radius-scale", "--fields", "--drop-invalid",
                                         "--leaf",          "--sigma",  "--kappa",        "--spheres", "--buffer",
-                                        "--value",         "--knn",    "--types"};
+                                        "--value",         "--knn",    "--types",        "--select"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -65,11 +76,20 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
         return cli_load_add(load, cmd, a[8] ? "radius_scale" : "radius", v) ? -1 : 1;
     }
     if (!strcmp(a, "--fields")) {
-        if (strcmp(v, "element") && strcmp(v, "none") && strcmp(v, "type")) {
-            fprintf(stderr, "%s: --fields: '%s' is not none, element or type\n", cmd, v);
+        if (strcmp(v, "element") && strcmp(v, "none") && strcmp(v, "type") && strcmp(v, "cpk")) {
+            fprintf(stderr, "%s: --fields: '%s' is not none, element, cpk or type\n", cmd, v);
             return -1;
         }
+        fields_given = 1;
+        cpk = !strcmp(v, "cpk");
         return cli_load_add(load, cmd, "fields", v) ? -1 : 1;
+    }
+    if (!strcmp(a, "--select")) {
+        if (lc_select_check(v) != LC_OK) {
+            fprintf(stderr, "%s: --select: %s\n", cmd, lc_last_error());
+            return -1;
+        }
+        return cli_load_add(load, cmd, "select", v) ? -1 : 1;
     }
     if (!strcmp(a, "--value")) return cli_load_add(load, cmd, "value", v) ? -1 : 1;
     if (!strcmp(a, "--types")) return cli_load_add(load, cmd, "types", v) ? -1 : 1;
@@ -93,14 +113,45 @@ static lc_status apply(lc_volume *v, lc_render_desc *rd)
     return lc_particles_set_params(v, &params);
 }
 
-static lc_status default_tf(lc_device *dev, const lc_volume *v, const char *preset, float tau, lc_tf **out)
+/* Molecules (formats taking `select`) are coloured by element class unless
+ * the user chose fields or a classification. */
+static int defaults(const char *cmd, cli_load *load, const char *format_options, int tf_given)
+{
+    const char *p = format_options ? strstr(format_options, "select") : NULL;
+    if (fields_given || tf_given || !p || (p[6] && p[6] != ' ')) return 0;
+    cpk = 1;
+    return cli_load_add(load, cmd, "fields", "cpk");
+}
+
+/* fields = cpk: 0 C, 1 N, 2 O, 3 S, 4 P, 5 H, 6 other, 7 solvent */
+static lc_status cpk_tf(lc_device *dev, int nfields, float t, lc_tf **out)
+{
+    static const float rgb[8][3] = {{0.6f, 0.6f, 0.6f}, {0.25f, 0.4f, 1.0f}, {1.0f, 0.15f, 0.1f}, {1.0f, 0.85f, 0.2f},
+                                    {1.0f, 0.55f, 0.0f}, {0.95f, 0.95f, 0.95f}, {0.3f, 0.85f, 0.35f},
+                                    {0.45f, 0.65f, 1.0f}};
+    float col[8][8], op[8][6];
+    lc_tf_field f[8];
+    memset(f, 0, sizeof f);
+    for (int i = 0; i < nfields && i < 8; i++) {
+        for (int k = 0; k < 2; k++) col[i][4 * k] = (float)k, memcpy(&col[i][4 * k + 1], rgb[i], sizeof rgb[i]);
+        /* the preset ramp; solvent a faint haze */
+        float peak = i == 7 ? 0.03f * t : t;
+        float o[6] = {0.0f, 0.0f, 0.1f, 0.0f, 1.0f, peak};
+        memcpy(op[i], o, sizeof o);
+        f[i].color = col[i], f[i].ncolor = 2, f[i].opacity = op[i], f[i].nopacity = 3;
+    }
+    return lc_tf_create(dev, f, nfields, out);
+}
+
+static lc_status default_tf(lc_device *dev, const lc_volume *v, const cli_tf_req *req, lc_tf **out)
 {
     lc_particles_info pi;
     lc_status s = lc_particles_get_info(v, &pi);
     if (s != LC_OK) return s;
-    float t = tau > 0.0f ? tau : (pi.max_radius > 0.0f ? 1.0f / pi.max_radius : 1.0f);
-    if (!preset) preset = pi.nfields > 1 ? "demo" : "heat";
-    return lc_tf_preset(dev, preset, pi.nfields, t, out);
+    float t = req->tau > 0.0f ? req->tau : (pi.max_radius > 0.0f ? 1.0f / pi.max_radius : 1.0f);
+    if (cpk && !req->preset && !req->colormap) return cpk_tf(dev, pi.nfields, t, out);
+    const char *name = req->preset ? req->preset : req->colormap ? req->colormap : pi.nfields > 1 ? "demo" : "heat";
+    return lc_tf_preset(dev, name, pi.nfields, t, out);
 }
 
 static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
@@ -114,7 +165,8 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
             pi.bvh_depth, (double)pi.bvh_bytes / 1e6, pi.build_seconds, (double)pi.data_bytes / 1e6);
 }
 
-const cli_kind cli_particles = {LC_KIND_PARTICLES, help, parse_flag, apply, default_tf, print_stats, "gaussians    "};
+const cli_kind cli_particles = {LC_KIND_PARTICLES, help, parse_flag, apply, defaults, default_tf, print_stats,
+                                 "gaussians    "};
 
 /* The procedural demo: a double helix of "atoms" (field 0) inside a shell of
  * a second species (field 1), fixed seed, with its own TF. */

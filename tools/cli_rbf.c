@@ -61,13 +61,13 @@ static lc_status apply(lc_volume *v, lc_render_desc *rd)
     return LC_OK;
 }
 
-static lc_status default_tf(lc_device *dev, const lc_volume *v, const char *preset, float tau, lc_tf **out)
+static lc_status default_tf(lc_device *dev, const lc_volume *v, const cli_tf_req *req, lc_tf **out)
 {
     lc_rbf_info ri;
     lc_status s = lc_rbf_get_info(v, &ri);
     if (s != LC_OK) return s;
-    float t = tau > 0.0f ? tau : (ri.max_width > 0.0f ? 1.0f / ri.max_width : 1.0f);
-    return lc_tf_preset(dev, preset ? preset : "heat", 1, t, out);
+    float t = req->tau > 0.0f ? req->tau : (ri.max_width > 0.0f ? 1.0f / ri.max_width : 1.0f);
+    return lc_tf_preset(dev, req->preset ? req->preset : req->colormap ? req->colormap : "heat", 1, t, out);
 }
 
 static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
@@ -93,4 +93,4 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
                 ri.truncation_bound);
 }
 
-const cli_kind cli_rbf = {LC_KIND_RBF, help, parse_flag, apply, default_tf, print_stats, "rbf terms    "};
+const cli_kind cli_rbf = {LC_KIND_RBF, help, parse_flag, apply, NULL, default_tf, print_stats, "rbf terms    "};

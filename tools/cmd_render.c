@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include <pthread.h>
 #include "args.h"
 #include "cli.h"
 #include "cli_kind.h"
@@ -34,15 +35,33 @@ static const char render_help[] =
     "                        instead of the PartTypeN groups of a snapshot\n"
     "  example: lanecast render sim.h5 --dataset /fields/density -o density.png\n"
     "\n"
-    "camera (default: perspective, looking down -z at the data, framing it):\n"
+    "camera (default: perspective, an oblique three-quarter view framing the data: azimuth 35,\n"
+    "elevation 25 degrees, +y up):\n"
     "  --size WxH            image size in pixels (default 1024x1024)\n"
     "  --eye x,y,z --at x,y,z --up x,y,z   view (up defaults to 0,1,0)\n"
     "  --fov DEG             vertical field of view (default 40)\n"
     "  --ortho HEIGHT        orthographic projection with this image-plane height (0 = frame the data)\n"
+    "  --view AZ,EL          frame the data from azimuth AZ degrees around +y (0 = from +z, 90 =\n"
+    "                        from +x) and elevation EL degrees (default 35,25; 0,0 looks down -z)\n"
+    "  --orbit N             N images around the data, the azimuth stepping 360/N degrees from the\n"
+    "                        view (or, with --eye/--at, rotating the eye about --at around --up);\n"
+    "                        -o names each with a printf-style number, e.g. -o orbit_%03d.png\n"
+    "  examples: lanecast render engine.nhdr -o engine.png --view 0,0 --fov 30\n"
+    "            lanecast render 1tii.pdb --orbit 36 -o spin_%02d.png --size 512x512\n"
     "\n"
     "classification and sampling:\n"
-    "  --tf FILE|PRESET      transfer function: SPEC.md JSON file, or heat, cool, gray, demo\n"
-    "  --tau T               peak extinction per world unit of a preset (default: by kind, below)\n"
+    "  --tf FILE|PRESET      transfer function: a SPEC.md JSON file, a ParaView colour-map preset\n"
+    "                        (.json, an array of {\"Name\", \"RGBPoints\", \"Points\"}: its x range\n"
+    "                        becomes the value range in use, alpha becomes tau = -ln(1 - alpha) per\n"
+    "                        world unit; without \"Points\" the kind's default opacity), or a preset\n"
+    "                        name (its own ramp from v = 0.1 to --tau at v = 1): heat, cool, gray,\n"
+    "                        demo, viridis, inferno, magma, plasma, cool-warm, grayscale\n"
+    "  --colormap NAME       colours of a preset above on the kind's default opacity (for volumes,\n"
+    "                        the histogram rule; see the volumes section)\n"
+    "  --opacity V:TAU,...   opacity points, V the normalised value in [0, 1] (increasing), TAU the\n"
+    "                        extinction per world unit; V spans --range, the TF file's, else the\n"
+    "                        data's min..max\n"
+    "  --tau T               peak extinction per world unit of a preset or default (default: by kind)\n"
     "  --range LO,HI         value range mapped to [0, 1] (default: the TF's, else the data's)\n"
     "  --dt DT               sampling step in world units (default: by kind, below)\n"
     "  --mode M              dvr (emission-absorption; the default) or mip (maximum intensity\n"
@@ -50,7 +69,11 @@ static const char render_help[] =
     "  --shade [MODE]        none, diffuse (the default when MODE is omitted) or phong\n"
     "  --alpha-stop A        early ray termination opacity in (0, 1] (default 0.97; 1 = never)\n"
     "  --background r,g,b    background colour (default 0,0,0)\n"
-    "  --alpha               write an alpha channel instead of compositing the background\n"
+    "  --alpha               write an alpha channel instead of compositing the background (PNG:\n"
+    "                        straight RGBA; EXR: premultiplied)\n"
+    "  examples: lanecast render headsq.nhdr -o head.png --colormap cool-warm --shade\n"
+    "            lanecast render engine.nhdr -o e.png --colormap inferno --opacity 0:0,0.4:0,1:0.2\n"
+    "            lanecast render neghip.nhdr -o n.exr --tf 'Blue Orange.json' --alpha\n"
     "\n"
     "execution:\n"
     "  --method M            how the kind walks its data (each kind's section below lists its methods)\n"
@@ -60,8 +83,11 @@ static const char render_help[] =
     "  --threads N           worker threads (default: all CPUs)\n"
     "  --tile N              tile side in pixels (default 32)\n"
     "  --stats               print load, build and render times and counters\n"
-    "  --progress            show a progress line on stderr (default when stderr is a terminal)\n"
-    "  --quiet               print nothing but errors\n"
+    "  --progress            progress on stderr, one line updated in place, for loading and BVH\n"
+    "                        builds (elapsed time) and renders (a bar) that take over a second\n"
+    "                        (default when stderr is a terminal)\n"
+    "  --quiet               print nothing but errors (and no progress)\n"
+    "  example: lanecast render embryo.nhdr -o embryo.png --size 2048x2048 --stats --threads 8\n"
     "\n"
     "examples: each kind's section below\n"
     "\n"
@@ -82,8 +108,13 @@ typedef struct ropts {
     int target_set;
     lc_target target;
     int threads;
-    const char *tf;
+    const char *tf, *colormap;
     float tau;
+    float opacity[2 * 256]; /* --opacity points [v, tau] */
+    int nopacity;
+    float view[2];          /* --view azimuth, elevation */
+    int orbit;              /* --orbit N, 0 = off */
+    int camera_set, view_set;
     lc_vec3 background;
     int alpha, stats, quiet, progress;
     /* trajectories: --frame, or --frames first:end:step (end -1 = to the last) */
@@ -134,7 +165,8 @@ static int parse_method(ropts *o, const char *v)
 static int parse_view(ropts *o, int argc, char **argv, int *i, int *camera_set)
 {
     const char *a = argv[*i], *v;
-    static const char *const flags[] = {"--size", "--eye", "--at", "--up", "--fov", "--ortho", "--background"};
+    static const char *const flags[] = {"--size", "--eye",        "--at",   "--up",   "--fov",
+                                        "--ortho", "--background", "--view", "--orbit"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -146,8 +178,50 @@ static int parse_view(ropts *o, int argc, char **argv, int *i, int *camera_set)
     if (!strcmp(a, "--up")) return arg_vec3(o->cmd, a, v, &c->up) ? -1 : 1;
     if (!strcmp(a, "--fov")) return arg_float(o->cmd, a, v, 0.01f, 179.0f, &c->fovy) ? -1 : 1;
     if (!strcmp(a, "--background")) return arg_vec3(o->cmd, a, v, &o->background) ? -1 : 1;
+    if (!strcmp(a, "--orbit")) return arg_int(o->cmd, a, v, 1, 100000, &o->orbit) ? -1 : 1;
+    if (!strcmp(a, "--view")) {
+        o->view_set = 1;
+        if (arg_pair(o->cmd, a, v, o->view)) return -1;
+        if (!(o->view[1] > -90.0f && o->view[1] < 90.0f) || !(fabsf(o->view[0]) <= 1e6f)) {
+            fprintf(stderr, "%s: --view: '%s': expected AZ,EL in degrees with -90 < EL < 90\n", o->cmd, v);
+            return -1;
+        }
+        return 1;
+    }
     c->projection = LC_ORTHOGRAPHIC; /* --ortho */
     return arg_float(o->cmd, a, v, 0.0f, 1e30f, &c->height) ? -1 : 1;
+}
+
+/* --opacity v:tau,v:tau,...: v in [0, 1] increasing, tau >= 0. */
+static int parse_opacity(ropts *o, const char *v)
+{
+    const char *p = v;
+    o->nopacity = 0;
+    for (int k = 0;; k++) {
+        char *end;
+        double x = strtod(p, &end), t = 0.0;
+        const char *why = NULL;
+        if (end == p || *end != ':') why = "expected V:TAU";
+        else {
+            const char *q = end + 1;
+            t = strtod(q, &end);
+            if (end == q) why = "expected V:TAU";
+        }
+        if (!why && (*end != ',' && *end)) why = "expected ',' or the end after V:TAU";
+        if (!why && !(x >= 0.0 && x <= 1.0)) why = "V must lie in [0, 1]";
+        if (!why && !(t >= 0.0 && isfinite(t))) why = "TAU must be a finite value >= 0";
+        if (!why && k > 0 && x < o->opacity[2 * (k - 1)]) why = "V must not decrease";
+        if (!why && k >= 256) why = "at most 256 points";
+        if (why) {
+            fprintf(stderr, "%s: --opacity: point %d (at character %d of '%s'): %s\n", o->cmd, k + 1, (int)(p - v) + 1, v,
+                    why);
+            return -1;
+        }
+        o->opacity[2 * k] = (float)x, o->opacity[2 * k + 1] = (float)t;
+        o->nopacity = k + 1;
+        if (!*end) return 0;
+        p = end + 1;
+    }
 }
 
 /* Classification, sampling and execution flags: 1 consumed, 0 not one, -1 bad. */
@@ -164,13 +238,24 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
         }
         return 1;
     }
-    static const char *const flags[] = {"--tf",     "--tau",    "--range",  "--dt",      "--alpha-stop", "--method",
-                                        "--packet", "--target", "--threads", "--tile",   "--mode"};
+    static const char *const flags[] = {"--tf",     "--tau",    "--range",   "--dt",   "--alpha-stop", "--method",
+                                        "--packet", "--target", "--threads", "--tile", "--mode",       "--colormap",
+                                        "--opacity"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
     if (!(v = arg_value(o->cmd, argc, argv, i))) return -1;
     if (!strcmp(a, "--tf")) return o->tf = v, 1;
+    if (!strcmp(a, "--colormap")) {
+        for (int k = 0; lc_tf_preset_name(k); k++)
+            if (!strcmp(v, lc_tf_preset_name(k))) return o->colormap = v, 1;
+        char names[256] = "";
+        for (int k = 0; lc_tf_preset_name(k); k++)
+            snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k ? ", " : "", lc_tf_preset_name(k));
+        fprintf(stderr, "%s: --colormap: '%s' is not a colour map (%s)\n", o->cmd, v, names);
+        return -1;
+    }
+    if (!strcmp(a, "--opacity")) return parse_opacity(o, v) ? -1 : 1;
     if (!strcmp(a, "--tau")) return arg_float(o->cmd, a, v, 0.0f, 1e30f, &o->tau) ? -1 : 1;
     if (!strcmp(a, "--range")) {
         if (arg_pair(o->cmd, a, v, o->rd.range)) return -1;
@@ -281,6 +366,7 @@ static int parse(ropts *o, int argc, char **argv, int want_input)
 {
     o->rd.width = o->rd.height = 1024;
     o->progress = isatty(2);
+    o->view[0] = LC_CAMERA_AZIMUTH, o->view[1] = LC_CAMERA_ELEVATION;
     int camera_set = 0, r = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -316,8 +402,22 @@ static int parse(ropts *o, int argc, char **argv, int want_input)
         fprintf(stderr, "%s: give both --eye and --at (or neither, to frame the data)\n", o->cmd);
         return -1;
     }
+    o->camera_set = camera_set;
     if (want_input && !o->input) {
         fprintf(stderr, "%s: no input file (see %s --help)\n", o->cmd, o->cmd);
+        return -1;
+    }
+    if (o->view_set && camera_set) {
+        fprintf(stderr, "%s: --view: give --view or --eye/--at, not both\n", o->cmd);
+        return -1;
+    }
+    if (o->colormap && o->tf) {
+        fprintf(stderr, "%s: --colormap: give --colormap or --tf, not both (a TF file or preset has its own colours)\n",
+                o->cmd);
+        return -1;
+    }
+    if (o->orbit && (o->seq || o->frame)) {
+        fprintf(stderr, "%s: --orbit: give --orbit or --frame/--frames, not both\n", o->cmd);
         return -1;
     }
     if (!o->output) {
@@ -328,9 +428,9 @@ static int parse(ropts *o, int argc, char **argv, int want_input)
         fprintf(stderr, "%s: give --frame or --frames, not both\n", o->cmd);
         return -1;
     }
-    if (o->seq && !sequence_name_ok(o->output)) {
-        fprintf(stderr, "%s: --frames needs an output name with one frame number in it, e.g. -o out_%%04d.png "
-                "(got '%s')\n", o->cmd, o->output);
+    if ((o->seq || o->orbit) && !sequence_name_ok(o->output)) {
+        fprintf(stderr, "%s: %s needs an output name with one frame number in it, e.g. -o out_%%04d.png "
+                "(got '%s')\n", o->cmd, o->orbit ? "--orbit" : "--frames", o->output);
         return -1;
     }
     if (o->seq && o->end >= 0 && (o->end - o->first + o->step - 1) / o->step > 1000000) {
@@ -341,20 +441,113 @@ static int parse(ropts *o, int argc, char **argv, int want_input)
     return 0;
 }
 
-static void progress(void *user, float f)
+/* ---- progress: one line on stderr, updated in place, shown only for work
+ * that has taken over a second (o->progress: a terminal and not --quiet) */
+
+static double now_seconds(void)
 {
-    (void)user;
-    fprintf(stderr, "\rrendering %3d%%", (int)(100.0f * f + 0.5f));
-    if (f >= 1.0f) fputc('\n', stderr);
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+typedef struct progress_state {
+    const char *label; /* "rendering", "frame 3/36", ... */
+    double t0;
+    int shown;
+} progress_state;
+
+static void progress_clear(progress_state *p)
+{
+    if (p->shown) fputs("\r\033[K", stderr), fflush(stderr);
+    p->shown = 0;
+}
+
+static void render_progress(void *user, float f)
+{
+    progress_state *p = user;
+    if (now_seconds() - p->t0 < 1.0 && !p->shown) return;
+    if (f >= 1.0f) {
+        progress_clear(p);
+        return;
+    }
+    char bar[31];
+    int n = (int)(30.0f * f);
+    for (int i = 0; i < 30; i++) bar[i] = i < n ? '#' : '.';
+    bar[30] = '\0';
+    fprintf(stderr, "\r%s [%s] %3d%%", p->label, bar, (int)(100.0f * f));
+    fflush(stderr);
+    p->shown = 1;
+}
+
+/* Loading and BVH builds report no fraction: a thread shows the elapsed
+ * time after the first second. */
+typedef struct load_ticker {
+    pthread_t thread;
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    int done, started;
+    const char *what;
+    double t0;
+} load_ticker;
+
+static void *ticker_main(void *arg)
+{
+    load_ticker *t = arg;
+    static const char spin[] = "|/-\\";
+    int shown = 0, k = 0;
+    pthread_mutex_lock(&t->mu);
+    while (!t->done) {
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 200000000L;
+        if (until.tv_nsec >= 1000000000L) until.tv_sec++, until.tv_nsec -= 1000000000L;
+        pthread_cond_timedwait(&t->cv, &t->mu, &until);
+        double el = now_seconds() - t->t0;
+        if (!t->done && el >= 1.0) {
+            fprintf(stderr, "\r%c loading and building %s  %.1f s", spin[k++ & 3], t->what, el);
+            fflush(stderr);
+            shown = 1;
+        }
+    }
+    if (shown) fputs("\r\033[K", stderr), fflush(stderr);
+    pthread_mutex_unlock(&t->mu);
+    return NULL;
+}
+
+static void ticker_start(load_ticker *t, const char *what, int on)
+{
+    memset(t, 0, sizeof *t);
+    if (!on) return;
+    t->what = what;
+    t->t0 = now_seconds();
+    pthread_mutex_init(&t->mu, NULL);
+    pthread_cond_init(&t->cv, NULL);
+    t->started = pthread_create(&t->thread, NULL, ticker_main, t) == 0;
+}
+
+static void ticker_stop(load_ticker *t)
+{
+    if (!t->started) return;
+    pthread_mutex_lock(&t->mu);
+    t->done = 1;
+    pthread_cond_signal(&t->cv);
+    pthread_mutex_unlock(&t->mu);
+    pthread_join(t->thread, NULL);
+    pthread_mutex_destroy(&t->mu);
+    pthread_cond_destroy(&t->cv);
 }
 
 /* The kind of the input, decided once through the formats registry; flags of
  * another kind are an error (they would be ignored). Returns the row or NULL
- * (message printed; *usage set when the flags were at fault). */
-static const cli_kind *decide_kind(ropts *o, lc_device *dev, lc_kind forced, int *usage, int64_t *frames)
+ * (message printed; *usage set when the flags were at fault). *fopts: the
+ * option keys of the file's format ("" for the demo). */
+static const cli_kind *decide_kind(ropts *o, lc_device *dev, lc_kind forced, int *usage, int64_t *frames,
+                                   const char **fopts)
 {
     lc_kind kind = forced;
     *frames = 1;
+    *fopts = "";
     if (kind == LC_KIND_NONE) {
         lc_file_info fi;
         /* the options too: a container's kind may depend on them (HDF5 --dataset) */
@@ -366,6 +559,9 @@ static const cli_kind *decide_kind(ropts *o, lc_device *dev, lc_kind forced, int
         }
         kind = fi.kind;
         *frames = fi.frames;
+        lc_format_info f;
+        for (int i = 0; i < lc_format_count(); i++)
+            if (lc_format_get(i, &f) == LC_OK && !strcmp(f.name, fi.format)) *fopts = f.options;
     }
     const cli_kind *row = NULL;
     for (int k = 0; k < NKINDS; k++)
@@ -405,22 +601,70 @@ static void print_stats(const ropts *o, const cli_kind *kind, const lc_volume *v
 }
 
 /* Loads (or makes) the volume and its TF. */
+/* The TF from its parts: colours from the TF file, else the kind's default
+ * (--tf PRESET or --colormap); opacity from --opacity, else the file (unless
+ * a ParaView colour preset gave none), else the default; the range goes with
+ * the opacity's source (--opacity: the file's, else the data's). */
+static lc_status make_tf(ropts *o, lc_device *dev, const cli_kind *kind, lc_volume *vol, lc_tf **tf)
+{
+    int is_file = o->tf && (strchr(o->tf, '.') || strchr(o->tf, '/'));
+    lc_tf *file = NULL, *def = NULL;
+    lc_status s = LC_OK;
+    if (is_file) s = lc_tf_load(dev, o->tf, &file);
+    if (s != LC_OK) return s;
+    int file_opacity = file && !lc_tf_default_opacity(file, 0);
+    if (file && (file_opacity || o->nopacity) && !o->nopacity) return *tf = file, LC_OK; /* as it always was */
+    if (!file || !file_opacity) {
+        cli_tf_req req = {is_file ? NULL : o->tf, o->colormap, o->tau};
+        s = kind->default_tf(dev, vol, &req, &def);
+        if (s != LC_OK || (!file && !o->nopacity)) {
+            lc_tf_destroy(file);
+            return *tf = def, s;
+        }
+    }
+    const lc_tf *colours = file ? file : def;
+    int n = lc_tf_field_count(colours);
+    if (def && lc_tf_field_count(def) > n) n = lc_tf_field_count(def);
+    lc_tf_field f[LC_MAX_FIELDS];
+    for (int i = 0; i < n && s == LC_OK; i++) {
+        lc_tf_field c, p;
+        s = lc_tf_get_field(colours, i % lc_tf_field_count(colours), &c);
+        if (s == LC_OK && !o->nopacity) s = lc_tf_get_field(def, i % lc_tf_field_count(def), &p);
+        if (s != LC_OK) break;
+        f[i] = c;
+        if (o->nopacity) {
+            f[i].opacity = o->opacity, f[i].nopacity = o->nopacity;
+            f[i].has_range = file ? c.has_range : 0;
+        } else {
+            f[i].opacity = p.opacity, f[i].nopacity = p.nopacity;
+            f[i].has_range = p.has_range, f[i].range[0] = p.range[0], f[i].range[1] = p.range[1];
+        }
+    }
+    if (s == LC_OK) s = lc_tf_create(dev, f, n, tf);
+    lc_tf_destroy(file);
+    lc_tf_destroy(def);
+    return s;
+}
+
+/* Loads (or makes) the volume and its TF. */
 static lc_status load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, int64_t frame, lc_volume **vol,
                       lc_tf **tf)
 {
     lc_status s;
     if (demo) {
-        s = cli_demo_scene(dev, vol, o->tf ? NULL : tf);
+        s = cli_demo_scene(dev, vol, o->tf || o->colormap || o->nopacity ? NULL : tf);
     } else {
         lc_load_desc ld = {.format = o->load.format, .companion = o->topology, .frame = frame,
                            .options = o->load.opt, .noptions = o->load.n};
+        load_ticker tk;
+        ticker_start(&tk, o->input, o->progress);
         s = lc_volume_load(dev, o->input, &ld, vol);
+        ticker_stop(&tk);
     }
     if (s != LC_OK) return s;
     s = kind->apply(*vol, &o->rd);
     if (s != LC_OK || *tf) return s;
-    if (o->tf && (strchr(o->tf, '.') || strchr(o->tf, '/'))) return lc_tf_load(dev, o->tf, tf);
-    return kind->default_tf(dev, *vol, o->tf, o->tau, tf);
+    return make_tf(o, dev, kind, *vol, tf);
 }
 
 /* Warnings (a missing topology, ...) on stderr; errors are printed by the caller. */
@@ -432,24 +676,70 @@ static void log_warning(void *user, lc_log_level level, const char *msg)
     fprintf(stderr, "%s: warning: %s\n", (const char *)user, msg);
 }
 
-/* Loads frame f, renders it and writes it to out. */
+/* Rotates v about the axis through the origin (unit) by a radians. */
+static lc_vec3 rotate(lc_vec3 v, lc_vec3 k, float a)
+{
+    float c = cosf(a), s = sinf(a), d = (k.x * v.x + k.y * v.y + k.z * v.z) * (1.0f - c);
+    lc_vec3 x = {k.y * v.z - k.z * v.y, k.z * v.x - k.x * v.z, k.x * v.y - k.y * v.x};
+    return (lc_vec3){v.x * c + x.x * s + k.x * d, v.y * c + x.y * s + k.y * d, v.z * c + x.z * s + k.z * d};
+}
+
+/* The camera of orbit image i (of o->orbit; i = 0 without --orbit). */
+static lc_status view_camera(const ropts *o, const lc_volume *vol, int i, lc_camera *cam)
+{
+    *cam = o->rd.camera;
+    float step = o->orbit ? 360.0f * (float)i / (float)o->orbit : 0.0f;
+    if (!o->camera_set) {
+        lc_volume_info vi;
+        lc_status s = lc_volume_get_info(vol, &vi);
+        return s != LC_OK ? s : lc_camera_frame(&vi.bounds, o->view[0] + step, o->view[1], cam);
+    }
+    if (step == 0.0f) return LC_OK; /* an explicit camera exactly as given */
+    lc_vec3 up = cam->up;
+    float n = sqrtf(up.x * up.x + up.y * up.y + up.z * up.z);
+    up = n > 0.0f ? (lc_vec3){up.x / n, up.y / n, up.z / n} : (lc_vec3){0.0f, 1.0f, 0.0f};
+    lc_vec3 d = {cam->eye.x - cam->at.x, cam->eye.y - cam->at.y, cam->eye.z - cam->at.z};
+    d = rotate(d, up, step * 3.14159265f / 180.0f);
+    cam->eye = (lc_vec3){cam->at.x + d.x, cam->at.y + d.y, cam->at.z + d.z};
+    return LC_OK;
+}
+
+/* Loads frame f, renders it (or its orbit) and writes the image(s). */
 static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *kind, int64_t f, const char *out,
-                            lc_tf **tf, float *rgba)
+                            lc_tf **tf, float *rgba, int index, int count)
 {
     lc_volume *vol = NULL;
     struct timespec ts0;
     clock_gettime(CLOCK_MONOTONIC, &ts0);
     lc_status s = load(o, dev, demo, kind, f, &vol, tf);
-    if (s == LC_OK) {
-        double load_s = seconds_since(&ts0);
+    double load_s = seconds_since(&ts0);
+    lc_camera given = o->rd.camera;
+    int views = o->orbit ? o->orbit : 1;
+    char name[4096];
+    for (int v = 0; s == LC_OK && v < views; v++) {
+        if (o->orbit) frame_name(o->output, v, name, sizeof name);
+        else snprintf(name, sizeof name, "%s", out);
+        s = view_camera(o, vol, v, &o->rd.camera);
+        char label[64];
+        if (count > 1 || views > 1)
+            snprintf(label, sizeof label, "rendering %d/%d", (o->orbit ? v : index) + 1, o->orbit ? views : count);
+        else
+            snprintf(label, sizeof label, "rendering");
+        progress_state ps = {label, now_seconds(), 0};
+        o->rd.progress = o->progress ? render_progress : NULL;
+        o->rd.progress_user = &ps;
         o->rd.volume = vol;
         o->rd.tf = *tf;
         lc_render_stats st;
-        s = lc_render(dev, &o->rd, rgba, &st);
+        if (s == LC_OK) s = lc_render(dev, &o->rd, rgba, &st);
+        progress_clear(&ps);
+        o->rd.camera = given;
         lc_image_desc id = {o->rd.width, o->rd.height, rgba, o->background, o->alpha};
-        if (s == LC_OK) s = lc_image_write(dev, out, &id);
-        if (s == LC_OK && !o->quiet) printf("wrote %s (%dx%d)\n", out, o->rd.width, o->rd.height);
+        if (s == LC_OK) s = lc_image_write(dev, name, &id);
+        if (s == LC_OK && !o->quiet) printf("wrote %s (%dx%d)\n", name, o->rd.width, o->rd.height);
         if (s == LC_OK && o->stats) print_stats(o, kind, vol, load_s, &st);
+        if (s != LC_OK && o->orbit)
+            fprintf(stderr, "%s: orbit image %d (%s): %s; the orbit stops here\n", o->cmd, v, name, lc_last_error());
     }
     o->rd.volume = NULL;
     lc_volume_destroy(vol);
@@ -465,6 +755,7 @@ static int run(ropts *o, int demo)
     char out[4096];
     snprintf(out, sizeof out, "%s", o->output);
     if (o->seq) frame_name(o->output, o->first, out, sizeof out);
+    if (o->orbit) frame_name(o->output, 0, out, sizeof out);
     /* fail on an unwritable output before any long work */
     if (lc_image_check(NULL, out) != LC_OK) {
         fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
@@ -477,7 +768,11 @@ static int run(ropts *o, int demo)
         return CLI_EXIT_FAIL;
     }
     int64_t frames = 1;
-    const cli_kind *kind = decide_kind(o, dev, demo ? LC_KIND_PARTICLES : LC_KIND_NONE, &usage, &frames);
+    const char *fopts = "";
+    const cli_kind *kind = decide_kind(o, dev, demo ? LC_KIND_PARTICLES : LC_KIND_NONE, &usage, &frames, &fopts);
+    if (kind && !demo && kind->defaults &&
+        kind->defaults(o->cmd, &o->load, fopts, o->tf || o->colormap || o->nopacity))
+        kind = NULL;
     if (!kind) {
         lc_device_destroy(dev);
         return usage ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
@@ -496,19 +791,19 @@ static int run(ropts *o, int demo)
     }
     if (frames == 0 && end <= first) end = first + 1; /* uncounted: try, and let the load say why */
     if (demo && o->rd.shading == LC_SHADE_NONE) o->rd.shading = LC_SHADE_PHONG;
-    if (o->progress) o->rd.progress = progress;
     rgba = malloc(sizeof(float) * 4 * (size_t)o->rd.width * (size_t)o->rd.height);
     if (!rgba) {
         fprintf(stderr, "%s: out of memory for a %dx%d image\n", o->cmd, o->rd.width, o->rd.height);
         goto out;
     }
-    for (int64_t f = first; f < end; f += step) {
+    int count = (int)((end - first + step - 1) / step), index = 0;
+    for (int64_t f = first; f < end; f += step, index++) {
         if (o->seq) frame_name(o->output, f, out, sizeof out);
-        if (render_one(o, dev, demo, kind, f, out, &tf, rgba) != LC_OK) {
+        if (render_one(o, dev, demo, kind, f, out, &tf, rgba, index, count) != LC_OK) {
             if (o->seq)
                 fprintf(stderr, "%s: frame %lld (%s): %s; the sequence stops here\n", o->cmd, (long long)f, out,
                         lc_last_error());
-            else
+            else if (!o->orbit)
                 fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
             goto out;
         }

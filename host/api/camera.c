@@ -6,6 +6,30 @@
 
 static int finite3(lc_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
+lc_status lc_camera_frame(const lc_box3 *bounds, float azimuth, float elevation, lc_camera *cam)
+{
+    if (!bounds || !cam) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_camera_frame: bounds and cam must not be NULL");
+    if (!isfinite(azimuth) || !(elevation > -90.0f && elevation < 90.0f))
+        return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT,
+                         "lc_camera_frame: azimuth %g must be finite and elevation %g in (-90, 90) degrees",
+                         (double)azimuth, (double)elevation);
+    vec3 lo = {bounds->lo.x, bounds->lo.y, bounds->lo.z}, hi = {bounds->hi.x, bounds->hi.y, bounds->hi.z};
+    vec3 centre, diag;
+    glm_vec3_center(lo, hi, centre);
+    glm_vec3_sub(hi, lo, diag);
+    float radius = 0.5f * glm_vec3_norm(diag);
+    if (!(radius > 0.0f) || !isfinite(radius)) radius = 1.0f;
+    float fovy = cam->fovy > 0.0f && cam->fovy < 179.0f ? cam->fovy : 40.0f;
+    /* perspective: the bounding sphere fills the vertical field of view; orthographic: any distance outside it */
+    float dist = cam->projection == LC_ORTHOGRAPHIC ? 2.0f * radius : radius / sinf(glm_rad(fovy) * 0.5f) * 1.05f;
+    float az = glm_rad(azimuth), el = glm_rad(elevation);
+    cam->at = (lc_vec3){centre[0], centre[1], centre[2]};
+    cam->eye = (lc_vec3){centre[0] + dist * cosf(el) * sinf(az), centre[1] + dist * sinf(el),
+                         centre[2] + dist * cosf(el) * cosf(az)};
+    cam->up = (lc_vec3){0.0f, 1.0f, 0.0f};
+    return LC_OK;
+}
+
 lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int height, const lc_box3 *bounds,
                            lc_kcamera *out)
 {
@@ -31,11 +55,12 @@ lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int 
     if (!(radius > 0.0f) || !isfinite(radius)) radius = 1.0f;
     float ortho_h = cam->height;
     if (glm_vec3_distance(eye, at) == 0.0f) {
-        /* default view: look down -z at the centre, the bounding sphere filling the frame */
-        glm_vec3_copy(centre, at);
-        float dist = radius / sinf(glm_rad(fovy) * 0.5f) * 1.05f;
-        glm_vec3_copy((vec3){centre[0], centre[1], centre[2] + dist}, eye);
-        glm_vec3_copy((vec3){0.0f, 1.0f, 0.0f}, up);
+        /* default view: an oblique three-quarter view of the centre, the bounding sphere filling the frame */
+        lc_camera c = *cam;
+        lc_camera_frame(bounds, LC_CAMERA_AZIMUTH, LC_CAMERA_ELEVATION, &c);
+        glm_vec3_copy((vec3){c.eye.x, c.eye.y, c.eye.z}, eye);
+        glm_vec3_copy((vec3){c.at.x, c.at.y, c.at.z}, at);
+        glm_vec3_copy((vec3){c.up.x, c.up.y, c.up.z}, up);
     }
     if (cam->projection == LC_ORTHOGRAPHIC && ortho_h == 0.0f) ortho_h = 2.1f * radius;
     vec3 fwd, right, upv;

@@ -28,6 +28,28 @@ void lc_tf_destroy(lc_tf *tf)
 
 int lc_tf_field_count(const lc_tf *tf) { return tf ? tf->nfields : 0; }
 
+lc_status lc_tf_get_field(const lc_tf *tf, int field, lc_tf_field *out)
+{
+    if (!tf || !out || field < 0 || field >= tf->nfields)
+        return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_tf_get_field: no field %d (the TF has %d) or a NULL argument",
+                         field, tf ? tf->nfields : 0);
+    const lci_tf_points *p = &tf->field[field];
+    memset(out, 0, sizeof *out);
+    out->color = p->color;
+    out->ncolor = p->ncolor;
+    out->opacity = p->opacity;
+    out->nopacity = p->nopacity;
+    out->has_range = p->has_range;
+    out->range[0] = p->range[0];
+    out->range[1] = p->range[1];
+    return LC_OK;
+}
+
+int lc_tf_default_opacity(const lc_tf *tf, int field)
+{
+    return tf && field >= 0 && field < tf->nfields ? tf->field[field].default_opacity : 0;
+}
+
 static lc_status check_points(lc_device *dev, const char *where, int f, const char *what, const float *p, int n,
                               int stride)
 {
@@ -210,6 +232,92 @@ static lc_status read_field(parse_ctx *c, int f, json_object *o, lc_tf_field *ou
     return LC_OK;
 }
 
+
+/* ParaView colour-map presets (File > Save of the Color Map Editor's preset
+ * dialog): an array of objects with "Name", "RGBPoints" [x, r, g, b, ...] and
+ * optionally "Points" [x, alpha, midpoint, sharpness, ...]. The first preset
+ * with RGBPoints is read. As ParaView does when it applies a preset, x is
+ * rescaled: the RGBPoints' [x_min, x_max] becomes v = [0, 1], so the TF maps
+ * the data's range (or --range / lc_render_desc.range), not the preset's.
+ * Opacity alpha (per unit distance, ParaView's default "Scalar Opacity Unit
+ * Distance" of 1) becomes the extinction tau = -ln(1 - alpha) per world unit,
+ * alpha clamped to 0.999; without "Points", tau ramps from 0 to 1 and the
+ * field says default_opacity = 1 so that callers may substitute their own.
+ * Midpoint and sharpness are ignored (linear segments), and colours are
+ * interpolated in RGB whatever "ColorSpace" says. */
+static lc_status read_flat(parse_ctx *c, json_object *arr, const char *key, int group, float **out, int *n)
+{
+    size_t len = arr && json_object_is_type(arr, json_type_array) ? json_object_array_length(arr) : 0;
+    if (len < (size_t)group || len % (size_t)group)
+        return lci_error(c->dev, LC_ERROR_FORMAT, "%s: ParaView preset: \"%s\" must be a flat array of groups of %d numbers",
+                         c->name, key, group);
+    float *p = malloc(sizeof(float) * len);
+    if (!p) return lci_error(c->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->name);
+    for (size_t i = 0; i < len; i++) {
+        json_object *num = json_object_array_get_idx(arr, i);
+        if (!json_object_is_type(num, json_type_double) && !json_object_is_type(num, json_type_int)) {
+            free(p);
+            return lci_error(c->dev, LC_ERROR_FORMAT, "%s: ParaView preset: \"%s\"[%zu] is not a number", c->name, key, i);
+        }
+        p[i] = (float)json_object_get_double(num);
+    }
+    *out = p;
+    *n = (int)(len / (size_t)group);
+    return LC_OK;
+}
+
+static lc_status read_paraview(parse_ctx *c, json_object *root, lc_tf **out)
+{
+    json_object *preset = NULL, *rgb = NULL, *pts = NULL;
+    size_t len = json_object_is_type(root, json_type_array) ? json_object_array_length(root) : 1;
+    for (size_t i = 0; i < len && !preset; i++) {
+        json_object *o = json_object_is_type(root, json_type_array) ? json_object_array_get_idx(root, i) : root;
+        if (json_object_is_type(o, json_type_object) && json_object_object_get_ex(o, "RGBPoints", &rgb)) preset = o;
+    }
+    if (!preset)
+        return lci_error(c->dev, LC_ERROR_FORMAT,
+                         "%s: a JSON array but no ParaView preset in it (an object with \"RGBPoints\")", c->name);
+    float *cp = NULL, *op = NULL, *col = NULL, *opa = NULL;
+    int nc = 0, no = 0;
+    lc_status s = read_flat(c, rgb, "RGBPoints", 4, &cp, &nc);
+    if (s == LC_OK && json_object_object_get_ex(preset, "Points", &pts)) s = read_flat(c, pts, "Points", 4, &op, &no);
+    float x0 = s == LC_OK ? cp[0] : 0.0f, x1 = s == LC_OK ? cp[4 * (nc - 1)] : 0.0f;
+    if (s == LC_OK && !(x1 > x0))
+        s = lci_error(c->dev, LC_ERROR_FORMAT, "%s: ParaView preset: \"RGBPoints\" x values %g..%g are not increasing",
+                      c->name, (double)x0, (double)x1);
+    if (s == LC_OK) {
+        col = malloc(sizeof(float) * 4 * (size_t)nc);
+        opa = malloc(sizeof(float) * 2 * (size_t)(no > 0 ? no : 2));
+        if (!col || !opa) s = lci_error(c->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->name);
+    }
+    for (int i = 0; s == LC_OK && i < nc; i++) {
+        float v = (cp[4 * i] - x0) / (x1 - x0);
+        col[4 * i] = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
+        for (int k = 1; k < 4; k++) col[4 * i + k] = cp[4 * i + k];
+    }
+    lc_tf_field f;
+    memset(&f, 0, sizeof f);
+    int stand_in = 0;
+    for (int i = 0; s == LC_OK && i < no; i++) {
+        float v = (op[4 * i] - x0) / (x1 - x0), a = op[4 * i + 1];
+        opa[2 * i] = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
+        a = a < 0.0f ? 0.0f : a > 0.999f ? 0.999f : a;
+        opa[2 * i + 1] = (float)-log1p(-(double)a);
+    }
+    if (s == LC_OK && no == 0) {
+        opa[0] = 0.0f, opa[1] = 0.0f, opa[2] = 1.0f, opa[3] = 1.0f;
+        no = 2;
+        stand_in = 1;
+    }
+    if (s == LC_OK) {
+        f.color = col, f.ncolor = nc, f.opacity = opa, f.nopacity = no;
+        s = create(c->dev, c->name, &f, 1, out);
+        if (s == LC_OK) (*out)->field[0].default_opacity = stand_in;
+    }
+    free(cp), free(op), free(col), free(opa);
+    return s;
+}
+
 lc_status lc_tf_parse(lc_device *device, const char *json, const char *name, lc_tf **out)
 {
     if (!name) name = "transfer function";
@@ -235,9 +343,15 @@ lc_status lc_tf_parse(lc_device *device, const char *json, const char *name, lc_
     float *keep[2 * LC_MAX_FIELDS] = {0};
     int nf = 0;
     lc_status s = LC_OK;
-    json_object *arr = NULL, *range = NULL;
-    if (!json_object_is_type(root, json_type_object)) {
-        s = lci_error(device, LC_ERROR_FORMAT, "%s: the top level must be a JSON object", name);
+    json_object *arr = NULL, *range = NULL, *rgbp = NULL;
+    if (json_object_is_type(root, json_type_array) ||
+        (json_object_is_type(root, json_type_object) && json_object_object_get_ex(root, "RGBPoints", &rgbp))) {
+        s = read_paraview(&c, root, out);
+        json_object_put(root);
+        return s;
+    } else if (!json_object_is_type(root, json_type_object)) {
+        s = lci_error(device, LC_ERROR_FORMAT,
+                      "%s: the top level must be a JSON object (SPEC.md) or an array (a ParaView preset)", name);
     } else if (json_object_object_get_ex(root, "fields", &arr)) {
         if (!json_object_is_type(arr, json_type_array) || json_object_array_length(arr) < 1 ||
             json_object_array_length(arr) > LC_MAX_FIELDS) {
@@ -323,13 +437,43 @@ lc_status lc_tf_load(lc_device *device, const char *path, lc_tf **out)
 
 /* ---- presets */
 
+#include "host/api/colormaps_data.h"
+
+typedef struct colormap {
+    const char *name;
+    const float *points; /* [v, r, g, b] */
+    int n;
+} colormap;
+
+#define CM(name, arr) {name, arr, (int)(sizeof arr / sizeof arr[0] / 4)}
+static const float heat[] = {0.0f, 0.05f, 0.0f, 0.2f, 0.35f, 0.6f, 0.05f, 0.1f, 0.65f, 1.0f, 0.45f, 0.0f,
+                             1.0f, 1.0f, 1.0f, 0.8f};
+static const float cool[] = {0.0f, 0.0f, 0.1f, 0.3f, 0.5f, 0.1f, 0.5f, 0.9f, 1.0f, 0.8f, 1.0f, 1.0f};
+static const float gray[] = {0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f, 1.0f, 1.0f};
+static const float warm[] = {0.0f, 0.6f, 0.1f, 0.05f, 0.5f, 1.0f, 0.5f, 0.1f, 1.0f, 1.0f, 0.95f, 0.6f};
+/* "demo" (warm and cool alternating by field) is listed but built apart */
+static const colormap maps[] = {
+    CM("heat", heat),        CM("cool", cool),       CM("gray", gray),       {"demo", warm, 3},
+    CM("viridis", cm_viridis), CM("inferno", cm_inferno), CM("magma", cm_magma), CM("plasma", cm_plasma),
+    CM("cool-warm", cm_cool_warm), CM("grayscale", cm_grayscale),
+};
+#define NMAPS ((int)(sizeof maps / sizeof maps[0]))
+
+const char *lc_tf_preset_name(int index) { return index >= 0 && index < NMAPS ? maps[index].name : NULL; }
+
+lc_status lci_colormap(lc_device *device, const char *name, const float **points, int *n)
+{
+    for (int i = 0; name && i < NMAPS; i++)
+        if (!strcmp(name, maps[i].name)) return *points = maps[i].points, *n = maps[i].n, LC_OK;
+    char known[256] = "";
+    for (int i = 0; i < NMAPS; i++)
+        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", i ? ", " : "", maps[i].name);
+    return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "unknown colour map '%s' (known: %s)", name ? name : "(null)",
+                     known);
+}
+
 lc_status lc_tf_preset(lc_device *device, const char *name, int nfields, float max_tau, lc_tf **out)
 {
-    static const float heat[] = {0.0f, 0.05f, 0.0f, 0.2f, 0.35f, 0.6f, 0.05f, 0.1f, 0.65f, 1.0f, 0.45f, 0.0f,
-                                 1.0f, 1.0f, 1.0f, 0.8f};
-    static const float cool[] = {0.0f, 0.0f, 0.1f, 0.3f, 0.5f, 0.1f, 0.5f, 0.9f, 1.0f, 0.8f, 1.0f, 1.0f};
-    static const float gray[] = {0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f, 1.0f, 1.0f};
-    static const float warm[] = {0.0f, 0.6f, 0.1f, 0.05f, 0.5f, 1.0f, 0.5f, 0.1f, 1.0f, 1.0f, 0.95f, 0.6f};
     if (!out) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_tf_preset: out is NULL");
     *out = NULL;
     if (!name) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_tf_preset: name is NULL");
@@ -342,19 +486,15 @@ lc_status lc_tf_preset(lc_device *device, const char *name, int nfields, float m
     if (nfields < 1 || nfields > LC_MAX_FIELDS)
         return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_tf_preset: %d fields, expected 1 to %d", nfields,
                          LC_MAX_FIELDS);
+    const float *pts;
+    int n;
+    lc_status s = lci_colormap(device, name, &pts, &n);
+    if (s != LC_OK) return s;
     for (int i = 0; i < nfields; i++) {
         f[i].opacity = op;
         f[i].nopacity = 3;
-        if (!strcmp(name, "heat")) f[i].color = heat, f[i].ncolor = 4;
-        else if (!strcmp(name, "cool")) f[i].color = cool, f[i].ncolor = 3;
-        else if (!strcmp(name, "gray")) f[i].color = gray, f[i].ncolor = 2;
-        else if (!strcmp(name, "demo")) {
-            /* field 0 warm, field 1 cool, alternating */
-            if (i % 2 == 0) f[i].color = warm, f[i].ncolor = 3;
-            else f[i].color = cool, f[i].ncolor = 3;
-        } else
-            return lci_error(device, LC_ERROR_INVALID_ARGUMENT,
-                             "unknown transfer function preset '%s' (known: heat, cool, gray, demo)", name);
+        f[i].color = pts, f[i].ncolor = n;
+        if (!strcmp(name, "demo") && i % 2) f[i].color = cool, f[i].ncolor = 3; /* field 0 warm, 1 cool, ... */
     }
     return create(device, "lc_tf_preset", f, nfields, out);
 }

@@ -11,6 +11,7 @@ typedef struct lci_tf_points {
     int nopacity;
     int has_range;
     float range[2];
+    int default_opacity; /* the source gave no opacity (lc_tf_field.default_opacity) */
 } lci_tf_points;
 
 struct lc_tf {
@@ -24,5 +25,9 @@ void lci_tf_eval(const lc_tf *tf, int field, double v, double rgb[3], double *ta
 /* Fills a kernel TF (LC_TF_TABLE_SIZE x rgbt table into `table`) for field f
  * with the value range [lo, hi]. */
 void lci_tf_fill(const lc_tf *tf, int field, float lo, float hi, float *table, lc_ktf *out);
+
+/* The control points [v, r, g, b] of a built-in colour map by name (the
+ * lc_tf_preset names); an unknown name fails, listing the known ones. */
+lc_status lci_colormap(lc_device *device, const char *name, const float **points, int *n);
 
 #endif

@@ -243,11 +243,15 @@ static lc_status dcd_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
                 (double)(p.o.radius > 0.0f ? p.o.radius : LCI_DEFAULT_RADIUS));
         if (!(p.o.radius > 0.0f)) p.o.radius = LCI_DEFAULT_RADIUS;
     }
-    for (int64_t i = 0; i < d.natom; i++)
-        if (lci_atoms_add(&p, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], psf.atom ? psf.atom[i].element : "X")) {
+    for (int64_t i = 0; i < d.natom; i++) {
+        const lci_psf_atom *pa = psf.atom ? &psf.atom[i] : NULL;
+        lci_atom_attr at = {pa ? pa->name : NULL, pa ? pa->resname : NULL, NULL, pa ? pa->segid : NULL,
+                            pa ? pa->type : NULL, pa ? pa->resid : 0, pa != NULL};
+        if (lci_atoms_add_attr(&p, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], pa ? pa->element : "X", &at)) {
             s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", a->path);
             break;
         }
+    }
 out:
     free(xyz);
     free(buf);
@@ -276,7 +280,7 @@ static int dcd_magic(const unsigned char *h, size_t n)
 }
 
 const lci_format lci_format_dcd = {
-    .name = "dcd", .kind = LC_KIND_PARTICLES, .extensions = ".dcd", .options = "radius radius_scale fields",
+    .name = "dcd", .kind = LC_KIND_PARTICLES, .extensions = ".dcd", .options = "radius radius_scale fields select",
     .description = "CHARMM/NAMD/X-PLOR DCD trajectory (either byte order, unit cells, fixed atoms); elements from the "
                    "PSF topology (companion, or STEM.psf)",
     .magic = dcd_magic, .read = dcd_read, .frames = dcd_frames, .companion = 1};

@@ -39,9 +39,20 @@ lc_status lci_atom_options(lc_device *dev, const lci_read_args *a, lci_atom_opts
         s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius_scale);
     if (s == LC_OK && (x = lci_option_find(a, "fields"))) {
         if (!strcmp(x->value, "element")) o->fields_by_element = 1;
+        else if (!strcmp(x->value, "cpk")) o->cpk = 1;
         else if (strcmp(x->value, "none"))
-            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected none or element", a->path,
-                          x->value);
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected none, element or cpk",
+                          a->path, x->value);
+    }
+    if (s == LC_OK && (x = lci_option_find(a, "select"))) {
+        char what[512];
+        snprintf(what, sizeof what, "%s: select", a->path);
+        lci_select *sel = NULL;
+        if (strlen(x->value) >= sizeof o->select)
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: longer than %zu characters", what, sizeof o->select - 1);
+        s = lci_select_parse(dev, what, x->value, &sel); /* check now; parsed again for the atoms */
+        lci_select_free(sel);
+        if (s == LC_OK) snprintf(o->select, sizeof o->select, "%s", x->value);
     }
     return s;
 }
@@ -69,8 +80,26 @@ static uint8_t field_of(lci_atoms *p, const char *sym)
     return LC_MAX_FIELDS - 1;
 }
 
+static int cpk_class(const char *sym)
+{
+    static const char *const cls[] = {"C", "N", "O", "S", "P", "H"};
+    for (int i = 0; i < 6; i++)
+        if (!strcasecmp(sym, cls[i])) return i;
+    return 6;
+}
+
 int lci_atoms_add(lci_atoms *p, float x, float y, float z, const char *sym)
 {
+    return lci_atoms_add_attr(p, x, y, z, sym, NULL);
+}
+
+int lci_atoms_add_attr(lci_atoms *p, float x, float y, float z, const char *sym, const lci_atom_attr *attr)
+{
+    size_t index = p->seen++;
+    if (p->o.select[0]) {
+        if (!p->sel && lci_select_parse(NULL, "select", p->o.select, &p->sel) != LC_OK) return -1;
+        if (!lci_select_match(p->sel, index, sym, attr, &p->sel_missing)) return 0;
+    }
     if (p->n == p->cap) {
         size_t cap = p->cap ? p->cap * 2 : 4096;
         float *a = realloc(p->xyz, cap * 3 * sizeof(float));
@@ -82,11 +111,23 @@ int lci_atoms_add(lci_atoms *p, float x, float y, float z, const char *sym)
         uint8_t *c = realloc(p->field, cap);
         if (!c) return -1;
         p->field = c;
+        if (p->o.cpk) {
+            uint8_t *sv = realloc(p->solvent, cap);
+            if (!sv) return -1;
+            p->solvent = sv;
+        }
         p->cap = cap;
     }
     p->xyz[3 * p->n] = x, p->xyz[3 * p->n + 1] = y, p->xyz[3 * p->n + 2] = z;
     p->r[p->n] = radius_for(p, sym);
     p->field[p->n] = field_of(p, sym);
+    if (p->o.cpk) {
+        const char *res = attr ? attr->resname : NULL;
+        int solv = res && (lci_resname_water(res) || lci_resname_ion(res));
+        p->field[p->n] = (uint8_t)cpk_class(sym);
+        p->solvent[p->n] = (uint8_t)solv;
+        p->nsolvent += (size_t)solv;
+    }
     p->n++;
     return 0;
 }
@@ -96,13 +137,37 @@ void lci_atoms_free(lci_atoms *p)
     free(p->xyz);
     free(p->r);
     free(p->field);
+    free(p->solvent);
+    lci_select_free(p->sel);
     p->xyz = p->r = NULL;
-    p->field = NULL;
+    p->field = p->solvent = NULL;
+    p->sel = NULL;
     p->n = p->cap = 0;
 }
 
 lc_status lci_atoms_finish(lc_device *dev, const char *path, lc_status s, lci_atoms *p, lci_loaded *out)
 {
+    if (s == LC_OK && p->sel_missing)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s': '%s' needs %s, which this file does not give",
+                      path, p->o.select, p->sel_missing,
+                      !strcmp(p->sel_missing, "name") || !strcmp(p->sel_missing, "backbone") ? "atom names"
+                      : !strcmp(p->sel_missing, "chain")   ? "chain identifiers"
+                      : !strcmp(p->sel_missing, "segid")   ? "segment identifiers"
+                      : !strcmp(p->sel_missing, "type")    ? "atom types"
+                      : !strcmp(p->sel_missing, "resid")   ? "residue numbers"
+                                                           : "residue names");
+    if (s == LC_OK && p->o.select[0] && p->n == 0)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s' matches none of the %zu atoms", path,
+                      p->o.select, p->seen);
+    if (s == LC_OK && p->o.cpk) { /* solvent gets its own field when something else is there */
+        int top = 0;
+        for (size_t i = 0; i < p->n; i++) {
+            if (p->nsolvent < p->n && p->solvent[i]) p->field[i] = LCI_CPK_SOLVENT;
+            if (p->field[i] > top) top = p->field[i];
+        }
+        p->o.fields_by_element = 0;
+        p->nnames = top + 1;
+    }
     if (s == LC_OK && p->unknown)
         lci_log(dev, LC_LOG_WARNING, "%s: %d atoms of unknown elements (first '%s') got radius %.2f", path, p->unknown,
                 p->first_unknown, (double)LCI_DEFAULT_RADIUS);
@@ -116,7 +181,11 @@ lc_status lci_atoms_finish(lc_device *dev, const char *path, lc_status s, lci_at
     d->positions = p->xyz;
     d->radii = p->r;
     d->fields = p->field;
-    d->nfields = p->o.fields_by_element ? (p->nnames ? p->nnames : 1) : 1;
+    d->nfields = p->o.fields_by_element || p->o.cpk ? (p->nnames ? p->nnames : 1) : 1;
+    free(p->solvent);
+    lci_select_free(p->sel);
+    p->solvent = NULL;
+    p->sel = NULL;
     out->desc = d;
     lci_loaded_keep(out, p->xyz);
     lci_loaded_keep(out, p->r);

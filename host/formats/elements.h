@@ -6,17 +6,26 @@
 #define LC_HOST_ELEMENTS_H
 
 #include "host/formats/format.h"
+#include "host/formats/select.h"
 
 #define LCI_DEFAULT_RADIUS 1.5f /* of an element not in the table */
 
 /* Covalent radius in Angstrom of an element symbol (case-insensitive), or 0 if unknown. */
 float lci_element_radius(const char *sym);
 
-/* The options every molecular format takes: radius, radius_scale, fields. */
+/* The options every molecular format takes: radius, radius_scale, fields
+ * (none, element or cpk) and select (select.h). fields = cpk gives fixed
+ * fields by element class: 0 C, 1 N, 2 O, 3 S, 4 P, 5 H, 6 any other
+ * element, and 7 solvent (water and ions by residue name, any element) when
+ * the atoms read hold something besides solvent; nfields = 1 + the largest
+ * id used. */
+#define LCI_CPK_SOLVENT 7
 typedef struct lci_atom_opts {
     float radius;       /* > 0: every atom's radius */
     float radius_scale; /* > 0: scales the element radii */
     int fields_by_element;
+    int cpk;
+    char select[1024];  /* "" = every atom */
 } lci_atom_opts;
 
 /* Parses the keys above among a's options (errors name the key). */
@@ -31,11 +40,18 @@ typedef struct lci_atoms {
     lci_atom_opts o;
     int unknown;                   /* atoms whose element is not in the table */
     char first_unknown[16];
+    size_t seen;                   /* atoms offered (the selection's index) */
+    lci_select *sel;               /* parsed on the first atom */
+    const char *sel_missing;       /* a keyword the file could not answer */
+    uint8_t *solvent;              /* cpk: 1 per solvent atom */
+    size_t nsolvent;
 } lci_atoms;
 
 /* An atom of element sym at (x, y, z): its radius and field from the element
- * and the options. 0 ok, -1 out of memory. */
+ * and the options; skipped when the selection rejects it. attr: what the
+ * file says about the atom (NULL: the element only). 0 ok, -1 out of memory. */
 int lci_atoms_add(lci_atoms *p, float x, float y, float z, const char *sym);
+int lci_atoms_add_attr(lci_atoms *p, float x, float y, float z, const char *sym, const lci_atom_attr *attr);
 void lci_atoms_free(lci_atoms *p);
 /* When s is LC_OK, hands the atoms over to out as an lc_particles_desc (and
  * warns once about unknown elements); else frees them. Returns s or an

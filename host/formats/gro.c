@@ -154,11 +154,15 @@ static lc_status atom_line(lci_text *t, long i, long natoms, int w, lci_atoms *p
                              t->path, t->lineno, "xyz"[c], num, 21 + c * w, 20 + (c + 1) * w);
         xyz[c] = (float)(v * 10.0); /* nm -> Angstrom */
     }
-    char resname[8], atom[8], el[4];
+    char resname[8], atom[8], el[4], resid[8];
+    lci_column(t->line, 1, 5, resid, sizeof resid);
     lci_column(t->line, 6, 10, resname, sizeof resname);
     lci_column(t->line, 11, 15, atom, sizeof atom);
     gro_element(resname, atom, el, sizeof el);
-    if (lci_atoms_add(p, xyz[0], xyz[1], xyz[2], el))
+    char *rend;
+    long rnum = strtol(resid, &rend, 10);
+    lci_atom_attr at = {atom, resname, NULL, NULL, NULL, rnum, rend != resid && !*rend};
+    if (lci_atoms_add_attr(p, xyz[0], xyz[1], xyz[2], el, &at))
         return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", t->path, t->lineno);
     return LC_OK;
 }
@@ -230,7 +234,7 @@ static lc_status gro_frames(lc_device *dev, const char *path, int64_t *out)
 }
 
 const lci_format lci_format_gro = {
-    .name = "gro", .kind = LC_KIND_PARTICLES, .extensions = ".gro", .options = "radius radius_scale fields",
+    .name = "gro", .kind = LC_KIND_PARTICLES, .extensions = ".gro", .options = "radius radius_scale fields select",
     .description = "GROMACS .gro: fixed columns in nm (read as Angstrom), frames concatenated; element from the atom "
                    "name's first letter (ions: residue = atom name)",
     .read = gro_read, .frames = gro_frames};

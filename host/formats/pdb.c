@@ -3,9 +3,12 @@
  * frames: lc_load_desc.frame N reads the (N+1)-th MODEL of the file (MODEL
  * N+1 in a file numbered from 1), up to its ENDMDL; a file without MODEL
  * records is one frame. Alternate locations (column 17): the first of each
- * atom is kept (altloc.h). Plain or gzip. Every error names the file and line. */
+ * atom is kept (altloc.h). The `select` option sees name (13-16), resname
+ * (18-21), chain (22), resid (23-26) and segid (73-76). Plain or gzip. Every
+ * error names the file and line. */
 #include <ctype.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "host/formats/altloc.h"
 #include "host/formats/elements.h"
@@ -22,7 +25,10 @@ static void pdb_element(const char *line, char *el, size_t n)
     const char *s = name;
     while (*s && !isalpha((unsigned char)*s)) s++;
     int starts_at_13 = strlen(line) > 12 && isalpha((unsigned char)line[12]);
-    if (starts_at_13 && isalpha((unsigned char)s[0]) && isalpha((unsigned char)s[1])) {
+    /* a four-character name starting with H in column 13 is a hydrogen (HG23,
+     * HE22, HD11 in CHARMM and PDB files), not mercury or helium */
+    int h4 = starts_at_13 && toupper((unsigned char)s[0]) == 'H' && strlen(name) == 4;
+    if (starts_at_13 && !h4 && isalpha((unsigned char)s[0]) && isalpha((unsigned char)s[1])) {
         char two[3] = {s[0], (char)tolower((unsigned char)s[1]), 0};
         if (lci_element_radius(two) > 0.0f) {
             snprintf(el, n, "%s", two);
@@ -43,7 +49,8 @@ static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p, lci_altloc
     while ((rc = lci_text_line(t)) == 1) {
         if (is_model(t->line)) {
             model++;
-            if (model == frame) p->n = 0, alt->residue[0] = 0, alt->n = 0; /* atoms before the first MODEL belong to no model */
+            if (model == frame) /* atoms before the first MODEL belong to no model */
+                p->n = p->seen = p->nsolvent = 0, alt->residue[0] = 0, alt->n = 0;
             continue;
         }
         if (!strncmp(t->line, "ENDMDL", 6)) {
@@ -69,7 +76,15 @@ static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p, lci_altloc
         int keep = lci_altloc_keep(alt, res, name, blank);
         if (keep == 0) continue;
         pdb_element(t->line, el, sizeof el);
-        if (keep < 0 || lci_atoms_add(p, x, y, z, el))
+        char resname[8], chain[4], resid[8], segid[8];
+        lci_column(t->line, 18, 21, resname, sizeof resname); /* 18-20, and 21 for CHARMM's TIP3 */
+        lci_column(t->line, 22, 22, chain, sizeof chain);
+        lci_column(t->line, 23, 26, resid, sizeof resid);
+        lci_column(t->line, 73, 76, segid, sizeof segid);
+        char *rend;
+        long rnum = strtol(resid, &rend, 10);
+        lci_atom_attr at = {name, resname, chain, segid, NULL, rnum, rend != resid && !*rend};
+        if (keep < 0 || lci_atoms_add_attr(p, x, y, z, el, &at))
             return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", t->path, t->lineno);
     }
     if (rc < 0) return LC_ERROR_IO;
@@ -77,7 +92,7 @@ static lc_status read_atoms(lci_text *t, int64_t frame, lci_atoms *p, lci_altloc
         return lci_error(t->dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld MODEL%s",
                          t->path, (long long)frame, (long long)(model + 1 > 1 ? model + 1 : 1),
                          model + 1 > 1 ? "s" : "");
-    if (p->n == 0)
+    if (p->seen == 0)
         return lci_error(t->dev, LC_ERROR_FORMAT, "%s: no ATOM or HETATM records%s", t->path,
                          model >= 0 ? " in the MODEL read" : "");
     return LC_OK;
@@ -131,6 +146,6 @@ static int pdb_magic(const unsigned char *h, size_t n)
 }
 
 const lci_format lci_format_pdb = {
-    .name = "pdb", .kind = LC_KIND_PARTICLES, .extensions = ".pdb .ent", .options = "radius radius_scale fields",
+    .name = "pdb", .kind = LC_KIND_PARTICLES, .extensions = ".pdb .ent", .options = "radius radius_scale fields select",
     .description = "Protein Data Bank: ATOM/HETATM records, element from columns 77-78 or the atom name; MODEL records as frames",
     .magic = pdb_magic, .read = pdb_read, .frames = pdb_frames};

@@ -114,6 +114,9 @@ static lc_status read_atoms(lci_text *t, lci_psf *p)
         lci_psf_atom *a = &p->atom[i];
         snprintf(a->name, sizeof a->name, "%.8s", tok[4]);
         snprintf(a->type, sizeof a->type, "%.8s", tok[5]);
+        snprintf(a->segid, sizeof a->segid, "%.8s", tok[1]);
+        snprintf(a->resname, sizeof a->resname, "%.8s", tok[3]);
+        a->resid = strtol(tok[2], NULL, 10);
         a->mass = mass;
         element_of(a->name, mass, a->element, sizeof a->element);
         p->natom = i + 1;

@@ -7,7 +7,8 @@
 #include "host/internal.h"
 
 typedef struct lci_psf_atom {
-    char name[9], type[9], element[4];
+    char name[9], type[9], element[4], segid[9], resname[9];
+    long resid;
     float mass;
 } lci_psf_atom;
 

@@ -177,7 +177,7 @@ static lc_status xyz_frames(lc_device *dev, const char *path, int64_t *out)
 }
 
 const lci_format lci_format_xyz = {
-    .name = "xyz", .kind = LC_KIND_PARTICLES, .extensions = ".xyz .extxyz", .options = "radius radius_scale fields",
+    .name = "xyz", .kind = LC_KIND_PARTICLES, .extensions = ".xyz .extxyz", .options = "radius radius_scale fields select",
     .description = "XYZ and extended XYZ: element x y z lines, bare or in count + comment frames (Properties= gives "
                    "the columns)",
     .read = xyz_read, .frames = xyz_frames};

@@ -409,3 +409,33 @@ const lci_kind_ops lci_grid_ops = {
     .prepare = prepare,
     .sample_scene = sample_scene,
 };
+
+/* ---- histogram (lc_tf_auto's input) */
+
+lc_status lc_grid_histogram(const lc_volume *v, int nbins, uint64_t *counts)
+{
+    const grid *g = lci_volume_as(v, LC_KIND_GRID, "lc_grid_histogram");
+    if (!g) return LC_ERROR_INVALID_ARGUMENT;
+    if (!counts || nbins < 1 || nbins > (1 << 24))
+        return lci_error(v->device, LC_ERROR_INVALID_ARGUMENT,
+                         "lc_grid_histogram: %d bins (expected 1 to 2^24) or counts is NULL", nbins);
+    memset(counts, 0, sizeof *counts * (size_t)nbins);
+    const lc_kgrid *k = &g->kg;
+    double lo = g->info.value_min, hi = g->info.value_max;
+    double scale = hi > lo ? nbins / (hi - lo) : 0.0;
+    for (int32_t z = 0; z < k->size[2]; z++)
+        for (int32_t y = 0; y < k->size[1]; y++)
+            for (int32_t x = 0; x < k->size[0]; x++) {
+                int64_t e = (int64_t)k->xoff[x] + k->yoff[y] + k->zoff[z];
+                double val;
+                switch (k->type) {
+                case LC_KVAL_U8: val = ((const uint8_t *)k->data)[e]; break;
+                case LC_KVAL_U16: val = ((const uint16_t *)k->data)[e]; break;
+                case LC_KVAL_I16: val = ((const int16_t *)k->data)[e]; break;
+                default: val = ((const float *)k->data)[e]; break;
+                }
+                long b = (long)((val - lo) * scale);
+                counts[b < 0 ? 0 : b >= nbins ? nbins - 1 : b]++;
+            }
+    return LC_OK;
+}

@@ -140,7 +140,9 @@ typedef struct lc_box3 {
 typedef enum lc_projection { LC_PERSPECTIVE = 0, LC_ORTHOGRAPHIC = 1 } lc_projection;
 
 /* SPEC.md "Camera and rays". A camera with eye == at (e.g. all zero) is
- * replaced by a default view framing the data's bounds. */
+ * replaced by a default view framing the data's bounds: lc_camera_frame with
+ * LC_CAMERA_AZIMUTH and LC_CAMERA_ELEVATION (an oblique three-quarter view,
+ * +y up). */
 typedef struct lc_camera {
     lc_projection projection;
     lc_vec3 eye, at;
@@ -148,6 +150,16 @@ typedef struct lc_camera {
     float fovy;   /* perspective: vertical field of view in degrees; 0 = 40 */
     float height; /* orthographic: image-plane height in world units; 0 = frames the data */
 } lc_camera;
+
+#define LC_CAMERA_AZIMUTH 35.0f   /* degrees around +y from +z towards +x */
+#define LC_CAMERA_ELEVATION 25.0f /* degrees above the xz plane */
+
+/* Points cam (eye, at, up = +y; projection, fovy and height kept) at the
+ * centre of bounds from azimuth degrees around +y (0 = from +z, 90 = from
+ * +x) and elevation degrees above the xz plane (in (-90, 90)), at the
+ * distance where the bounding sphere fills the vertical field of view
+ * (perspective; fovy 0 = 40). Orbits are a sequence of azimuths. */
+LC_API lc_status lc_camera_frame(const lc_box3 *bounds, float azimuth, float elevation, lc_camera *cam);
 
 /* ---------------------------------------------------------------- transfer function */
 
@@ -170,16 +182,37 @@ typedef struct lc_tf lc_tf;
  * are copied. Fails if a list is empty, v is outside [0, 1] or decreasing, a
  * colour is not finite, tau is negative, or a range is empty. */
 LC_API lc_status lc_tf_create(lc_device *device, const lc_tf_field *fields, int nfields, lc_tf **out);
-/* Parses SPEC.md's JSON transfer function (a single TF or {"fields": [...]}).
+/* Parses SPEC.md's JSON transfer function (a single TF or {"fields": [...]}),
+ * or a ParaView colour-map preset (a JSON array of objects with "Name",
+ * "RGBPoints" [x, r, g, b, ...] and optionally "Points" [x, alpha, midpoint,
+ * sharpness, ...]; the first one with RGBPoints is read). A ParaView preset's
+ * x range is rescaled to v in [0, 1] (as ParaView does on applying a preset:
+ * the TF then spans the data's range or lc_render_desc.range); alpha becomes
+ * tau = -ln(1 - alpha) per world unit (ParaView's unit distance 1, alpha at
+ * most 0.999); without "Points" tau ramps from 0 to 1 and the field reports
+ * lc_tf_default_opacity = 1. Midpoint and sharpness are ignored
+ * and colours interpolate in RGB.
  * The message names the file and what is wrong. LC_ERROR_UNSUPPORTED when
  * this build lacks json-c (lc_feature_get: "json"). */
 LC_API lc_status lc_tf_load(lc_device *device, const char *path, lc_tf **out);
 LC_API lc_status lc_tf_parse(lc_device *device, const char *json, const char *name_for_messages, lc_tf **out);
-/* A built-in colour map by name ("heat", "cool", "gray", "demo"); nfields
- * copies of it. Opacity ramps from 0 at v = 0.1 to max_tau at v = 1. */
+/* A built-in colour map by name; nfields copies of it. Opacity ramps from 0
+ * at v = 0.1 to max_tau at v = 1. Names: "heat", "cool", "gray", "demo"
+ * (warm and cool by alternate field), and the published maps "viridis",
+ * "inferno", "magma", "plasma" (matplotlib's, sampled at 65 points),
+ * "cool-warm" (Moreland 2009) and "grayscale". lc_tf_preset_name lists them. */
 LC_API lc_status lc_tf_preset(lc_device *device, const char *name, int nfields, float max_tau, lc_tf **out);
+/* The name of preset index (0, 1, ...), or NULL past the last. */
+LC_API const char *lc_tf_preset_name(int index);
 LC_API void lc_tf_destroy(lc_tf *tf);
 LC_API int lc_tf_field_count(const lc_tf *tf);
+/* A field's points (pointers into the TF, valid until lc_tf_destroy) and
+ * range: to build a TF from parts of others. */
+LC_API lc_status lc_tf_get_field(const lc_tf *tf, int field, lc_tf_field *out);
+/* 1 when the TF's source named no opacity for the field (a ParaView colour
+ * preset without "Points"): its opacity is a stand-in ramp that a caller may
+ * replace. 0 otherwise, and for a NULL TF or a field out of range. */
+LC_API int lc_tf_default_opacity(const lc_tf *tf, int field);
 
 /* ---------------------------------------------------------------- volumes */
 
@@ -341,6 +374,9 @@ LC_API lc_status lc_grid_create(lc_device *device, const lc_grid_desc *desc, lc_
 LC_API lc_status lc_grid_get_info(const lc_volume *grid, lc_grid_info *out);
 /* Not while the volume is being rendered. */
 LC_API lc_status lc_grid_set_params(lc_volume *grid, const lc_grid_params *params);
+/* Counts the grid's nodes into nbins (1..2^24) equal bins over [value_min,
+ * value_max] of lc_grid_info (the top value in the last bin). */
+LC_API lc_status lc_grid_histogram(const lc_volume *grid, int nbins, uint64_t *counts);
 
 /* ---- RBF sets (RBF-encoded volumes, Jang et al. 2004) */
 
@@ -435,6 +471,27 @@ typedef struct lc_rbf_info {
 LC_API lc_status lc_rbf_create(lc_device *device, const lc_rbf_desc *desc, lc_volume **out);
 LC_API lc_status lc_rbf_get_info(const lc_volume *rbf, lc_rbf_info *out);
 
+/* ---------------------------------------------------------------- default transfer functions */
+
+/* A transfer function that shows a volume's structure on the first try
+ * (docs/FIRST-IMAGE.md). colormap: an lc_tf_preset name, NULL = "viridis"
+ * for grids, "heat" otherwise; max_tau: the peak extinction, 0 = a default.
+ * Grids, from a 1024-bin histogram of the voxels over [value_min,
+ * value_max]: the dominant bin and its hill (down to the first valley of the
+ * histogram smoothed over 9 bins, on each side) are the background; the
+ * informative values are those on the side of the hill holding more voxels;
+ * the TF's range runs from the hill's edge to the 99th percentile of the
+ * informative values (counted away from the hill), opacity rising from 0 at
+ * the edge through 0.15 max_tau at the middle to max_tau at the far end
+ * (reversed when the informative side lies below the background), and the
+ * colour map spans the same range. Default max_tau = 16 / the volume's
+ * diagonal. Particles and RBF sets: lc_tf_preset(colormap, nfields,
+ * max_tau), default max_tau = 1 / the largest radius or width.
+ * LC_ERROR_UNSUPPORTED for another kind. */
+#define LC_TF_AUTO_COLORMAP "viridis"
+#define LC_TF_AUTO_TAU 16.0f
+LC_API lc_status lc_tf_auto(lc_device *device, const lc_volume *volume, const char *colormap, float max_tau, lc_tf **out);
+
 /* ---------------------------------------------------------------- files */
 
 /* One option of a file format or of the kind it makes, as text: "radius" =
@@ -463,6 +520,18 @@ typedef struct lc_format_info {
     int available;           /* 0: compiled out of this build */
     const char *package;     /* the Debian package whose -dev files enable it when unavailable, or "" */
 } lc_format_info;
+
+/* Checks an atom selection, the `select` option of the molecular formats
+ * (pdb, gro, xyz, dcd: `lanecast formats` lists who takes it), without a
+ * file: LC_ERROR_INVALID_ARGUMENT with a message naming the 1-based position
+ * of what is wrong. The language (after VMD and MDAnalysis): all, none,
+ * protein, backbone, water, ion, solvent, element W..., name W..., resname
+ * W..., chain W..., segid W..., type W..., index N|N:M..., resid N|N:M...
+ * combined with and, or, not and parentheses; a word may end in '*'
+ * (prefix); index counts a frame's atoms from 0 in file order, ranges are
+ * inclusive. A keyword the file cannot answer (resname in an XYZ file)
+ * fails the load, and so does a selection that matches no atom. */
+LC_API lc_status lc_select_check(const char *expr);
 
 /* Formats are numbered 0 .. lc_format_count() - 1. */
 LC_API int lc_format_count(void);
