@@ -218,7 +218,11 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
     memset(&l, 0, sizeof l);
     if (s == LC_OK) {
         lci_read_args a = {path, d, fopts, nf};
+        dev->load_progress = d->progress, dev->load_progress_user = d->progress_user, dev->load_last = 0.0f;
+        if (d->progress) d->progress(d->progress_user, 0.0f);
         s = f->read(dev, &a, &l);
+        if (s == LC_OK && d->progress) d->progress(d->progress_user, 1.0f);
+        dev->load_progress = NULL, dev->load_progress_user = NULL;
     }
     for (int i = 0; s == LC_OK && i < d->noptions; i++)
         if (in_list(k->option_keys, d->options[i].key, strlen(d->options[i].key)))

@@ -173,7 +173,14 @@ static lc_status read_data(lc_device *dev, const char *file, long long offset, i
                       (unsigned long long)avail, (unsigned long long)bytes);
     else if (!gzip) {
         fseeko(f, offset, SEEK_SET);
-        if (fread(dst, 1, bytes, f) != bytes) s = lci_error(dev, LC_ERROR_IO, "%s: read failed: %s", file, strerror(errno));
+        for (uint64_t got = 0; got < bytes && s == LC_OK; ) { /* in pieces, for the load progress */
+            size_t k = bytes - got > (1u << 24) ? (1u << 24) : (size_t)(bytes - got);
+            if (fread((unsigned char *)dst + got, 1, k, f) != k)
+                s = lci_error(dev, LC_ERROR_IO, "%s: byte %llu: read failed: %s", file,
+                              (unsigned long long)(offset + (long long)got), strerror(errno));
+            got += k;
+            lci_load_progress(dev, (double)got / (double)bytes);
+        }
     } else if (!(in = malloc(avail ? avail : 1))) {
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu compressed bytes", file,
                       (unsigned long long)avail);
