@@ -32,7 +32,7 @@ flip() {
     { head -c "$at" "$1"; printf '\377\377\377\377\377\377\377\377'; tail -c +$((at + 9)) "$1"; } >"$1.tmp" && mv "$1.tmp" "$1"
 }
 have_gzip=0
-command -v gzip >/dev/null 2>&1 && have_gzip=1
+command -v gzip >/dev/null 2>&1 && "$exe" formats | grep -Eq '^ *zlib +yes' && have_gzip=1
 
 printf 'an image that must survive\n' >keep.ref
 

@@ -171,7 +171,7 @@ static void options(void)
         const char *fmt, *key, *value;
     } bad[] = {
         {0, NULL, "leaf_size", "abc"}, {0, NULL, "radius", "abc"}, {0, NULL, "radius_scale", "-1"},
-        {0, NULL, "fields", "residue"}, {0, "raw-particles", "count", "-1"}, {1, NULL, "brick", "3"},
+        {0, NULL, "fields", "bogus"}, {0, "raw-particles", "count", "-1"}, {1, NULL, "brick", "3"},
         {1, NULL, "spacing", "1,x,1"}, {1, NULL, "type", "float64"}, {1, "raw-volume", "size", "2,3"},
         {1, "raw-volume", "endian", "middle"}, {1, NULL, "origin", "1,2"},
     };

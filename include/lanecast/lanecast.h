@@ -529,7 +529,8 @@ typedef struct lc_format_info {
 } lc_format_info;
 
 /* Checks an atom selection, the `select` option of the molecular formats
- * (pdb, gro, xyz, dcd: `lanecast formats` lists who takes it), without a
+ * (pdb, gro, xyz, dcd; lammps and gadget answer type (atom / particle type)
+ * and index: `lanecast formats` lists who takes it), without a
  * file: LC_ERROR_INVALID_ARGUMENT with a message naming the 1-based position
  * of what is wrong. The language (after VMD and MDAnalysis): all, none,
  * protein, backbone, water, ion, solvent, element W..., name W..., resname
