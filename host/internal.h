@@ -23,7 +23,15 @@ struct lc_device {
     lci_pool *pool;
     void *embree; /* RTCDevice, created on first use (bvh/embree.c) */
     char last_error[LCI_MSG_MAX];
+    /* lc_volume_load's progress callback while a reader runs (else NULL) */
+    void (*load_progress)(void *user, float fraction);
+    void *load_progress_user;
+    float load_last; /* the last fraction reported */
 };
+
+/* Reports the fraction (0..1) of the file read to lc_load_desc.progress, when
+ * one is set and the fraction grew by at least 1% (dev may be NULL). */
+void lci_load_progress(lc_device *dev, double fraction);
 
 /* Records an error (device may be NULL), logs it and returns status. */
 lc_status lci_error(lc_device *device, lc_status status, const char *fmt, ...)

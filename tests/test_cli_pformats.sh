@@ -43,6 +43,38 @@ else
     no "render --frames 0:3 -> exit $rc:"; ls "$tmp"; sed 's/^/     /' "$tmp/err"
 fi
 
+# --field-by and --select on a LAMMPS dump of 10 atoms of types 1..10 (issue 11)
+{
+    printf 'ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n10\nITEM: BOX BOUNDS pp pp pp\n0 4\n0 4\n0 4\nITEM: ATOMS id type x y z q\n'
+    for i in 1 2 3 4 5 6 7 8 9 10; do echo "$i $i $((i % 4)) $((i % 3)) 1 0.$((i % 3))"; done
+} >"$tmp/ten.lammpstrj"
+info_has() { # info_has DESCRIPTION PATTERN... -- ARGS: every PATTERN in the info output
+    desc=$1; shift
+    pats=""
+    while [ "$1" != "--" ]; do pats="$pats|$1"; shift; done
+    shift
+    "$exe" info "$tmp/ten.lammpstrj" "$@" >"$tmp/out" 2>"$tmp/err"
+    good=1
+    for p in $(echo "${pats#|}" | tr '|' ' '); do grep -q "^$(echo "$p" | tr '_' ' ')" "$tmp/out" || good=0; done
+    if [ $good -eq 1 ]; then ok "$desc"; else no "$desc:"; sed 's/^/     /' "$tmp/out" "$tmp/err"; fi
+}
+info_has "field_by=type: 10 types in 8 fields" "fields________8" "particles_____10_" -- --option field_by=type
+grep -q "2 atom types above 8 (first '9') share field 7" "$tmp/err" && ok "... with a warning counting the merged types" ||
+    no "no merge warning: $(cat "$tmp/err")"
+info_has "field_by=column:q: 3 distinct values, 3 fields" "fields________3" -- --option field_by=column:q
+info_has "select='type 1 2': 2 atoms" "particles_____2_" -- --option "select=type 1 2"
+info_has "select='index 2:5': 4 atoms" "particles_____4_" -- --option "select=index 2:5"
+bad_opt() { # bad_opt NEEDLE OPTION: exit 1, one line naming the file and NEEDLE
+    "$exe" render "$tmp/ten.lammpstrj" -o "$tmp/bad.png" --size 8x8 "$@" >/dev/null 2>"$tmp/err"
+    rc=$?
+    if [ $rc -eq 1 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "ten.lammpstrj:.*$needle" "$tmp/err" && [ ! -e "$tmp/bad.png" ]
+    then ok "$* -> exit 1: $(cat "$tmp/err")"
+    else no "$* -> exit $rc:"; sed 's/^/     /' "$tmp/err"; fi
+}
+needle="lammps files give no chain identifiers"; bad_opt --field-by chain
+needle="lammps files cannot answer 'resname'"; bad_opt --select 'resname ALA'
+needle="has no such column"; bad_opt --field-by column nosuch
+
 # usage errors: exit 2, one line
 usage() {
     needle=$1; shift

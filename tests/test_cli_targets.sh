@@ -48,5 +48,12 @@ check "unknown command exits 2 (got $(cat "$tmp/rc"))" rc 2
 check "... and says so on stderr" grep -q frobnicate "$tmp/err"
 run "" targets --bogus-option
 check "unknown option of targets exits 2" rc 2
+# every subcommand's --help exits 0 and shows an example (issue 11)
+for sub in render demo targets formats info encode; do
+    run "" $sub --help
+    check "$sub --help exits 0 and contains an example" sh -c "[ $(cat "$tmp/rc") -eq 0 ] && grep -qi example '$tmp/out'"
+done
+run "" --help
+check "lanecast --help contains an example" grep -qi example "$tmp/out"
 [ $fail -eq 0 ] && echo "PASS test_cli_targets" || echo "FAIL test_cli_targets"
 exit $fail

@@ -171,7 +171,7 @@ static void options(void)
         const char *fmt, *key, *value;
     } bad[] = {
         {0, NULL, "leaf_size", "abc"}, {0, NULL, "radius", "abc"}, {0, NULL, "radius_scale", "-1"},
-        {0, NULL, "fields", "residue"}, {0, "raw-particles", "count", "-1"}, {1, NULL, "brick", "3"},
+        {0, NULL, "fields", "bogus"}, {0, "raw-particles", "count", "-1"}, {1, NULL, "brick", "3"},
         {1, NULL, "spacing", "1,x,1"}, {1, NULL, "type", "float64"}, {1, "raw-volume", "size", "2,3"},
         {1, "raw-volume", "endian", "middle"}, {1, NULL, "origin", "1,2"},
     };
@@ -291,6 +291,54 @@ static void optional_features(void)
     lc_tf_destroy(t2);
 }
 
+/* lc_load_desc.progress: fractions in [0, 1], non-decreasing, ending at 1. */
+typedef struct prog {
+    float f[256];
+    int n, bad;
+} prog;
+
+static void on_progress(void *user, float f)
+{
+    prog *p = user;
+    if (p->n > 0 && f < p->f[p->n - 1 < 255 ? p->n - 1 : 255]) p->bad = 1;
+    if (!(f >= 0.0f && f <= 1.0f)) p->bad = 1;
+    if (p->n < 256) p->f[p->n] = f;
+    p->n++;
+}
+
+static void load_progress(void)
+{
+    /* a text file of 40000 lines (the text reader reports every 4096 lines) */
+    FILE *f = fopen(tpath("prog.xyz"), "w");
+    if (!f) return;
+    fprintf(f, "40000\nprogress\n");
+    for (int i = 0; i < 40000; i++) fprintf(f, "C %d %d %d\n", i % 40, (i / 40) % 40, i / 1600);
+    fclose(f);
+    prog p = {.n = 0};
+    lc_volume *v = NULL;
+    lc_status s = lc_volume_load(dev, tpath("prog.xyz"), &(lc_load_desc){.progress = on_progress, .progress_user = &p}, &v);
+    CHECK(s == LC_OK && p.n >= 5 && !p.bad && p.f[0] == 0.0f && p.f[(p.n < 256 ? p.n : 256) - 1] == 1.0f &&
+              p.n <= 110,
+          "progress of a 40000-line XYZ: %d calls, from 0 to 1, non-decreasing", p.n);
+    if (p.n > 2) CHECK(p.f[1] > 0.0f && p.f[1] < 1.0f, "... with a fraction in between (%g)", (double)p.f[1]);
+    lc_volume_destroy(v);
+    /* a raw volume (NRRD + voxels) */
+    unsigned char vox[24] = {0};
+    char buf[sizeof nrrd_head + 24];
+    memcpy(buf, nrrd_head, sizeof nrrd_head - 1);
+    memcpy(buf + sizeof nrrd_head - 1, vox, 24);
+    put("prog.nrrd", buf, sizeof nrrd_head - 1 + 24);
+    memset(&p, 0, sizeof p);
+    s = lc_volume_load(dev, tpath("prog.nrrd"), &(lc_load_desc){.progress = on_progress, .progress_user = &p}, &v);
+    CHECK(s == LC_OK && p.n >= 2 && !p.bad && p.f[p.n - 1] == 1.0f, "progress of a NRRD volume: %d calls ending at 1", p.n);
+    lc_volume_destroy(v);
+    /* a failing load reports no 1 */
+    put("prog_bad.xyz", "2\nc\nC 0 0 0\n", 12);
+    memset(&p, 0, sizeof p);
+    s = lc_volume_load(dev, tpath("prog_bad.xyz"), &(lc_load_desc){.progress = on_progress, .progress_user = &p}, &v);
+    CHECK(s == LC_ERROR_FORMAT && (p.n == 0 || p.f[p.n - 1] < 1.0f), "a failing load never reports 1 (%d calls)", p.n);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 3) {
@@ -303,6 +351,7 @@ int main(int argc, char **argv)
     detection();
     options();
     optional_features();
+    load_progress();
     char p[1024];
     struct stat st;
     snprintf(p, sizeof p, "%s/particles/1tii.pdb", argv[1]);

@@ -36,7 +36,7 @@ static const lc_particles_desc *read_gro(const char *path, int64_t frame, const 
 {
     memset(l, 0, sizeof *l);
     lc_load_desc d = {.frame = frame, .options = o, .noptions = n};
-    lci_read_args a = {path, &d, o, n};
+    lci_read_args a = {path, &d, o, n, NULL};
     return lci_format_gro.read(dev, &a, l) == LC_OK ? l->desc : NULL;
 }
 
@@ -105,12 +105,19 @@ static void options(void)
               d->fields[3] == 0,
           "radius_scale = 0.5, fields = element: O field 0, H field 1");
     lci_loaded_free(&l);
-    lc_option bad[] = {{"fields", "residue"}};
+    lc_option bad[] = {{"fields", "bogus"}};
     lc_volume *v = NULL;
     CHECK(lc_volume_load(dev, tpath("six.gro"), &(lc_load_desc){.options = bad, .noptions = 1}, &v) ==
                   LC_ERROR_INVALID_ARGUMENT &&
               strstr(lc_last_error(), "fields"),
-          "fields = residue fails naming the key: %s", lc_last_error());
+          "fields = bogus fails naming the key: %s", lc_last_error());
+    lc_option byres[] = {{"field_by", "residue"}};
+    lc_particles_info pi = {0};
+    CHECK(lc_volume_load(dev, tpath("six.gro"), &(lc_load_desc){.options = byres, .noptions = 1}, &v) == LC_OK &&
+              lc_particles_get_info(v, &pi) == LC_OK && pi.nfields >= 1,
+          "field_by = residue loads a .gro (%d fields by residue name)", pi.nfields);
+    lc_volume_destroy(v);
+    v = NULL;
     /* gzip: written without zlib (stored blocks) */
     CHECK(gzs_write(tpath("six.gro.gz"), six, strlen(six)) == 0, "write six.gro.gz");
     lc_status st = lc_volume_load(dev, tpath("six.gro.gz"), NULL, &v);

@@ -61,7 +61,7 @@ static const lc_particles_desc *read_with(const lci_format *fmt, const char *pat
 {
     memset(l, 0, sizeof *l);
     lc_load_desc d = {.frame = frame, .companion = companion, .options = o, .noptions = n};
-    lci_read_args a = {path, &d, o, n};
+    lci_read_args a = {path, &d, o, n, NULL};
     return fmt->read(dev, &a, l) == LC_OK ? l->desc : NULL;
 }
 

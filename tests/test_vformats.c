@@ -51,7 +51,7 @@ static const void *read_with(const lci_format *fmt, const char *path, int64_t fr
 {
     memset(l, 0, sizeof *l);
     lc_load_desc d = {.frame = frame, .options = o, .noptions = n};
-    lci_read_args a = {path, &d, o, n};
+    lci_read_args a = {path, &d, o, n, NULL};
     return fmt->read && fmt->read(dev, &a, l) == LC_OK ? l->desc : NULL;
 }
 

@@ -14,11 +14,15 @@ static const char help[] =
     "  --raw-particles N     INPUT holds exactly N little-endian float32 xyz triples (needs --radius)\n"
     "  --radius R            radius of every particle (default: covalent radius by element)\n"
     "  --radius-scale S      multiply element radii by S\n"
-    "  --fields MODE         none (one field), element (one field per element, up to 8), cpk\n"
-    "                        (fields by element class: C, N, O, S, P, H, other, and solvent) or\n"
-    "                        type (LAMMPS: atom type T is field T-1; GADGET: each particle type\n"
-    "                        present, the default there)\n"
-    "  --select EXPR         read only the atoms EXPR selects (PDB, GRO, XYZ, DCD with its PSF): all,\n"
+    "  --field-by MODE       field ids from an attribute: none (one field), element (one field per\n"
+    "                        element), cpk (by element class: C, N, O, S, P, H, other, and solvent),\n"
+    "                        type (atom type: PDB/mmCIF/GRO/PSF; LAMMPS: type T is field T-1;\n"
+    "                        GADGET/HDF5: each particle type present, the default there), chain,\n"
+    "                        residue (residue name), or column NAME (a LAMMPS or CSV column, numbers\n"
+    "                        or words); values beyond the 8th share field 7 (with a warning); a\n"
+    "                        format without the attribute fails naming it. --fields is the same\n"
+    "  --select EXPR         read only the atoms EXPR selects (PDB, GRO, XYZ, DCD with its PSF; LAMMPS\n"
+    "                        and GADGET: type T... (atom / particle type) and index A:B): all,\n"
     "                        protein, backbone, water, ion, solvent, element C N O, name CA, resname\n"
     "                        ALA, chain A, segid PROA, type CT1, index 0:999, resid 10:20, joined by\n"
     "                        and, or, not and parentheses; words may end in * (prefix)\n"
@@ -56,7 +60,7 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     const char *a = argv[*i], *v;
     static const char *const flags[] = {"--raw-particles", "--radius", "--radius-scale", "--fields", "--drop-invalid",
                                         "--leaf",          "--sigma",  "--kappa",        "--spheres", "--buffer",
-                                        "--value",         "--knn",    "--types",        "--select"};
+                                        "--value",         "--knn",    "--types",        "--select",  "--field-by"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -75,9 +79,20 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
         if (arg_float(cmd, a, v, 1e-30f, 1e30f, &f)) return -1;
         return cli_load_add(load, cmd, a[8] ? "radius_scale" : "radius", v) ? -1 : 1;
     }
-    if (!strcmp(a, "--fields")) {
-        if (strcmp(v, "element") && strcmp(v, "none") && strcmp(v, "type") && strcmp(v, "cpk")) {
-            fprintf(stderr, "%s: --fields: '%s' is not none, element, cpk or type\n", cmd, v);
+    if (!strcmp(a, "--fields") || !strcmp(a, "--field-by")) { /* --fields: the older name */
+        static const char *const modes[] = {"none", "element", "cpk", "type", "chain", "residue"};
+        int ok = 0;
+        for (size_t k = 0; k < sizeof modes / sizeof modes[0]; k++) ok |= !strcmp(v, modes[k]);
+        char col[1024];
+        if (!strcmp(v, "column")) { /* column NAME */
+            const char *name = arg_value(cmd, argc, argv, i);
+            if (!name) return -1;
+            snprintf(col, sizeof col, "column:%s", name);
+            v = col, ok = 1;
+        } else if (!strncmp(v, "column:", 7) && v[7])
+            ok = 1;
+        if (!ok) {
+            fprintf(stderr, "%s: %s: '%s' is not none, element, cpk, type, chain, residue or column NAME\n", cmd, a, v);
             return -1;
         }
         fields_given = 1;
@@ -119,6 +134,7 @@ static int defaults(const char *cmd, cli_load *load, const char *format_options,
 {
     const char *p = format_options ? strstr(format_options, "select") : NULL;
     if (fields_given || tf_given || !p || (p[6] && p[6] != ' ')) return 0;
+    if (strstr(format_options, "value")) return 0; /* LAMMPS, GADGET take select too but are not molecules */
     cpk = 1;
     return cli_load_add(load, cmd, "fields", "cpk");
 }

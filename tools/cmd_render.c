@@ -83,8 +83,9 @@ static const char render_help[] =
     "  --threads N           worker threads (default: all CPUs)\n"
     "  --tile N              tile side in pixels (default 32)\n"
     "  --stats               print load, build and render times and counters\n"
-    "  --progress            progress on stderr, one line updated in place, for loading and BVH\n"
-    "                        builds (elapsed time) and renders (a bar) that take over a second\n"
+    "  --progress            progress on stderr, one line updated in place, for reading (a bar:\n"
+    "                        the part of the file read), BVH builds (elapsed time) and renders\n"
+    "                        (a bar) that take over a second\n"
     "                        (default when stderr is a terminal)\n"
     "  --quiet               print nothing but errors (and no progress)\n"
     "  example: lanecast render embryo.nhdr -o embryo.png --size 2048x2048 --stats --threads 8\n"
@@ -480,8 +481,9 @@ static void render_progress(void *user, float f)
     p->shown = 1;
 }
 
-/* Loading and BVH builds report no fraction: a thread shows the elapsed
- * time after the first second. */
+/* Loading reports the fraction of the file read (lc_load_desc.progress);
+ * building the volume (its BVH) none. A thread shows, after the first
+ * second, a bar while reading and the elapsed time while building. */
 typedef struct load_ticker {
     pthread_t thread;
     pthread_mutex_t mu;
@@ -489,7 +491,17 @@ typedef struct load_ticker {
     int done, started;
     const char *what;
     double t0;
+    float fraction; /* of the file read; -1 = none reported yet */
 } load_ticker;
+
+static void load_progress(void *user, float f)
+{
+    load_ticker *t = user;
+    if (!t->started) return;
+    pthread_mutex_lock(&t->mu);
+    t->fraction = f;
+    pthread_mutex_unlock(&t->mu);
+}
 
 static void *ticker_main(void *arg)
 {
@@ -504,8 +516,17 @@ static void *ticker_main(void *arg)
         if (until.tv_nsec >= 1000000000L) until.tv_sec++, until.tv_nsec -= 1000000000L;
         pthread_cond_timedwait(&t->cv, &t->mu, &until);
         double el = now_seconds() - t->t0;
-        if (!t->done && el >= 1.0) {
-            fprintf(stderr, "\r%c loading and building %s  %.1f s", spin[k++ & 3], t->what, el);
+        if (!t->done && el >= 1.0 && t->fraction >= 0.0f && t->fraction < 1.0f) {
+            char bar[31];
+            int n = (int)(30.0f * t->fraction);
+            for (int i = 0; i < 30; i++) bar[i] = i < n ? '#' : '.';
+            bar[30] = '\0';
+            fprintf(stderr, "\r\033[Kreading %s [%s] %3d%%", t->what, bar, (int)(100.0f * t->fraction));
+            fflush(stderr);
+            shown = 1;
+        } else if (!t->done && el >= 1.0) {
+            fprintf(stderr, "\r\033[K%c %s %s  %.1f s", spin[k++ & 3], t->fraction >= 1.0f ? "building" : "loading and building",
+                    t->what, el);
             fflush(stderr);
             shown = 1;
         }
@@ -521,6 +542,7 @@ static void ticker_start(load_ticker *t, const char *what, int on)
     if (!on) return;
     t->what = what;
     t->t0 = now_seconds();
+    t->fraction = -1.0f;
     pthread_mutex_init(&t->mu, NULL);
     pthread_cond_init(&t->cv, NULL);
     t->started = pthread_create(&t->thread, NULL, ticker_main, t) == 0;
@@ -654,10 +676,11 @@ static lc_status load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, 
     if (demo) {
         s = cli_demo_scene(dev, vol, o->tf || o->colormap || o->nopacity ? NULL : tf);
     } else {
-        lc_load_desc ld = {.format = o->load.format, .companion = o->topology, .frame = frame,
-                           .options = o->load.opt, .noptions = o->load.n};
         load_ticker tk;
         ticker_start(&tk, o->input, o->progress);
+        lc_load_desc ld = {.format = o->load.format, .companion = o->topology, .frame = frame,
+                           .options = o->load.opt, .noptions = o->load.n,
+                           .progress = tk.started ? load_progress : NULL, .progress_user = &tk};
         s = lc_volume_load(dev, o->input, &ld, vol);
         ticker_stop(&tk);
     }

@@ -29,6 +29,8 @@ static const char usage[] =
     "  LANECAST_TARGET       force a target: scalar, sse4, avx2, avx512, avx512_8 or auto\n"
     "  LANECAST_THREADS      worker threads (default: all online CPUs)\n"
     "\n"
+    "example: lanecast render 1tii.pdb -o 1tii.png   (every command's --help has more)\n"
+    "\n"
     "exit status: 0 ok, 1 bad input or failed work, 2 bad usage\n";
 
 int main(int argc, char **argv)

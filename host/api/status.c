@@ -73,3 +73,12 @@ void *lci_aligned_alloc(size_t align, size_t bytes)
 }
 
 void lci_aligned_free(void *p) { free(p); }
+
+void lci_load_progress(lc_device *device, double fraction)
+{
+    if (!device || !device->load_progress) return;
+    float f = fraction < 0.0 ? 0.0f : fraction > 1.0 ? 1.0f : (float)fraction;
+    if (f < device->load_last + 0.01f) return;
+    device->load_last = f;
+    device->load_progress(device->load_progress_user, f);
+}

@@ -41,6 +41,7 @@ lc_status lci_bin_read(lci_bin *b, int64_t off, void *dst, size_t n, const char 
     if (fseeko(b->f, (off_t)off, SEEK_SET) != 0 || fread(dst, 1, n, b->f) != n)
         return lci_error(b->dev, LC_ERROR_IO, "%s: byte %lld: read error in %s: %s", b->path, (long long)off, what,
                          strerror(errno));
+    if (n >= 4096) lci_load_progress(b->dev, (double)(off + (int64_t)n) / (double)b->size);
     return LC_OK;
 }
 

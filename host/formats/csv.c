@@ -84,6 +84,8 @@ static lc_status parse_opts(lc_device *dev, const lci_read_args *a, copts *o)
     if (s == LC_OK && (x = lci_option_find(a, "knn"))) s = lci_option_int(dev, a->path, x, 1, 1024, &o->knn);
     if ((x = lci_option_find(a, "value"))) o->value = x->value;
     if ((x = lci_option_find(a, "fields"))) o->fields = x->value;
+    if (o->fields && !strncmp(o->fields, "column:", 7)) o->fields += 7; /* field_by = column:NAME */
+    else if (o->fields && !strcmp(o->fields, "type")) o->fields = NULL; /* the type (or field) column */
     return s;
 }
 

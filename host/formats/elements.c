@@ -37,12 +37,19 @@ lc_status lci_atom_options(lc_device *dev, const lci_read_args *a, lci_atom_opts
     if ((x = lci_option_find(a, "radius"))) s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius);
     if (s == LC_OK && (x = lci_option_find(a, "radius_scale")))
         s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius_scale);
+    o->format = a->format ? a->format : "molecular";
     if (s == LC_OK && (x = lci_option_find(a, "fields"))) {
-        if (!strcmp(x->value, "element")) o->fields_by_element = 1;
-        else if (!strcmp(x->value, "cpk")) o->cpk = 1;
-        else if (strcmp(x->value, "none"))
-            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected none, element or cpk",
-                          a->path, x->value);
+        lci_field_by by;
+        const char *col;
+        if (lci_field_by_parse(x->value, &by, &col))
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                          "%s: option fields = '%s', expected none, element, cpk, type, chain or residue", a->path, x->value);
+        else if (by == LCI_BY_COLUMN)
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: fields by column '%s': %s files have no per-atom columns "
+                          "to map (use element, type, chain or residue)", a->path, col, o->format);
+        o->fields_by_element = by == LCI_BY_ELEMENT;
+        o->cpk = by == LCI_BY_CPK;
+        if (by == LCI_BY_TYPE || by == LCI_BY_CHAIN || by == LCI_BY_RESIDUE) o->by_attr = by;
     }
     if (s == LC_OK && (x = lci_option_find(a, "select"))) {
         char what[512];
@@ -68,16 +75,19 @@ static float radius_for(lci_atoms *p, const char *sym)
     return rad * (p->o.radius_scale > 0.0f ? p->o.radius_scale : 1.0f);
 }
 
-static uint8_t field_of(lci_atoms *p, const char *sym)
+static uint8_t field_of(lci_atoms *p, const char *sym, const lci_atom_attr *attr)
 {
-    if (!p->o.fields_by_element) return 0;
-    for (int i = 0; i < p->nnames; i++)
-        if (!strcasecmp(p->names[i], sym)) return (uint8_t)i;
-    if (p->nnames < LC_MAX_FIELDS) {
-        snprintf(p->names[p->nnames], sizeof p->names[0], "%s", sym);
-        return (uint8_t)p->nnames++;
+    if (p->o.fields_by_element) return (uint8_t)lci_fieldmap_id(&p->fm, sym, 1);
+    if (!p->o.by_attr) return 0;
+    const char *v = !attr                               ? NULL
+                     : p->o.by_attr == LCI_BY_TYPE      ? attr->type
+                     : p->o.by_attr == LCI_BY_CHAIN     ? attr->chain
+                                                        : attr->resname;
+    if (!v) {
+        p->field_missing++;
+        return 0;
     }
-    return LC_MAX_FIELDS - 1;
+    return (uint8_t)lci_fieldmap_id(&p->fm, v, p->o.by_attr != LCI_BY_CHAIN);
 }
 
 static int cpk_class(const char *sym)
@@ -120,7 +130,7 @@ int lci_atoms_add_attr(lci_atoms *p, float x, float y, float z, const char *sym,
     }
     p->xyz[3 * p->n] = x, p->xyz[3 * p->n + 1] = y, p->xyz[3 * p->n + 2] = z;
     p->r[p->n] = radius_for(p, sym);
-    p->field[p->n] = field_of(p, sym);
+    p->field[p->n] = field_of(p, sym, attr);
     if (p->o.cpk) {
         const char *res = attr ? attr->resname : NULL;
         int solv = res && (lci_resname_water(res) || lci_resname_ion(res));
@@ -139,6 +149,7 @@ void lci_atoms_free(lci_atoms *p)
     free(p->field);
     free(p->solvent);
     lci_select_free(p->sel);
+    lci_fieldmap_free(&p->fm);
     p->xyz = p->r = NULL;
     p->field = p->solvent = NULL;
     p->sel = NULL;
@@ -156,6 +167,15 @@ lc_status lci_atoms_finish(lc_device *dev, const char *path, lc_status s, lci_at
                       : !strcmp(p->sel_missing, "type")    ? "atom types"
                       : !strcmp(p->sel_missing, "resid")   ? "residue numbers"
                                                            : "residue names");
+    if (s == LC_OK && p->field_missing)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: fields by %s: this %s file gives no %s (%d atoms without)", path,
+                      lci_field_by_name(p->o.by_attr), p->o.format,
+                      p->o.by_attr == LCI_BY_TYPE    ? "atom types"
+                      : p->o.by_attr == LCI_BY_CHAIN ? "chain identifiers"
+                                                     : "residue names",
+                      p->field_missing);
+    if (s == LC_OK)
+        lci_fieldmap_warn(dev, path, p->o.fields_by_element ? "element" : lci_field_by_name(p->o.by_attr), &p->fm);
     if (s == LC_OK && p->o.select[0] && p->n == 0)
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s' matches none of the %zu atoms", path,
                       p->o.select, p->seen);
@@ -181,9 +201,10 @@ lc_status lci_atoms_finish(lc_device *dev, const char *path, lc_status s, lci_at
     d->positions = p->xyz;
     d->radii = p->r;
     d->fields = p->field;
-    d->nfields = p->o.fields_by_element || p->o.cpk ? (p->nnames ? p->nnames : 1) : 1;
+    d->nfields = p->o.cpk ? (p->nnames ? p->nnames : 1) : p->fm.n ? p->fm.n : 1;
     free(p->solvent);
     lci_select_free(p->sel);
+    lci_fieldmap_free(&p->fm);
     p->solvent = NULL;
     p->sel = NULL;
     out->desc = d;

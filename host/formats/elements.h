@@ -7,6 +7,7 @@
 
 #include "host/formats/format.h"
 #include "host/formats/select.h"
+#include "host/formats/fieldmap.h"
 
 #define LCI_DEFAULT_RADIUS 1.5f /* of an element not in the table */
 
@@ -14,7 +15,8 @@
 float lci_element_radius(const char *sym);
 
 /* The options every molecular format takes: radius, radius_scale, fields
- * (none, element or cpk) and select (select.h). fields = cpk gives fixed
+ * (alias field_by: none, element, cpk, type, chain or residue; distinct values
+ * beyond 8 share field 7, with a warning) and select (select.h). fields = cpk gives fixed
  * fields by element class: 0 C, 1 N, 2 O, 3 S, 4 P, 5 H, 6 any other
  * element, and 7 solvent (water and ions by residue name, any element) when
  * the atoms read hold something besides solvent; nfields = 1 + the largest
@@ -25,6 +27,8 @@ typedef struct lci_atom_opts {
     float radius_scale; /* > 0: scales the element radii */
     int fields_by_element;
     int cpk;
+    lci_field_by by_attr; /* LCI_BY_TYPE, _CHAIN, _RESIDUE: fields by that attribute; else NONE */
+    const char *format;   /* for messages */
     char select[1024];  /* "" = every atom */
 } lci_atom_opts;
 
@@ -35,8 +39,9 @@ typedef struct lci_atoms {
     float *xyz, *r;
     uint8_t *field;
     size_t n, cap;
-    char names[LC_MAX_FIELDS][16]; /* element of each field (fields_by_element) */
-    int nnames;
+    lci_fieldmap fm;               /* element or attribute of each field */
+    int nnames;                    /* fields used (cpk) */
+    int field_missing;             /* atoms without the attribute fields are by */
     lci_atom_opts o;
     int unknown;                   /* atoms whose element is not in the table */
     char first_unknown[16];

@@ -17,6 +17,7 @@ typedef struct lci_read_args {
     const lc_load_desc *desc; /* never NULL */
     const lc_option *options;
     int noptions;
+    const char *format; /* the format's name (NULL from tests calling a reader directly) */
 } lci_read_args;
 
 /* What a reader returns: the kind's descriptor (lc_particles_desc,

@@ -14,7 +14,9 @@
  *
  * Format 1 names blocks by their position in that order; format 2 by label.
  * Particle types become fields (the f-th type present and chosen is field
- * f; `fields = none`: one field); `types = 0,1` picks types. Radius: the gas
+ * f; `fields = none`: one field); `types = 0,1` picks types; `select`
+ * takes `type T...` (particle types) and `index A:B` (over the file's
+ * particles, types in order). Radius: the gas
  * smoothing length (HSML) when present, else the distance to the k-th
  * nearest particle of the same type (`knn = K`, default 32, like GADGET's
  * neighbour number); `radius = R` for all; `radius_scale` scales.
@@ -199,6 +201,7 @@ static lc_status reals(gsnap *g, const gblock *k, int64_t first, int64_t n, floa
 typedef struct gopts {
     int types[6], types_given, by_type, value, knn;
     float radius, radius_scale;
+    lci_psel sel;
 } gopts;
 
 static lc_status parse_opts(lc_device *dev, const lci_read_args *a, gopts *o)
@@ -213,7 +216,12 @@ static lc_status parse_opts(lc_device *dev, const lci_read_args *a, gopts *o)
         s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius_scale);
     if (s == LC_OK && (x = lci_option_find(a, "knn"))) s = lci_option_int(dev, a->path, x, 1, 1024, &o->knn);
     if (s == LC_OK && (x = lci_option_find(a, "fields"))) {
+        lci_field_by by;
+        const char *c;
         if (!strcmp(x->value, "none")) o->by_type = 0;
+        else if (strcmp(x->value, "type") && lci_field_by_parse(x->value, &by, &c) == 0)
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: fields by %s: gadget files give only particle types "
+                          "(fields = type or none)", a->path, x->value);
         else if (strcmp(x->value, "type"))
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected type or none", a->path,
                           x->value);
@@ -244,6 +252,7 @@ static lc_status parse_opts(lc_device *dev, const lci_read_args *a, gopts *o)
     }
     if (!o->types_given)
         for (int t = 0; t < 6; t++) o->types[t] = 1;
+    if (s == LC_OK) s = lci_psel_open(dev, a, &o->sel);
     return s;
 }
 
@@ -334,12 +343,27 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
             for (int64_t i = 0; i < n; i++) v[i] = 1.0f;
         }
         for (int64_t i = 0; i < n; i++) p.f[base + (size_t)i] = (uint8_t)(o.by_type ? nfields : 0);
+        if (o.sel.sel) { /* select: type = the particle type, index over the file's particles */
+            char ty[2] = {(char)('0' + t), 0};
+            lci_atom_attr attr = {.type = ty};
+            size_t w = base;
+            for (int64_t i = 0; i < n; i++) {
+                size_t q = base + (size_t)i;
+                if (!lci_psel_keep(&o.sel, (size_t)(first + i), NULL, &attr)) continue;
+                memmove(p.xyz + 3 * w, p.xyz + 3 * q, 3 * sizeof(float));
+                p.r[w] = p.r[q], p.v[w] = p.v[q], p.f[w] = p.f[q];
+                w++;
+            }
+            n = (int64_t)(w - base);
+            if (n == 0) continue; /* no field for a type the selection left empty */
+        }
         p.n += (size_t)n;
         nfields++;
     }
     if (g.num_files > 1)
         lci_log(dev, LC_LOG_INFO, "%s: one file of a %d-file snapshot (its own particles only)", a->path, g.num_files);
 out:
+    s = lci_psel_close(dev, a, &o.sel, p.n, s);
     lci_bin_close(&g.b);
     return lci_plist_finish(dev, a->path, s, &p, o.by_type ? nfields : 1, o.value != V_NONE, out);
 }
@@ -356,7 +380,7 @@ static int gadget_magic(const unsigned char *h, size_t n)
 
 const lci_format lci_format_gadget = {
     .name = "gadget", .kind = LC_KIND_PARTICLES, .extensions = ".gadget .g2",
-    .options = "radius radius_scale fields value types knn",
+    .options = "radius radius_scale fields value types knn select",
     .description = "GADGET-1/2 snapshot, format 1 or 2, either byte order: types as fields, radius = HSML or the k-th "
                    "neighbour distance, value = none|mass|u|rho|hsml",
     .magic = gadget_magic, .read = gadget_read};

@@ -320,6 +320,7 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, const 
         }
         if (ds >= 0) H5Dclose(ds);
         H5Gclose(g);
+        lci_load_progress(dev, (t + 1) / 6.0); /* by particle type: libhdf5 reads each dataset in one call */
     }
     if (s == LC_OK && !any)
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: no particles in the chosen PartTypeN groups%s", path,

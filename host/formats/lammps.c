@@ -11,8 +11,11 @@
  * xsu ysu zsu), which map through the box: orthogonal x = xlo + xs (xhi -
  * xlo); triclinic boxes (bounds lines with a tilt) through the box matrix,
  * with the bounding-box corners turned back into xlo..xhi as the manual
- * shows. Options: `fields = type` (field = type - 1, types 1..8), `element`
- * (by an element column) or `none` (the default); `value = COLUMN` takes any
+ * shows. Options: `fields` (alias field_by) = `type` (field = type - 1; types
+ * above 8 share field 7, with a warning), `element` (by an element column),
+ * `column:NAME` (any column's distinct values, the first 8 as fields) or
+ * `none` (the default); `select` (type = atom type, index; element with an
+ * element column); `value = COLUMN` takes any
  * per-atom column as k_i; radius from the `radius` option, else a radius
  * column, else a diameter column (halved), else the element column's
  * covalent radius, else 0.5 (LJ sigma = 1). `radius_scale` scales them.
@@ -34,8 +37,10 @@
 
 typedef struct opts {
     float radius, radius_scale;
-    int fields; /* 0 none, 1 type, 2 element */
-    const char *value;
+    int fields; /* 0 none, 1 type, 2 element, 3 column */
+    const char *value, *column;
+    lci_psel sel;
+    lci_fieldmap fm;
 } opts;
 
 typedef struct frame_head {
@@ -171,7 +176,7 @@ static lc_status skip_atoms(lci_text *t, const frame_head *h)
     return LC_OK;
 }
 
-static lc_status read_atoms(lci_text *t, const frame_head *h, const opts *o, lci_plist *p, int *nfields)
+static lc_status read_atoms(lci_text *t, const frame_head *h, opts *o, lci_plist *p, int *nfields)
 {
     int c[3], scaled = 0;
     static const char *const sets[4][3] = {{"x", "y", "z"}, {"xu", "yu", "zu"}, {"xs", "ys", "zs"}, {"xsu", "ysu", "zsu"}};
@@ -198,6 +203,10 @@ static lc_status read_atoms(lci_text *t, const frame_head *h, const opts *o, lci
     if (o->fields == 1 && ctype < 0)
         return lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: fields = type, but ITEM: ATOMS has no type column", t->path,
                          h->atoms_line);
+    int ccol = o->column ? col(h, o->column) : -1;
+    if (o->fields == 3 && ccol < 0)
+        return lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: fields by column '%s', but ITEM: ATOMS has no such column",
+                         t->path, h->atoms_line, o->column);
     if (o->fields == 2 && cel < 0)
         return lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: fields = element, but ITEM: ATOMS has no element column",
                          t->path, h->atoms_line);
@@ -211,8 +220,7 @@ static lc_status read_atoms(lci_text *t, const frame_head *h, const opts *o, lci
         hi[1] -= fmax(0.0, yz);
     }
     double len[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
-    char names[LC_MAX_FIELDS][8];
-    int nnames = 0, maxf = 0;
+    int maxf = 0, merged_types = 0;
     if (lci_plist_reserve(p, (size_t)(h->natoms < 65536 ? h->natoms : 65536)))
         return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->path);
     for (long long i = 0; i < h->natoms; i++) {
@@ -227,6 +235,8 @@ static lc_status read_atoms(lci_text *t, const frame_head *h, const opts *o, lci
         if (n != h->ncols)
             return lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: atom %lld has %d columns, ITEM: ATOMS on line %ld names %d",
                              t->path, t->lineno, i + 1, n, h->atoms_line, h->ncols);
+        lci_atom_attr attr = {.type = ctype >= 0 ? tok[ctype] : NULL};
+        if (!lci_psel_keep(&o->sel, (size_t)i, cel >= 0 ? tok[cel] : NULL, &attr)) continue;
         double x[3];
         for (int a = 0; a < 3; a++) {
             float f;
@@ -264,21 +274,31 @@ static lc_status read_atoms(lci_text *t, const frame_head *h, const opts *o, lci
         if (o->fields == 1) {
             char *end;
             long ty = strtol(tok[ctype], &end, 10);
-            if (*end || ty < 1 || ty > LC_MAX_FIELDS)
-                return lci_error(t->dev, LC_ERROR_FORMAT,
-                                 "%s:%ld: atom type '%s' with fields = type: expected 1 to %d (one field per type)",
-                                 t->path, t->lineno, tok[ctype], LC_MAX_FIELDS);
+            if (*end || ty < 1)
+                return lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: atom type '%s' with fields = type: expected an integer >= 1",
+                                 t->path, t->lineno, tok[ctype]);
+            if (ty > LC_MAX_FIELDS) { /* shares the last field */
+                (void)lci_fieldmap_id(&o->fm, tok[ctype], 0); /* counts the distinct ones */
+                merged_types++;
+                ty = LC_MAX_FIELDS;
+            }
             f = (int)ty - 1;
         } else if (o->fields == 2) {
-            for (f = 0; f < nnames && strcasecmp(names[f], tok[cel]); f++) {}
-            if (f == nnames && nnames < LC_MAX_FIELDS) snprintf(names[nnames++], sizeof names[0], "%s", tok[cel]);
-            if (f >= LC_MAX_FIELDS) f = LC_MAX_FIELDS - 1;
+            f = lci_fieldmap_id(&o->fm, tok[cel], 1);
+        } else if (o->fields == 3) {
+            f = lci_fieldmap_id(&o->fm, tok[ccol], 0);
         }
         if (f + 1 > maxf) maxf = f + 1;
         if (lci_plist_add(p, (float)x[0], (float)x[1], (float)x[2], r, v, (uint8_t)f))
             return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", t->path, t->lineno);
     }
     *nfields = maxf;
+    if (merged_types) /* o->fm counted the distinct types above 8 */
+        lci_log(t->dev, LC_LOG_WARNING, "%s: fields by type: %d atom types above %d (first '%s') share field %d with type %d (%d atoms)",
+                t->path, o->fm.n + o->fm.nextra, LC_MAX_FIELDS, o->fm.names[0], LC_MAX_FIELDS - 1, LC_MAX_FIELDS,
+                merged_types);
+    else if (o->fields >= 2)
+        lci_fieldmap_warn(t->dev, t->path, o->fields == 2 ? "element" : o->column, &o->fm);
     return LC_OK;
 }
 
@@ -291,12 +311,19 @@ static lc_status parse_opts(lc_device *dev, const lci_read_args *a, opts *o)
     if (s == LC_OK && (x = lci_option_find(a, "radius_scale")))
         s = lci_option_float(dev, a->path, x, 1e-30f, 1e30f, &o->radius_scale);
     if (s == LC_OK && (x = lci_option_find(a, "fields"))) {
-        if (!strcmp(x->value, "type")) o->fields = 1;
-        else if (!strcmp(x->value, "element")) o->fields = 2;
-        else if (strcmp(x->value, "none"))
-            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected none, type or element",
-                          a->path, x->value);
+        lci_field_by by;
+        if (lci_field_by_parse(x->value, &by, &o->column) == 0 && by != LCI_BY_CPK && by != LCI_BY_CHAIN &&
+            by != LCI_BY_RESIDUE)
+            o->fields = by == LCI_BY_TYPE ? 1 : by == LCI_BY_ELEMENT ? 2 : by == LCI_BY_COLUMN ? 3 : 0;
+        else if (lci_field_by_parse(x->value, &by, &o->column) == 0)
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: fields by %s: lammps files give no %s (they give type, "
+                          "element with an element column, and column:NAME)", a->path, x->value,
+                          by == LCI_BY_CHAIN ? "chain identifiers" : by == LCI_BY_RESIDUE ? "residue names" : "element classes");
+        else
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected none, type, element or "
+                          "column:NAME", a->path, x->value);
     }
+    if (s == LC_OK) s = lci_psel_open(dev, a, &o->sel);
     if (s == LC_OK && (x = lci_option_find(a, "value"))) o->value = x->value;
     return s;
 }
@@ -332,6 +359,8 @@ static lc_status lammps_read(lc_device *dev, const lci_read_args *a, lci_loaded 
         break;
     }
     lci_text_close(&t);
+    s = lci_psel_close(dev, a, &o.sel, p.n, s);
+    lci_fieldmap_free(&o.fm);
     return lci_plist_finish(dev, a->path, s, &p, o.fields ? nfields : 1, o.value != NULL, out);
 }
 
@@ -363,7 +392,7 @@ static int lammps_magic(const unsigned char *h, size_t n)
 
 const lci_format lci_format_lammps = {
     .name = "lammps", .kind = LC_KIND_PARTICLES, .extensions = ".lammpstrj .lammpsdump .dump",
-    .options = "radius radius_scale fields value",
+    .options = "radius radius_scale fields value select",
     .description = "LAMMPS text dump (ITEM: sections; x y z or scaled xs ys zs, orthogonal or triclinic box), frames "
                    "concatenated; fields = type, value = any atom column",
     .magic = lammps_magic, .read = lammps_read, .frames = lammps_frames};

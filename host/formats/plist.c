@@ -1,5 +1,6 @@
 /* Particle lists and nearest-neighbour radii (plist.h). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/formats/plist.h"
@@ -216,4 +217,35 @@ out:
     free(cellof);
     free(heap);
     return rc;
+}
+
+lc_status lci_psel_open(lc_device *dev, const lci_read_args *a, lci_psel *ps)
+{
+    memset(ps, 0, sizeof *ps);
+    const lc_option *x = lci_option_find(a, "select");
+    if (!x) return LC_OK;
+    char what[512];
+    snprintf(what, sizeof what, "%s: select", a->path);
+    ps->expr = x->value;
+    return lci_select_parse(dev, what, x->value, &ps->sel);
+}
+
+int lci_psel_keep(lci_psel *ps, size_t index, const char *element, const lci_atom_attr *attr)
+{
+    ps->seen++;
+    return !ps->sel || lci_select_match(ps->sel, index, element, attr, &ps->missing);
+}
+
+lc_status lci_psel_close(lc_device *dev, const lci_read_args *a, lci_psel *ps, size_t kept, lc_status s)
+{
+    if (s == LC_OK && ps->sel && ps->missing)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s': %s files cannot answer '%s' (they give type and "
+                      "index%s)", a->path, ps->expr, a->format ? a->format : "these", ps->missing,
+                      a->format && !strcmp(a->format, "lammps") ? ", and element with an element column" : "");
+    if (s == LC_OK && ps->sel && kept == 0)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s' matches none of the %zu particles", a->path,
+                      ps->expr, ps->seen);
+    lci_select_free(ps->sel);
+    ps->sel = NULL;
+    return s;
 }

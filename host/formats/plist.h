@@ -6,6 +6,21 @@
 #define LC_HOST_PLIST_H
 
 #include "host/formats/format.h"
+#include "host/formats/select.h"
+#include "host/formats/fieldmap.h"
+
+/* The `select` option for particle formats (LAMMPS: type = atom type, index;
+ * GADGET: type = particle type 0..5, index over the file's particles). */
+typedef struct lci_psel {
+    lci_select *sel; /* NULL: no selection */
+    const char *expr, *missing;
+    size_t seen;
+} lci_psel;
+lc_status lci_psel_open(lc_device *dev, const lci_read_args *a, lci_psel *ps);
+/* 1 keep, 0 drop the particle of this index. */
+int lci_psel_keep(lci_psel *ps, size_t index, const char *element, const lci_atom_attr *attr);
+/* After reading: a keyword the file could not answer, or nothing selected, fails (s kept when not LC_OK). */
+lc_status lci_psel_close(lc_device *dev, const lci_read_args *a, lci_psel *ps, size_t kept, lc_status s);
 
 typedef struct lci_plist {
     float *xyz, *r, *v;

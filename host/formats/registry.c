@@ -175,7 +175,11 @@ static lc_status split_options(lc_device *dev, const char *path, const lci_forma
         const lc_option *o = &d->options[i];
         if (!o->key || !o->value)
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option %d has no key or value", path, i);
-        if (in_list(f->options, o->key, strlen(o->key))) fopts[(*nf)++] = *o;
+        if (!strcmp(o->key, "field_by") && in_list(f->options, "fields", 6)) { /* field_by: the name for fields */
+            fopts[*nf] = *o;
+            fopts[(*nf)++].key = "fields";
+        } else if (in_list(f->options, o->key, strlen(o->key)))
+            fopts[(*nf)++] = *o;
         else if (!in_list(k->option_keys, o->key, strlen(o->key)))
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                              "%s: option '%s' does not apply to %s files (they take: %s%s%s)", path, o->key, f->name,
@@ -217,8 +221,12 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
     lci_loaded l;
     memset(&l, 0, sizeof l);
     if (s == LC_OK) {
-        lci_read_args a = {path, d, fopts, nf};
+        lci_read_args a = {path, d, fopts, nf, f->name};
+        dev->load_progress = d->progress, dev->load_progress_user = d->progress_user, dev->load_last = 0.0f;
+        if (d->progress) d->progress(d->progress_user, 0.0f);
         s = f->read(dev, &a, &l);
+        if (s == LC_OK && d->progress) d->progress(d->progress_user, 1.0f);
+        dev->load_progress = NULL, dev->load_progress_user = NULL;
     }
     for (int i = 0; s == LC_OK && i < d->noptions; i++)
         if (in_list(k->option_keys, d->options[i].key, strlen(d->options[i].key)))
@@ -265,7 +273,7 @@ lc_status lci_read_grid(lc_device *dev, const char *path, const lc_load_desc *de
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to %s files (they take: %s)",
                              path, d->options[i].key ? d->options[i].key : "(null)", f->name, f->options);
     *format = f->name;
-    lci_read_args a = {path, d, d->options, d->noptions};
+    lci_read_args a = {path, d, d->options, d->noptions, f->name};
     s = f->read(dev, &a, out);
     if (s != LC_OK) lci_loaded_free(out);
     return s;

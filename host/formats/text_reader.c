@@ -13,6 +13,20 @@
 #endif
 
 /* 1 if the file starts with the gzip magic, 0 if not, -1 if it cannot be opened. */
+/* Bytes of the file consumed so far (compressed bytes for gzip). */
+static long long consumed(const lci_text *t)
+{
+#if LC_HAVE_ZLIB
+    if (t->gz) return (long long)gzoffset((gzFile)t->gz);
+#endif
+    return t->f ? (long long)ftello(t->f) : 0;
+}
+
+static void report(const lci_text *t)
+{
+    if (t->size > 0) lci_load_progress(t->dev, (double)consumed(t) / (double)t->size);
+}
+
 static int is_gzip(const char *path)
 {
     FILE *f = fopen(path, "rb");
@@ -36,6 +50,9 @@ lc_status lci_text_open(lc_device *dev, const char *path, lci_text *t)
         if (!g) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
         gzbuffer(g, 1 << 18);
         t->gz = g;
+        FILE *f = fopen(path, "rb");
+        if (f && fseeko(f, 0, SEEK_END) == 0) t->size = ftello(f);
+        if (f) fclose(f);
         return LC_OK;
 #else
         return lci_missing(dev, path, "gzip-compressed input", LCI_FEATURE_ZLIB);
@@ -43,6 +60,8 @@ lc_status lci_text_open(lc_device *dev, const char *path, lci_text *t)
     }
     t->f = fopen(path, "rb");
     if (!t->f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (fseeko(t->f, 0, SEEK_END) == 0) t->size = ftello(t->f);
+    rewind(t->f);
     return LC_OK;
 }
 
@@ -79,6 +98,7 @@ int lci_text_line(lci_text *t)
         return 0;
     }
     t->lineno++;
+    if (!(t->lineno & 4095)) report(t);
     size_t len = strlen(t->line);
     if (len == sizeof t->line - 1 && t->line[len - 1] != '\n') {
         lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: line longer than %zu characters", t->path, t->lineno,
@@ -108,6 +128,7 @@ long long lci_text_read(lci_text *t, void *dst, size_t n)
         }
         if (k == 0) break;
         got += k;
+        report(t);
     }
     return (long long)got;
 }

@@ -17,6 +17,7 @@ typedef struct lci_text {
     void *gz;  /* a gzFile when the file is gzip-compressed (LC_HAVE_ZLIB), or NULL */
     char line[LCI_LINE_MAX];
     long lineno; /* of the line in `line`, 1-based */
+    long long size; /* bytes in the file (compressed for gzip), for load progress */
 } lci_text;
 
 /* Opens path (gzip when its first bytes say so); errors name the file. */

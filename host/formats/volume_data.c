@@ -157,9 +157,12 @@ static lc_status inflate_exact(lc_device *dev, const char *file, unsigned char *
 /* Reads exactly `bytes` of voxels from `file` starting at `offset`: raw data
  * must fill the rest of the file exactly; gzip data must inflate to exactly
  * `bytes` and end its stream. */
-static lc_status read_data(lc_device *dev, const char *file, long long offset, int gzip, uint64_t bytes, void *dst)
+static lc_status read_data(lc_device *dev, const char *header, const char *file, long long offset, int gzip,
+                           uint64_t bytes, void *dst)
 {
     FILE *f = fopen(file, "rb");
+    if (!f && strcmp(header, file))
+        return lci_error(dev, LC_ERROR_IO, "%s: its data file %s: cannot open: %s", header, file, strerror(errno));
     if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", file, strerror(errno));
     lc_status s = LC_OK;
     unsigned char *in = NULL;
@@ -173,7 +176,14 @@ static lc_status read_data(lc_device *dev, const char *file, long long offset, i
                       (unsigned long long)avail, (unsigned long long)bytes);
     else if (!gzip) {
         fseeko(f, offset, SEEK_SET);
-        if (fread(dst, 1, bytes, f) != bytes) s = lci_error(dev, LC_ERROR_IO, "%s: read failed: %s", file, strerror(errno));
+        for (uint64_t got = 0; got < bytes && s == LC_OK; ) { /* in pieces, for the load progress */
+            size_t k = bytes - got > (1u << 24) ? (1u << 24) : (size_t)(bytes - got);
+            if (fread((unsigned char *)dst + got, 1, k, f) != k)
+                s = lci_error(dev, LC_ERROR_IO, "%s: byte %llu: read failed: %s", file,
+                              (unsigned long long)(offset + (long long)got), strerror(errno));
+            got += k;
+            lci_load_progress(dev, (double)got / (double)bytes);
+        }
     } else if (!(in = malloc(avail ? avail : 1))) {
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu compressed bytes", file,
                       (unsigned long long)avail);
@@ -283,7 +293,7 @@ lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, 
     if (!data)
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu bytes of voxels", path,
                          (unsigned long long)bytes);
-    lc_status s = read_data(dev, data_path, offset, h->gzip, bytes, data);
+    lc_status s = read_data(dev, path, data_path, offset, h->gzip, bytes, data);
     lc_grid_desc *d = s == LC_OK ? calloc(1, sizeof *d) : NULL; /* copied by the grid, which owns its voxels */
     if (s == LC_OK && !d) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     if (s != LC_OK) {
@@ -291,6 +301,21 @@ lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, 
         return s;
     }
     if (h->big_endian) swap_bytes(data, count, es);
+    if (h->type == LC_VALUE_FLOAT32) /* name the byte of a non-finite value (a wrong byte order shows here) */
+        for (uint64_t i = 0; i < count; i++) {
+            float v;
+            memcpy(&v, (unsigned char *)data + 4 * i, 4);
+            if (isfinite(v)) continue;
+            char where[64];
+            if (h->gzip) snprintf(where, sizeof where, "inflated data byte %llu", (unsigned long long)(4 * i));
+            else snprintf(where, sizeof where, "byte %llu", (unsigned long long)offset + 4 * i);
+            lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s%s: voxel %llu is %g, expected a finite %s-endian float32", path,
+                      strcmp(path, data_path) ? data_path : "", strcmp(path, data_path) ? " " : "", where,
+                      (unsigned long long)i, (double)v, h->big_endian ? "big" : "little");
+            free(d);
+            free(data);
+            return LC_ERROR_FORMAT;
+        }
     for (int a = 0; a < 3; a++) d->size[a] = (int)h->size[a];
     d->type = h->type;
     d->spacing = h->have_spacing ? (lc_vec3){(float)h->spacing[0], (float)h->spacing[1], (float)h->spacing[2]}

@@ -135,9 +135,12 @@ static lc_status walk(lci_text *t, int64_t frame, lci_atoms *p, int64_t *nframes
         lc_status s = frame_body(t, declared, k, p && k == frame ? p : NULL);
         if (s != LC_OK) return s;
         *nframes = k + 1;
-        if (p && k == frame) return LC_OK;
         if ((rc = next_line(t)) < 0) return LC_ERROR_IO;
-        if (rc == 0) break;
+        /* the frame read: the next line must start a frame too (else its count was wrong) */
+        if (rc == 0 || (p && k == frame && count_line(t->line, &declared))) {
+            if (p && k == frame) return LC_OK;
+            break;
+        }
         if (!count_line(t->line, &declared))
             return lci_error(t->dev, LC_ERROR_FORMAT,
                              "%s:%ld: expected the atom count of frame %lld, got '%.*s'; does the count of frame %lld match "

@@ -509,6 +509,13 @@ typedef struct lc_load_desc {
     int64_t frame;         /* trajectory frame, 0 = the first */
     const lc_option *options;
     int noptions;
+    /* Reading progress: called from the loading thread with the fraction of
+     * the file read so far (0..1, non-decreasing, at most about 100 calls;
+     * text files by bytes read, binary ones by the offset reached, volumes by
+     * the voxel bytes read) and once with 1 when reading is done (building
+     * the volume, e.g. its BVH, follows and reports nothing). NULL = none. */
+    void (*progress)(void *user, float fraction);
+    void *progress_user;
 } lc_load_desc;
 
 typedef struct lc_format_info {
@@ -522,7 +529,8 @@ typedef struct lc_format_info {
 } lc_format_info;
 
 /* Checks an atom selection, the `select` option of the molecular formats
- * (pdb, gro, xyz, dcd: `lanecast formats` lists who takes it), without a
+ * (pdb, gro, xyz, dcd; lammps and gadget answer type (atom / particle type)
+ * and index: `lanecast formats` lists who takes it), without a
  * file: LC_ERROR_INVALID_ARGUMENT with a message naming the 1-based position
  * of what is wrong. The language (after VMD and MDAnalysis): all, none,
  * protein, backbone, water, ion, solvent, element W..., name W..., resname
