@@ -203,7 +203,7 @@ static int leaf(ctx *c, int32_t ci, const int32_t *ids, int64_t n, const float l
     cell->count = (int32_t)keep;
     o->nleaves++;
     if (keep == n) {
-        memcpy(o->list + o->nlist, ids, sizeof(int32_t) * (size_t)n);
+        if (n) memcpy(o->list + o->nlist, ids, sizeof(int32_t) * (size_t)n); /* an empty cell may have no list yet */
         o->nlist += n;
         o->max_leaf = n > o->max_leaf ? (int32_t)n : o->max_leaf;
         return 0;
