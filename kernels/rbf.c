@@ -69,21 +69,13 @@ static inline void render_tile(const lc_krbf *s, const lc_kframe *f, const lc_kt
     const int skip_zero = f->zero_transparent && s->bias == 0.0f;
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
-            vint px, py;
-            dvr_packet_pixels(x, y, &px, &py);
+            vint px, py, kf, kl;
+            vray r;
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
-            vmask valid = vm_and(vi_lt(px, vi_set1(t->x1)), vi_lt(py, vi_set1(t->y1)));
-            vray r = dvr_camera_rays(&f->cam, px, py);
-            vfloat t0, t1;
-            dvr_clip_box(&r, s->lo, s->hi, &t0, &t1);
-            valid = vm_and(valid, vf_le(t0, t1));
-            if (s->empty || vm_none(valid)) {
+            if (!rbf_packet_setup(s, f, t, x, y, &px, &py, &r, &kf, &kl, st)) {
                 dvr_store(t, px, py, &col);
                 continue;
             }
-            st->rays += (uint64_t)vm_popcnt(valid);
-            vint kf, kl;
-            dvr_lattice(vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), dt, &kf, &kl);
             int k0 = 1 << 30, k1 = -(1 << 30);
             for (int l = 0; l < LC_W; l++) {
                 if (vi_lane(kf, l) > vi_lane(kl, l)) continue;

@@ -154,21 +154,13 @@ static inline __attribute__((always_inline)) void octree_tile(const lc_krbf *s, 
     const obuf b = {mem, mem + rows, mem + 2 * rows, mem + 3 * rows, (uint8_t *)(mem + 4 * rows)};
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
-            vint px, py;
-            dvr_packet_pixels(x, y, &px, &py);
+            vint px, py, kf, kl;
+            vray r;
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
-            vmask valid = vm_and(vi_lt(px, vi_set1(t->x1)), vi_lt(py, vi_set1(t->y1)));
-            vray r = dvr_camera_rays(&f->cam, px, py);
-            vfloat t0, t1;
-            dvr_clip_box(&r, s->lo, s->hi, &t0, &t1);
-            valid = vm_and(valid, vf_le(t0, t1));
-            if (s->empty || vm_none(valid)) {
+            if (!rbf_packet_setup(s, f, t, x, y, &px, &py, &r, &kf, &kl, st)) {
                 dvr_store(t, px, py, &col);
                 continue;
             }
-            st->rays += (uint64_t)vm_popcnt(valid);
-            vint kf, kl;
-            dvr_lattice(vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), dt, &kf, &kl);
             int32_t kfa[LC_W], kla[LC_W];
             float ro[3][LC_W], rd[3][LC_W];
             vi_store(kfa, kf), vi_store(kla, kl);
