@@ -87,11 +87,35 @@ static inline vfloat gather(const lc_krbf *s, vfloat px, vfloat py, vfloat pz, v
     return phi;
 }
 
-/* One tile, lane-width packets of rays; stack NULL = brute force. */
-static inline void render_tile(const lc_krbf *s, const lc_kframe *f, const lc_ktile *t, int32_t *stack, lc_kstats *st)
+/* The RBF set's point evaluation for the modes (mode.h mprobe): gather
+ * through the BVH, or over every RBF when stack is NULL (brute force), so
+ * each method refines with its own sums. */
+typedef struct rprobe {
+    const lc_krbf *s;
+    int32_t *stack;
+    lc_kstats *st;
+} rprobe;
+
+static inline vfloat rbf_probe(const void *ctx, int fi, vfloat x, vfloat y, vfloat z, vmask m, vgrad *g)
+{
+    const rprobe *p = ctx;
+    vgrad gr;
+    int found;
+    (void)fi;
+    vfloat v = gather(p->s, x, y, z, m, g != NULL, p->stack, &gr.x, &gr.y, &gr.z, &found, p->st);
+    if (g) *g = gr;
+    return v;
+}
+
+/* One tile, lane-width packets of rays; stack NULL = brute force. The sample
+ * loop is specialised per mode (mode = f->mode, a constant at each call). */
+static inline __attribute__((always_inline)) void render_tile_as(const lc_krbf *s, const lc_kframe *f, int mode,
+                                                                 const lc_ktile *t, int32_t *stack, lc_kstats *st)
 {
     const float dt = f->dt;
-    const int shade = f->shade != LC_KSHADE_NONE;
+    const int shade = mode_needs_grad(f);
+    const rprobe pc = {s, stack, st};
+    const mprobe probe = {rbf_probe, &pc};
     /* nothing contributed and w0 = 0: the sample is 0 and, with tau(0) = 0, blends to exactly nothing */
     const int skip_zero = f->zero_transparent && s->bias == 0.0f;
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
@@ -105,10 +129,17 @@ static inline void render_tile(const lc_krbf *s, const lc_kframe *f, const lc_kt
             dvr_clip_box(&r, s->lo, s->hi, &t0, &t1);
             valid = vm_and(valid, vf_le(t0, t1));
             if (s->empty || vm_none(valid)) {
-                dvr_store(t, px, py, &col);
+                mode_store_as(t, mode, px, py, &col, vf_set1(INFINITY));
                 continue;
             }
             st->rays += (uint64_t)vm_popcnt(valid);
+            if (mode == LC_KMODE_SLICE) { /* no lattice: one sample per ray, in mode_finish */
+                mode_slice(f, &r, vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)),
+                           vf_set1(INFINITY), &col);
+                st->samples += (uint64_t)vm_popcnt(vf_gt(col.a, vf_zero()));
+                mode_store_as(t, mode, px, py, &col, mode_finish_as(f, mode, &col, &r, &probe));
+                continue;
+            }
             vint kf, kl;
             dvr_lattice(vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), dt, &kf, &kl);
             int k0 = 1 << 30, k1 = -(1 << 30);
@@ -128,14 +159,22 @@ static inline void render_tile(const lc_krbf *s, const lc_kframe *f, const lc_kt
                 vfloat phi = gather(s, qx, qy, qz, m, shade, stack, &gr.x, &gr.y, &gr.z, &found, st);
                 if (!found && skip_zero) continue;
                 st->samples += (uint64_t)vm_popcnt(m);
-                mode_sample(f, 0, &col, m, phi, shade ? &gr : NULL, &r, NULL);
+                mode_sample_as(f, mode, 0, &col, m, phi, shade ? &gr : NULL, &r, NULL, vi_set1(k), tk, &probe);
                 live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
                 if (vm_none(live)) break;
             }
-            mode_finish(f, &col);
-            dvr_store(t, px, py, &col);
+            vfloat depth = mode_finish_as(f, mode, &col, &r, &probe);
+            mode_store_as(t, mode, px, py, &col, depth);
         }
     }
+}
+
+static void render_tile(const lc_krbf *s, const lc_kframe *f, const lc_ktile *t, int32_t *stack, lc_kstats *st)
+{
+    if (f->mode == LC_KMODE_MIP) render_tile_as(s, f, LC_KMODE_MIP, t, stack, st);
+    else if (f->mode == LC_KMODE_ISO) render_tile_as(s, f, LC_KMODE_ISO, t, stack, st);
+    else if (f->mode == LC_KMODE_SLICE) render_tile_as(s, f, LC_KMODE_SLICE, t, stack, st);
+    else render_tile_as(s, f, LC_KMODE_DVR, t, stack, st);
 }
 
 static void rbf_bvh(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
