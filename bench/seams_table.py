@@ -20,7 +20,8 @@ def report(title, d, keys):
         rs.append(m / b)
         print("| " + " | ".join(k) + f" | {b:.4g} | {m:.4g} | {m/b:.3f} |")
     print(f"\n{len(rs)} cases: after/before median {statistics.median(rs):.3f}, range {min(rs):.3f} to {max(rs):.3f}\n")
+name = sys.argv[1] if len(sys.argv) > 1 else 'seams'  # bench/seams_compare.sh's NAME
 kp = ['set', 'view', 'target', 'method']
-report("Particles, 512x512, 2 threads (median seconds per frame)", load('bench/results/seams_particles.txt', kp, 'median_s'), kp)
+report("Particles, 512x512, 2 threads (median seconds per frame)", load(f'bench/results/{name}_particles.txt', kp, 'median_s'), kp)
 kg = ['volume', 'view', 'shade', 'method', 'target']
-report("Grids, 512x512, 2 threads (median ms per frame)", load('bench/results/seams_grid.txt', kg, 'ms'), kg)
+report("Grids, 512x512, 2 threads (median ms per frame)", load(f'bench/results/{name}_grid.txt', kg, 'ms'), kg)

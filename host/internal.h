@@ -9,6 +9,7 @@
 #include "lc_config.h" /* LC_HAVE_ZLIB, LC_HAVE_JSON, LC_HAVE_LAPACKE: 0 or 1 (meson features) */
 
 _Static_assert(LC_KMAX_FIELDS == LC_MAX_FIELDS, "kernel and API field limits agree");
+_Static_assert(LC_KMAX_PLANES == LC_MAX_PLANES, "kernel and API slice plane limits agree");
 
 #define LCI_MSG_MAX 1024
 
@@ -32,6 +33,12 @@ struct lc_device {
 /* Reports the fraction (0..1) of the file read to lc_load_desc.progress, when
  * one is set and the fraction grew by at least 1% (dev may be NULL). */
 void lci_load_progress(lc_device *dev, double fraction);
+/* lc_render with a test hook (host/api/render.c): depth, when not NULL,
+ * receives width * height floats, row 0 at the top: in iso and slice modes
+ * the distance t along each pixel's ray of the point it shows (the iso hit,
+ * the plane point), +inf where it shows nothing; +inf everywhere in the
+ * other modes. Tests read iso hit points back through it. */
+lc_status lci_render(lc_device *device, const lc_render_desc *desc, float *rgba, float *depth, lc_render_stats *stats);
 
 /* Records an error (device may be NULL), logs it and returns status. */
 lc_status lci_error(lc_device *device, lc_status status, const char *fmt, ...)

@@ -161,6 +161,8 @@ static inline int node_prune(const lc_kgrid *g, const lc_kframe *f, const lc_kgr
 static inline int node_constant(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
 {
     if (!(g->bvh_flags & LC_KGRID_CONST)) return 0;
+    /* iso pairs every sample with the one before: no closed form */
+    if (f->mode == LC_KMODE_ISO) return 0;
     /* lit frames and modes other than dvr: only truly constant data (exact) */
     if ((f->shade != LC_KSHADE_NONE || f->mode != LC_KMODE_DVR) && n->vmin != n->vmax) return 0;
     if (n->vmin == n->vmax) return 1;
@@ -196,6 +198,7 @@ static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int f
                            int csv, lc_kstats *st)
 {
     float phi = 0.5f * (n->vmin + n->vmax);
+    const int pairs = mode_pairs(f);
     for (int p = fa; p < npk; p++) {
         gpk *q = &pk[p];
         if (vm_none(q->live)) continue;
@@ -203,6 +206,15 @@ static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int f
         grid_box_t(q, n->lo, n->hi, &t0, &t1);
         vint kf, kl;
         grid_lattice(g, f->dt, t0, t1, &kf, &kl);
+        if (pairs) {
+            /* iso: also the samples just before and after the node, so every step
+               between two samples that overlaps the node is seen whole (even one
+               with no sample inside the node); mode_node_matters says why culling
+               is then exact */
+            vmask hit = vf_le(t0, t1);
+            kf = vi_select(hit, vi_sub(kf, vi_set1(1)), kf);
+            kl = vi_select(hit, vi_add(kl, vi_set1(1)), kl);
+        }
         vint ka = vi_max(q->knext, kf), kb = vi_min(q->klast, kl);
         vmask v = vm_and(q->live, vm_not(vi_gt(ka, kb)));
         if (vm_none(v)) continue;
@@ -323,12 +335,13 @@ static void grid_bvh(const void *scene, const lc_kframe *f, const lc_ktile *t, l
                     grid_packlet_init(g, f, t, x + i * DVR_PW, y + j * DVR_PH, p);
                     st->rays += (uint64_t)vm_popcnt(vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1))));
                 }
-            if (any_live(pk, npk)) traverse(g, f, pk, npk, st);
-            for (int p = 0; p < npk; p++) flush(g, f, &pk[p], st);
-            for (int p = 0; p < npk; p++) {
-                mode_finish(f, &pk[p].c);
-                dvr_store(t, pk[p].px, pk[p].py, &pk[p].c);
+            if (!mode_lattice(f)) {
+                for (int p = 0; p < npk; p++) grid_slice(g, f, t, &pk[p], st);
+            } else {
+                if (any_live(pk, npk)) traverse(g, f, pk, npk, st);
+                for (int p = 0; p < npk; p++) flush(g, f, &pk[p], st);
             }
+            for (int p = 0; p < npk; p++) grid_finish_store(g, f, t, &pk[p], st);
         }
     }
 }

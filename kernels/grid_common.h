@@ -98,8 +98,11 @@ static inline void grid_box_t(const gpk *p, const float lo[3], const float hi[3]
     *t0 = vf_max(*t0, vf_zero());
 }
 
-/* Rays of a packlet at pixel block (x, y); lanes outside the tile are dead. */
-static inline void grid_packlet_init(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, int x, int y, gpk *p)
+/* Rays of a packlet at pixel block (x, y); lanes outside the tile are dead.
+ * Always inlined: with four callers GCC called it out of line, once per
+ * packlet, and brute-force avx2 dvr frames were 3% slower. */
+static inline __attribute__((always_inline)) void grid_packlet_init(const lc_kgrid *g, const lc_kframe *f,
+                                                                    const lc_ktile *t, int x, int y, gpk *p)
 {
     dvr_packet_pixels(x, y, &p->px, &p->py);
     p->ray = dvr_camera_rays(&f->cam, p->px, p->py);
@@ -178,8 +181,10 @@ static inline void grid_fetch_pair(const lc_kgrid *g, vint idx, vfloat *a, vfloa
 }
 
 /* Trilinear value (eq. 8) at world positions, and if want_grad the analytic
- * gradient of the same interpolant (eq. 9) in world units. */
-static inline vfloat grid_sample(const lc_kgrid *g, vfloat x, vfloat y, vfloat z, int want_grad, vfloat *gx, vfloat *gy,
+ * gradient of the same interpolant (eq. 9) in world units. Always inlined:
+ * with iso's loop and probe as further callers GCC stopped inlining it into
+ * the dvr sample loop, which made avx512 frames 2-3% slower. */
+static inline __attribute__((always_inline)) vfloat grid_sample(const lc_kgrid *g, vfloat x, vfloat y, vfloat z, int want_grad, vfloat *gx, vfloat *gy,
                                  vfloat *gz)
 {
     vfloat ux = vf_mul(vf_sub(x, vf_set1(g->origin[0])), vf_set1(g->inv_spacing[0]));
@@ -262,22 +267,44 @@ static inline void grid_classify_preint(const lc_kgrid *g, vfloat va, vfloat vb,
     *tau = vf_gather(g->preint + 3, i);
 }
 
-/* Hands one sample to the mode: phi, or when pre-integrated (eq. 4) its
- * segment's classification rgbt; shaded when the frame shades, with this
- * sample's step dt (1 + rda k) under differential sampling. */
+/* The grid's point evaluation for the modes (mode.h mprobe): the trilinear
+ * value (eq. 8) and gradient (eq. 9) of the one field, counted as voxel
+ * samples on the lanes in m. */
+typedef struct gprobe {
+    const lc_kgrid *g;
+    lc_kstats *st;
+} gprobe;
+
+static inline vfloat grid_probe(const void *ctx, int fi, vfloat x, vfloat y, vfloat z, vmask m, vgrad *gr)
+{
+    const gprobe *p = ctx;
+    (void)fi;
+    vfloat gx, gy, gz;
+    vfloat v = grid_sample(p->g, x, y, z, gr != NULL, &gx, &gy, &gz);
+    if (gr) gr->x = gx, gr->y = gy, gr->z = gz;
+    p->st->kernel_evals += (uint64_t)vm_popcnt(m);
+    return v;
+}
+
+/* Hands one sample (index k at t) to the mode: phi, or when pre-integrated
+ * (eq. 4) its segment's classification rgbt; shaded when the frame shades,
+ * with this sample's step dt (1 + rda k) under differential sampling. */
 static inline __attribute__((always_inline)) void grid_consume(const lc_kgrid *g, const lc_kframe *f, int mode, gpk *p,
-                                                               vmask m, vint k, vfloat phi, const vfloat *rgbt,
-                                                               vfloat gx, vfloat gy, vfloat gz)
+                                                               vmask m, vint k, vfloat t, vfloat phi,
+                                                               const vfloat *rgbt, vfloat gx, vfloat gy, vfloat gz,
+                                                               lc_kstats *st)
 {
     vgrad gr = {gx, gy, gz};
     const vgrad *grad = f->shade != LC_KSHADE_NONE ? &gr : NULL;
+    const gprobe pc = {g, st};
+    const mprobe probe = {grid_probe, &pc};
     if (g->rda != 0.0f) {
         vfloat scale = vf_fma(vi_to_vf(k), vf_set1(g->rda), vf_set1(1.0f));
         if (rgbt) mode_sample_rgbt(f, 0, &p->c, m, rgbt[0], rgbt[1], rgbt[2], rgbt[3], grad, &p->ray, &scale);
-        else mode_sample_as(f, mode, 0, &p->c, m, phi, grad, &p->ray, &scale);
+        else mode_sample_as(f, mode, 0, &p->c, m, phi, grad, &p->ray, &scale, k, t, &probe);
     } else {
         if (rgbt) mode_sample_rgbt(f, 0, &p->c, m, rgbt[0], rgbt[1], rgbt[2], rgbt[3], grad, &p->ray, NULL);
-        else mode_sample_as(f, mode, 0, &p->c, m, phi, grad, &p->ray, NULL);
+        else mode_sample_as(f, mode, 0, &p->c, m, phi, grad, &p->ray, NULL, k, t, &probe);
     }
 }
 
@@ -315,7 +342,7 @@ static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgr
 {
     const lc_ktf *tf = &f->tf[0];
     const float dt = f->dt;
-    const int shade = f->shade != LC_KSHADE_NONE;
+    const int shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
     vfloat astop = vf_set1(f->alpha_stop);
     vmask start = vm_and(p->live, vm_not(vi_gt(ka, kb)));
     vmask m = start;
@@ -338,9 +365,9 @@ static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgr
             grid_classify_preint(g, va, v, &rgbt[0], &rgbt[1], &rgbt[2], &rgbt[3]);
             p->prev = vf_select(m, v, p->prev);
             p->kprev = vi_select(m, k, p->kprev);
-            grid_consume(g, f, mode, p, m, k, phi, rgbt, gx, gy, gz);
+            grid_consume(g, f, mode, p, m, k, t, phi, rgbt, gx, gy, gz, st);
         } else {
-            grid_consume(g, f, mode, p, m, k, phi, NULL, gx, gy, gz);
+            grid_consume(g, f, mode, p, m, k, t, phi, NULL, gx, gy, gz, st);
         }
         n += (uint64_t)vm_popcnt(m);
         k = vi_add(k, vi_set1(1));
@@ -356,6 +383,7 @@ static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgr
 static inline void grid_integrate(const lc_kgrid *g, const lc_kframe *f, gpk *p, vint ka, vint kb, lc_kstats *st)
 {
     if (f->mode == LC_KMODE_MIP) grid_integrate_as(g, f, LC_KMODE_MIP, p, ka, kb, st);
+    else if (f->mode == LC_KMODE_ISO) grid_integrate_as(g, f, LC_KMODE_ISO, p, ka, kb, st);
     else grid_integrate_as(g, f, LC_KMODE_DVR, p, ka, kb, st);
 }
 
@@ -371,11 +399,33 @@ static inline void grid_integrate_const(const lc_kgrid *g, const lc_kframe *f, g
     vfloat len = vf_sub(grid_t_of_k(g, f->dt, kend), grid_t_of_k(g, f->dt, ka));
     /* one sample whose step is the run's length: a = 1 - exp(-tau len) */
     vfloat scale = vf_div(len, vf_set1(f->dt));
-    mode_sample(f, 0, &p->c, m, vf_set1(phi), NULL, &p->ray, &scale);
+    /* dvr and mip only (node_constant): iso needs every sample, slice none */
+    mode_sample(f, 0, &p->c, m, vf_set1(phi), NULL, &p->ray, &scale, ka, vf_zero(), NULL);
     st->samples += (uint64_t)vm_popcnt(m);
     p->knext = vi_select(m, vi_max(p->knext, kend), p->knext);
     p->kprev = vi_select(m, vi_set1(-2), p->kprev);
     p->live = vm_and(p->live, vm_and(vm_not(vi_gt(p->knext, p->klast)), grid_below_stop(p->c.a, vf_set1(f->alpha_stop))));
+}
+
+/* slice (no lattice): the packlet's rays against the planes inside the
+ * domain; mode_finish samples the plane points. */
+static inline void grid_slice(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, gpk *p, lc_kstats *st)
+{
+    vfloat t0, t1;
+    dvr_clip_box(&p->ray, g->lo, g->hi, &t0, &t1);
+    vmask in = vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1)));
+    mode_slice(f, &p->ray, vf_select(in, t0, vf_set1(1.0f)), vf_select(in, t1, vf_set1(-1.0f)), vf_set1(INFINITY),
+               &p->c);
+    st->samples += (uint64_t)vm_popcnt(vf_gt(p->c.a, vf_zero()));
+}
+
+/* Finishes the packlet's rays in the mode and writes the lanes inside the tile. */
+static inline void grid_finish_store(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, gpk *p, lc_kstats *st)
+{
+    const gprobe pc = {g, st};
+    const mprobe probe = {grid_probe, &pc};
+    vfloat depth = mode_finish(f, &p->c, &p->ray, &probe);
+    mode_store(t, f, p->px, p->py, &p->c, depth);
 }
 
 /* Side of the ray packets (in rays) for this target and frame: packet 1 means

@@ -6,57 +6,6 @@
  * (particles_common.h), so they differ only by summation order. */
 #include "particles_common.h"
 
-/* ---------------------------------------------------------------- gathering */
-
-/* Every field (and, with grad, its gradient) at the points p of the lanes in m,
- * through the BVH: the direct method's per-sample gather. Returns whether any
- * particle contributed. */
-static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
-                                int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
-{
-    for (int fi = 0; fi < s->nfields; fi++) phi[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
-    if (s->nnodes == 0) return 0;
-    int sp = 0, found = 0;
-    uint64_t nodes = 0, leaves = 0, evals = 0;
-    stack[sp++] = 0;
-    while (sp > 0) {
-        int32_t n = stack[--sp];
-        const lc_kpnode *node = &s->nodes[n];
-        float g = grow(s->sigma * s->node_rmax[n]);
-        nodes++;
-        vmask in = vm_and(m, vm_and(vm_and(vf_ge(px, vf_set1(node->lo[0] - g)), vf_le(px, vf_set1(node->hi[0] + g))),
-                                    vm_and(vm_and(vf_ge(py, vf_set1(node->lo[1] - g)), vf_le(py, vf_set1(node->hi[1] + g))),
-                                           vm_and(vf_ge(pz, vf_set1(node->lo[2] - g)), vf_le(pz, vf_set1(node->hi[2] + g))))));
-        if (vm_none(in)) continue;
-        if (node->count == 0) {
-            stack[sp++] = node->first + 1;
-            stack[sp++] = node->first;
-            continue;
-        }
-        leaves++;
-        for (int32_t i = node->first; i < node->first + node->count; i++) {
-            float rs = s->sigma * s->r[i];
-            vmask inside;
-            vfloat ex, ey, ez;
-            vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex, &ey, &ez);
-            if (vm_none(inside)) continue;
-            found = 1;
-            evals += (uint64_t)vm_popcnt(inside);
-            vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
-            int fi = s->field[i];
-            phi[fi] = vf_add(phi[fi], p);
-            if (grad) {
-                vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i])); /* grad phi_i = -(p - c) / r^2 phi_i */
-                gx[fi] = vf_fma(ex, gp, gx[fi]);
-                gy[fi] = vf_fma(ey, gp, gy[fi]);
-                gz[fi] = vf_fma(ez, gp, gz[fi]);
-            }
-        }
-    }
-    if (st) st->nodes += nodes, st->leaves += leaves, st->kernel_evals += evals;
-    return found;
-}
-
 /* ---------------------------------------------------------------- direct */
 
 static inline __attribute__((always_inline)) void direct_tile(const lc_kparticles *s, const lc_kframe *f, int mode,
@@ -64,17 +13,22 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
 {
     int32_t *stack = scratch->mem; /* direct needs only the traversal stack (direct_scratch_bytes) */
     const float dt = f->dt;
-    const int nf = s->nfields, shade = f->shade != LC_KSHADE_NONE;
+    const int nf = s->nfields, shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
+    const pprobe pc = {s, stack, st};
+    const mprobe probe = {particles_probe, &pc};
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
             vcolor surf = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
-            if (s->nnodes == 0) {
-                finish_vector(f, t, x, y, &col, &surf);
-                continue;
-            }
             vray r;
             vint kf, kl;
+            if (s->nnodes == 0) {
+                vint px, py;
+                dvr_packet_pixels(x, y, &px, &py);
+                r = dvr_camera_rays(&f->cam, px, py);
+                finish_vector(f, mode, t, x, y, &col, &surf, &r, &probe);
+                continue;
+            }
             setup_vector(s, f, t, x, y, stack, &r, &kf, &kl, &surf, st);
             vmask has = vi_lt(kf, vi_add(kl, vi_set1(1)));
             if (vm_any(has)) {
@@ -99,13 +53,14 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
                         /* tau(0) = 0 and this field is 0 on every lane: it blends to exactly nothing */
                         if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi[fi], vf_zero())))) continue;
                         vgrad gr = {gx[fi], gy[fi], gz[fi]};
-                        mode_sample_as(f, mode, fi, &col, m, phi[fi], shade ? &gr : NULL, &r, NULL);
+                        mode_sample_as(f, mode, fi, &col, m, phi[fi], shade ? &gr : NULL, &r, NULL, vi_set1(k), tk,
+                                       &probe);
                     }
                     live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
                     if (vm_none(live)) break;
                 }
             }
-            finish_vector(f, t, x, y, &col, &surf);
+            finish_vector(f, mode, t, x, y, &col, &surf, &r, &probe);
         }
     }
 }
@@ -115,6 +70,8 @@ static void particles_direct(const void *scene, const lc_kframe *f, const lc_kti
                              lc_kstats *st)
 {
     if (f->mode == LC_KMODE_MIP) direct_tile(scene, f, LC_KMODE_MIP, t, scratch, st);
+    else if (f->mode == LC_KMODE_ISO) direct_tile(scene, f, LC_KMODE_ISO, t, scratch, st);
+    else if (f->mode == LC_KMODE_SLICE) particles_slice_tile(scene, f, t, scratch->mem, st);
     else direct_tile(scene, f, LC_KMODE_DVR, t, scratch, st);
 }
 

@@ -43,7 +43,7 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
 {
     pgroup g = group_dims(f);
     uint64_t rays = (uint64_t)g.nv * LC_W;
-    uint64_t comps = f->shade != LC_KSHADE_NONE ? 4 : 1;
+    uint64_t comps = mode_needs_grad(f) ? 4 : 1;
     uint64_t off = 0;
     float **fa[] = {&c->ox, &c->oy, &c->oz, &c->dx, &c->dy, &c->dz, &c->ix, &c->iy, &c->iz, &c->w0, &c->w1,
                     &c->cr, &c->cg, &c->cb, &c->ca, &c->sr, &c->sg, &c->sb, &c->sa};
@@ -172,7 +172,7 @@ static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscr
  * own loop). */
 static inline __attribute__((always_inline)) void integrate_buffer(const lc_kframe *f, int mode, const cscratch *c,
                                                                    int nv, int K, int nf, int kp, int kend, int comps,
-                                                                   lc_kstats *st)
+                                                                   const mprobe *probe, lc_kstats *st)
 {
     const int rays = nv * LC_W;
     for (int v = 0; v < nv; v++) {
@@ -184,6 +184,7 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kfra
         if (f->zero_transparent && !c->touched[v]) continue;
         vray r;
         r.dx = vf_load(c->dx + o), r.dy = vf_load(c->dy + o), r.dz = vf_load(c->dz + o);
+        if (mode == LC_KMODE_ISO) r.ox = vf_load(c->ox + o), r.oy = vf_load(c->oy + o), r.oz = vf_load(c->oz + o);
         vcolor col = {vf_load(c->cr + o), vf_load(c->cg + o), vf_load(c->cb + o), vf_load(c->ca + o)};
         vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
         for (int k = kp; k <= kend; k++) {
@@ -197,7 +198,8 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kfra
                 if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
                 vgrad gr;
                 if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
-                mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL);
+                mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL, vi_set1(k),
+                               vf_set1((float)k * f->dt), probe);
             }
             live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
             if (vm_none(live)) break;
@@ -207,17 +209,40 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kfra
     }
 }
 
-void LC_KFN(particles_coherent)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
-                                lc_kstats *st)
+/* Writes the group's pixels: each vector's rays finished in the mode, with
+ * the opaque surface behind them. */
+static inline __attribute__((always_inline)) void finish_group(const lc_kframe *f, int mode, const lc_ktile *t,
+                                                               const cscratch *c, int gx, int gy, int nv, int vpr,
+                                                               const mprobe *probe)
 {
-    const lc_kparticles *s = scene;
+    for (int v = 0; v < nv; v++) {
+        int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
+        vcolor col = {vf_load(c->cr + o), vf_load(c->cg + o), vf_load(c->cb + o), vf_load(c->ca + o)};
+        vcolor surf = {vf_load(c->sr + o), vf_load(c->sg + o), vf_load(c->sb + o), vf_load(c->sa + o)};
+        vray r = {vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o),
+                  vf_load(c->dx + o), vf_load(c->dy + o), vf_load(c->dz + o)};
+        if (x < t->x1 && y < t->y1) finish_vector(f, mode, t, x, y, &col, &surf, &r, probe);
+    }
+}
+
+/* One tile in mode `mode` (a constant); only iso uses the probe. Each mode
+ * gets its own function below: with iso's integration, probe and finishing
+ * inlined into the same function as the dvr loops, GCC compiled those loops
+ * differently and avx512 dvr frames were 2-3% slower (measured with
+ * bench/ab_compare.sh; the iso code was never run). */
+static inline __attribute__((always_inline)) void coherent_tile(const lc_kparticles *s, const lc_kframe *f, int mode,
+                                                                const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
+{
     cscratch c;
     coherent_layout(s, f, scratch->mem, &c);
     pgroup g = group_dims(f);
     const int nv = g.nv, rays = nv * LC_W, K = s->buffer_k, nf = s->nfields;
-    const int comps = f->shade != LC_KSHADE_NONE ? 4 : 1;
+    const int comps = mode_needs_grad(f) ? 4 : 1;
     const int vpr = g.gw / DVR_PW; /* vectors per group row */
     const float dt = f->dt;
+    const pprobe pc = {s, c.stack, st};
+    const mprobe probe = {particles_probe, &pc};
+    const mprobe *pr = mode == LC_KMODE_ISO ? &probe : NULL;
     for (int gy = t->y0; gy < t->y1; gy += g.gh) {
         for (int gx = t->x0; gx < t->x1; gx += g.gw) {
             /* Listing 3, line 3: rays, their box interval and lattice range */
@@ -287,16 +312,47 @@ void LC_KFN(particles_coherent)(const void *scene, const lc_kframe *f, const lc_
                 for (int v = 0; v < nv; v++) c.touched[v] = 0;
                 traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);
                 /* Listing 2, lines 11-13: integrate the buffer front to back */
-                if (f->mode == LC_KMODE_MIP) integrate_buffer(f, LC_KMODE_MIP, &c, nv, K, nf, kp, kend, comps, st);
-                else integrate_buffer(f, LC_KMODE_DVR, &c, nv, K, nf, kp, kend, comps, st);
+                integrate_buffer(f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
             }
-            for (int v = 0; v < nv; v++) {
-                int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
-                vcolor col = {vf_load(c.cr + o), vf_load(c.cg + o), vf_load(c.cb + o), vf_load(c.ca + o)};
-                vcolor surf = {vf_load(c.sr + o), vf_load(c.sg + o), vf_load(c.sb + o), vf_load(c.sa + o)};
-                if (x < t->x1 && y < t->y1) finish_vector(f, t, x, y, &col, &surf);
-            }
+            finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }
+    }
+}
+
+static __attribute__((noinline)) void coherent_dvr(const lc_kparticles *s, const lc_kframe *f, const lc_ktile *t,
+                                                    lc_kscratch *scratch, lc_kstats *st)
+{
+    coherent_tile(s, f, LC_KMODE_DVR, t, scratch, st);
+}
+
+static __attribute__((noinline)) void coherent_mip(const lc_kparticles *s, const lc_kframe *f, const lc_ktile *t,
+                                                    lc_kscratch *scratch, lc_kstats *st)
+{
+    coherent_tile(s, f, LC_KMODE_MIP, t, scratch, st);
+}
+
+static __attribute__((noinline)) void coherent_iso(const lc_kparticles *s, const lc_kframe *f, const lc_ktile *t,
+                                                    lc_kscratch *scratch, lc_kstats *st)
+{
+    coherent_tile(s, f, LC_KMODE_ISO, t, scratch, st);
+}
+
+/* The coherent method, one function per mode (slice takes no lattice sample:
+ * both particle methods share particles_slice_tile). */
+void LC_KFN(particles_coherent)(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch,
+                                lc_kstats *st)
+{
+    const lc_kparticles *s = scene;
+    if (f->mode == LC_KMODE_MIP) {
+        coherent_mip(s, f, t, scratch, st);
+    } else if (f->mode == LC_KMODE_ISO) {
+        coherent_iso(s, f, t, scratch, st);
+    } else if (f->mode == LC_KMODE_SLICE) {
+        cscratch c;
+        coherent_layout(s, f, scratch->mem, &c);
+        particles_slice_tile(s, f, t, c.stack, st);
+    } else {
+        coherent_dvr(s, f, t, scratch, st);
     }
 }
 

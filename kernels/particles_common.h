@@ -43,10 +43,77 @@ static inline vfloat perp2(vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat
  * test never drops a sample that lies within the truncation radius. */
 static inline float grow(float sigma_r) { return sigma_r * 1.0001f + 1e-6f; }
 
+/* Every field (and, with grad, its gradient) at the points p of the lanes in m,
+ * through the BVH: the direct method's per-sample gather. Returns whether any
+ * particle contributed. */
+static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
+                                int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
+{
+    for (int fi = 0; fi < s->nfields; fi++) phi[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
+    if (s->nnodes == 0) return 0;
+    int sp = 0, found = 0;
+    uint64_t nodes = 0, leaves = 0, evals = 0;
+    stack[sp++] = 0;
+    while (sp > 0) {
+        int32_t n = stack[--sp];
+        const lc_kpnode *node = &s->nodes[n];
+        float g = grow(s->sigma * s->node_rmax[n]);
+        nodes++;
+        vmask in = vm_and(m, vm_and(vm_and(vf_ge(px, vf_set1(node->lo[0] - g)), vf_le(px, vf_set1(node->hi[0] + g))),
+                                    vm_and(vm_and(vf_ge(py, vf_set1(node->lo[1] - g)), vf_le(py, vf_set1(node->hi[1] + g))),
+                                           vm_and(vf_ge(pz, vf_set1(node->lo[2] - g)), vf_le(pz, vf_set1(node->hi[2] + g))))));
+        if (vm_none(in)) continue;
+        if (node->count == 0) {
+            stack[sp++] = node->first + 1;
+            stack[sp++] = node->first;
+            continue;
+        }
+        leaves++;
+        for (int32_t i = node->first; i < node->first + node->count; i++) {
+            float rs = s->sigma * s->r[i];
+            vmask inside;
+            vfloat ex, ey, ez;
+            vfloat d2 = sample_d2(px, py, pz, s->px[i], s->py[i], s->pz[i], rs * rs, in, &inside, &ex, &ey, &ez);
+            if (vm_none(inside)) continue;
+            found = 1;
+            evals += (uint64_t)vm_popcnt(inside);
+            vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
+            int fi = s->field[i];
+            phi[fi] = vf_add(phi[fi], p);
+            if (grad) {
+                vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i])); /* grad phi_i = -(p - c) / r^2 phi_i */
+                gx[fi] = vf_fma(ex, gp, gx[fi]);
+                gy[fi] = vf_fma(ey, gp, gy[fi]);
+                gz[fi] = vf_fma(ez, gp, gz[fi]);
+            }
+        }
+    }
+    if (st) st->nodes += nodes, st->leaves += leaves, st->kernel_evals += evals;
+    return found;
+}
+
+/* The particles' point evaluation for the modes (mode.h mprobe): field fi
+ * through gather_fields. */
+typedef struct pprobe {
+    const lc_kparticles *s;
+    int32_t *stack;
+    lc_kstats *st;
+} pprobe;
+
+static inline vfloat particles_probe(const void *ctx, int fi, vfloat x, vfloat y, vfloat z, vmask m, vgrad *g)
+{
+    const pprobe *p = ctx;
+    vfloat phi[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
+    gather_fields(p->s, x, y, z, m, g != NULL, p->stack, phi, gx, gy, gz, p->st);
+    if (g) g->x = gx[fi], g->y = gy[fi], g->z = gz[fi];
+    return phi[fi];
+}
+
 /* Opaque spheres (paper §5.2): nearest hit of radius scale * r_i through the
  * same BVH, shaded with the particle's TF colour and the headlight. */
-static inline void trace_spheres(const lc_kparticles *s, const lc_kframe *f, const vray *ray, vmask valid, int32_t *stack,
-                          vfloat *thit, vcolor *surf, lc_kstats *st)
+static inline __attribute__((always_inline)) void trace_spheres(const lc_kparticles *s, const lc_kframe *f,
+                                                                const vray *ray, vmask valid, int32_t *stack,
+                                                                vfloat *thit, vcolor *surf, lc_kstats *st)
 {
     vfloat inf = vf_set1(3.0e38f);
     vfloat best = inf, nx = vf_zero(), ny = vf_zero(), nz = vf_zero(), sr = vf_zero(), sg = vf_zero(), sb = vf_zero();
@@ -131,19 +198,52 @@ static inline void setup_vector(const lc_kparticles *s, const lc_kframe *f, cons
     st->rays += (uint64_t)vm_popcnt(valid);
 }
 
-/* Finishes the rays in the mode, composites the opaque surface behind them
- * and writes the pixels. */
-static inline void finish_vector(const lc_kframe *f, const lc_ktile *t, int x, int y, vcolor *c, const vcolor *surf)
+/* Finishes the rays in mode `mode` (f->mode, a constant: see mode_finish_as),
+ * composites the opaque surface behind them and writes the pixels. */
+static inline __attribute__((always_inline)) void finish_vector(const lc_kframe *f, int mode, const lc_ktile *t, int x,
+                                                                int y, vcolor *c, const vcolor *surf, const vray *ray,
+                                                                const mprobe *probe)
 {
     vint px, py;
     dvr_packet_pixels(x, y, &px, &py);
-    mode_finish(f, c);
+    vfloat depth = mode_finish_as(f, mode, c, ray, probe);
     vfloat w = vf_sub(vf_set1(1.0f), c->a);
     c->r = vf_fma(w, surf->r, c->r);
     c->g = vf_fma(w, surf->g, c->g);
     c->b = vf_fma(w, surf->b, c->b);
     c->a = vf_fma(w, surf->a, c->a);
-    dvr_store(t, px, py, c);
+    mode_store_as(t, mode, px, py, c, depth);
+}
+
+/* slice, for both methods (one sample per ray, no lattice): the planes
+ * inside the particles' box and in front of the opaque spheres. Out of line,
+ * so the tile functions' dvr code stays as it was. */
+static __attribute__((noinline, unused)) void particles_slice_tile(const lc_kparticles *s, const lc_kframe *f,
+                                                                   const lc_ktile *t, int32_t *stack, lc_kstats *st)
+{
+    const pprobe pc = {s, stack, st};
+    const mprobe probe = {particles_probe, &pc};
+    for (int y = t->y0; y < t->y1; y += DVR_PH) {
+        for (int x = t->x0; x < t->x1; x += DVR_PW) {
+            vint px, py;
+            dvr_packet_pixels(x, y, &px, &py);
+            vray ray = dvr_camera_rays(&f->cam, px, py);
+            vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
+            vcolor surf = col;
+            vmask valid = vm_and(vi_lt(px, vi_set1(t->x1)), vi_lt(py, vi_set1(t->y1)));
+            vfloat t0, t1, thit = vf_set1(INFINITY);
+            dvr_clip_box(&ray, s->lo, s->hi, &t0, &t1);
+            valid = vm_and(valid, vf_le(t0, t1));
+            if (s->nnodes > 0 && vm_any(valid)) {
+                st->rays += (uint64_t)vm_popcnt(valid);
+                if (s->sphere_scale > 0.0f) trace_spheres(s, f, &ray, valid, stack, &thit, &surf, st);
+                mode_slice(f, &ray, vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), thit,
+                           &col);
+                st->samples += (uint64_t)vm_popcnt(vf_gt(col.a, vf_zero()));
+            }
+            finish_vector(f, LC_KMODE_SLICE, t, x, y, &col, &surf, &ray, &probe);
+        }
+    }
 }
 
 #endif

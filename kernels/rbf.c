@@ -60,20 +60,51 @@ static inline vfloat gather(const lc_krbf *s, vfloat px, vfloat py, vfloat pz, v
     return phi;
 }
 
-/* One tile, lane-width packets of rays; stack NULL = brute force. */
-static inline void render_tile(const lc_krbf *s, const lc_kframe *f, const lc_ktile *t, int32_t *stack, lc_kstats *st)
+/* The RBF set's point evaluation for the modes (mode.h mprobe): gather
+ * through the BVH, or over every RBF when stack is NULL (brute force), so
+ * each method refines with its own sums. */
+typedef struct rprobe {
+    const lc_krbf *s;
+    int32_t *stack;
+    lc_kstats *st;
+} rprobe;
+
+static inline vfloat rbf_probe(const void *ctx, int fi, vfloat x, vfloat y, vfloat z, vmask m, vgrad *g)
+{
+    const rprobe *p = ctx;
+    vgrad gr;
+    int found;
+    (void)fi;
+    vfloat v = gather(p->s, x, y, z, m, g != NULL, p->stack, &gr.x, &gr.y, &gr.z, &found, p->st);
+    if (g) *g = gr;
+    return v;
+}
+
+/* One tile, lane-width packets of rays; stack NULL = brute force. The sample
+ * loop is specialised per mode (mode = f->mode, a constant at each call). */
+static inline __attribute__((always_inline)) void render_tile_as(const lc_krbf *s, const lc_kframe *f, int mode,
+                                                                 const lc_ktile *t, int32_t *stack, lc_kstats *st)
 {
     const float dt = f->dt;
-    const int shade = f->shade != LC_KSHADE_NONE;
+    const int shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
+    const rprobe pc = {s, stack, st};
+    const mprobe probe = {rbf_probe, &pc};
     /* nothing contributed and w0 = 0: the sample is 0 and, with tau(0) = 0, blends to exactly nothing */
     const int skip_zero = f->zero_transparent && s->bias == 0.0f;
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vint px, py, kf, kl;
             vray r;
+            vfloat ta, tb;
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
-            if (!rbf_packet_setup(s, f, t, x, y, &px, &py, &r, &kf, &kl, st)) {
-                dvr_store(t, px, py, &col);
+            if (!rbf_packet_setup(s, f, t, x, y, &px, &py, &r, &ta, &tb, &kf, &kl, st)) {
+                mode_store_as(t, mode, px, py, &col, vf_set1(INFINITY));
+                continue;
+            }
+            if (mode == LC_KMODE_SLICE) { /* no lattice: one sample per ray, in mode_finish */
+                mode_slice(f, &r, ta, tb, vf_set1(INFINITY), &col);
+                st->samples += (uint64_t)vm_popcnt(vf_gt(col.a, vf_zero()));
+                mode_store_as(t, mode, px, py, &col, mode_finish_as(f, mode, &col, &r, &probe));
                 continue;
             }
             int k0 = 1 << 30, k1 = -(1 << 30);
@@ -93,14 +124,22 @@ static inline void render_tile(const lc_krbf *s, const lc_kframe *f, const lc_kt
                 vfloat phi = gather(s, qx, qy, qz, m, shade, stack, &gr.x, &gr.y, &gr.z, &found, st);
                 if (!found && skip_zero) continue;
                 st->samples += (uint64_t)vm_popcnt(m);
-                mode_sample(f, 0, &col, m, phi, shade ? &gr : NULL, &r, NULL);
+                mode_sample_as(f, mode, 0, &col, m, phi, shade ? &gr : NULL, &r, NULL, vi_set1(k), tk, &probe);
                 live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
                 if (vm_none(live)) break;
             }
-            mode_finish(f, &col);
-            dvr_store(t, px, py, &col);
+            vfloat depth = mode_finish_as(f, mode, &col, &r, &probe);
+            mode_store_as(t, mode, px, py, &col, depth);
         }
     }
+}
+
+static void render_tile(const lc_krbf *s, const lc_kframe *f, const lc_ktile *t, int32_t *stack, lc_kstats *st)
+{
+    if (f->mode == LC_KMODE_MIP) render_tile_as(s, f, LC_KMODE_MIP, t, stack, st);
+    else if (f->mode == LC_KMODE_ISO) render_tile_as(s, f, LC_KMODE_ISO, t, stack, st);
+    else if (f->mode == LC_KMODE_SLICE) render_tile_as(s, f, LC_KMODE_SLICE, t, stack, st);
+    else render_tile_as(s, f, LC_KMODE_DVR, t, stack, st);
 }
 
 static void rbf_bvh(const void *scene, const lc_kframe *f, const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)

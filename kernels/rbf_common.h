@@ -36,11 +36,12 @@ static inline vmask term(const lc_krbf *s, int32_t i, vfloat px, vfloat py, vflo
 
 
 /* One packet of rays of the tile at pixel block (x, y): the rays, their
- * lattice range [kf, kl] inside the set's box, and whether any lane has
- * samples (0: the caller stores the empty colour and moves on). Shared by the
- * BVH gather and the octree. */
+ * overlap [ta, tb] with the set's box (ta > tb on lanes without one), their
+ * lattice range [kf, kl] there, and whether any lane has samples (0: the
+ * caller stores the empty colour and moves on). Shared by the BVH gather and
+ * the octree. */
 static inline int rbf_packet_setup(const lc_krbf *s, const lc_kframe *f, const lc_ktile *t, int x, int y, vint *px,
-                                   vint *py, vray *r, vint *kf, vint *kl, lc_kstats *st)
+                                   vint *py, vray *r, vfloat *ta, vfloat *tb, vint *kf, vint *kl, lc_kstats *st)
 {
     dvr_packet_pixels(x, y, px, py);
     vmask valid = vm_and(vi_lt(*px, vi_set1(t->x1)), vi_lt(*py, vi_set1(t->y1)));
@@ -50,7 +51,9 @@ static inline int rbf_packet_setup(const lc_krbf *s, const lc_kframe *f, const l
     valid = vm_and(valid, vf_le(t0, t1));
     if (s->empty || vm_none(valid)) return 0;
     st->rays += (uint64_t)vm_popcnt(valid);
-    dvr_lattice(vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), f->dt, kf, kl);
+    *ta = vf_select(valid, t0, vf_set1(1.0f));
+    *tb = vf_select(valid, t1, vf_set1(-1.0f));
+    dvr_lattice(*ta, *tb, f->dt, kf, kl);
     return 1;
 }
 

@@ -143,11 +143,36 @@ static inline void fill_ray(const lc_krbf *s, const float o[3], const float d[3]
     st->nodes += steps, st->leaves += cells, st->kernel_evals += evals;
 }
 
+/* The octree's point evaluation for the modes (mode.h mprobe): each lane's
+ * leaf, its list and correction, as the sample buffer computes them. */
+static inline vfloat octree_probe(const void *ctx, int fi, vfloat x, vfloat y, vfloat z, vmask m, vgrad *g)
+{
+    const lc_krbf *s = ctx;
+    float px[LC_W], py[LC_W], pz[LC_W], v[LC_W] = {0}, gx[LC_W] = {0}, gy[LC_W] = {0}, gz[LC_W] = {0};
+    uint64_t steps = 0, evals = 0;
+    (void)fi;
+    vf_store(px, x), vf_store(py, y), vf_store(pz, z);
+    const uint32_t mb = vm_bits(m);
+    for (int l = 0; l < LC_W; l++) {
+        if (!((mb >> l) & 1u)) continue;
+        int32_t ci = locate(s->cells, px[l], py[l], pz[l], &steps);
+        vfloat ax, ay, az;
+        vmask hit;
+        vfloat p = cell_eval(s, ci, vf_set1(px[l]), vf_set1(py[l]), vf_set1(pz[l]), vm_first_n(1), g != NULL, &ax,
+                             &ay, &az, &hit, &evals);
+        v[l] = vf_lane(p, 0);
+        if (g) gx[l] = vf_lane(ax, 0), gy[l] = vf_lane(ay, 0), gz[l] = vf_lane(az, 0);
+    }
+    if (g) g->x = vf_load(gx), g->y = vf_load(gy), g->z = vf_load(gz);
+    return vf_load(v);
+}
+
 static inline __attribute__((always_inline)) void octree_tile(const lc_krbf *s, const lc_kframe *f, int mode,
                                                               const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
 {
     const float dt = f->dt;
-    const int shade = f->shade != LC_KSHADE_NONE;
+    const int shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
+    const mprobe probe = {octree_probe, s};
     const int skip_zero = f->zero_transparent && s->bias == 0.0f; /* as the BVH method */
     float *mem = scratch->mem;
     const int64_t rows = (int64_t)CHUNK_MAX * LC_W;
@@ -156,9 +181,16 @@ static inline __attribute__((always_inline)) void octree_tile(const lc_krbf *s, 
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vint px, py, kf, kl;
             vray r;
+            vfloat ta, tb;
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
-            if (!rbf_packet_setup(s, f, t, x, y, &px, &py, &r, &kf, &kl, st)) {
-                dvr_store(t, px, py, &col);
+            if (!rbf_packet_setup(s, f, t, x, y, &px, &py, &r, &ta, &tb, &kf, &kl, st)) {
+                mode_store_as(t, mode, px, py, &col, vf_set1(INFINITY));
+                continue;
+            }
+            if (mode == LC_KMODE_SLICE) { /* no lattice: one sample per ray, in mode_finish */
+                mode_slice(f, &r, ta, tb, vf_set1(INFINITY), &col);
+                st->samples += (uint64_t)vm_popcnt(vf_gt(col.a, vf_zero()));
+                mode_store_as(t, mode, px, py, &col, mode_finish_as(f, mode, &col, &r, &probe));
                 continue;
             }
             int32_t kfa[LC_W], kla[LC_W];
@@ -202,13 +234,14 @@ static inline __attribute__((always_inline)) void octree_tile(const lc_krbf *s, 
                     if (shade)
                         gr.x = vf_load(b.gx + row * LC_W), gr.y = vf_load(b.gy + row * LC_W),
                         gr.z = vf_load(b.gz + row * LC_W);
-                    mode_sample_as(f, mode, 0, &col, m, phi, shade ? &gr : NULL, &r, NULL);
+                    mode_sample_as(f, mode, 0, &col, m, phi, shade ? &gr : NULL, &r, NULL, vi_set1(k),
+                                   vf_set1((float)k * dt), &probe);
                     live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
                     if (vm_none(live)) break;
                 }
             }
-            mode_finish(f, &col);
-            dvr_store(t, px, py, &col);
+            vfloat depth = mode_finish_as(f, mode, &col, &r, &probe);
+            mode_store_as(t, mode, px, py, &col, depth);
         }
     }
 }
@@ -218,6 +251,8 @@ void LC_KFN(rbf_octree)(const void *scene, const lc_kframe *f, const lc_ktile *t
                         lc_kstats *st)
 {
     if (f->mode == LC_KMODE_MIP) octree_tile(scene, f, LC_KMODE_MIP, t, scratch, st);
+    else if (f->mode == LC_KMODE_ISO) octree_tile(scene, f, LC_KMODE_ISO, t, scratch, st);
+    else if (f->mode == LC_KMODE_SLICE) octree_tile(scene, f, LC_KMODE_SLICE, t, scratch, st);
     else octree_tile(scene, f, LC_KMODE_DVR, t, scratch, st);
 }
 

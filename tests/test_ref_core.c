@@ -211,8 +211,8 @@ static void test_constant_box(void)
     /* a corner ray misses the box: nothing */
     float img[5 * 5 * 4];
     CHECK(ref_render_f(&src, &p, img) == 0 && img[3] == 0.0f && img[4 * 12 + 3] > 0.0f, "box: corner misses");
-    p.mode = REF_MODE_ISO;
-    CHECK(ref_render_f(&src, &p, img) == -1, "box: unimplemented mode refused");
+    p.mode = (ref_mode)9;
+    CHECK(ref_render_f(&src, &p, img) == -1, "box: unknown mode refused");
     /* MIP: field 1's normalised 0.6 beats field 0's 0.3, so field 1's colour, opaque;
        a ray that misses stays empty */
     konst k2 = {{0.3, 0.6}};
@@ -262,6 +262,66 @@ static void test_shading(void)
     double want = (0.9 * (0.2 + 0.8 / sqrt(2.0)) + 0.4 / 256.0) * A;
     CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[0], want, 1e-13),
           "shade: phong oblique, r %.12g = %.12g", out[0], want);
+}
+
+/* iso and slice on the ramp phi = (z + 1) / 2 over [-1, 1]^3, seen from
+ * (0, 0, 10): the centre pixel's ray is t = 10 - z, the colour ramp shows v. */
+static void test_iso_slice(void)
+{
+    static double vz[8];
+    for (int i = 0; i < 8; i++) vz[i] = (i >> 2) & 1;
+    ref_grid_field gz = {{2, 2, 2}, {-1, -1, -1}, {2, 2, 2}, vz};
+    static const double ramp[] = {0, 0, 0, 1, 1, 1, 0, 0};
+    ref_tf tf[1] = {{0, 1, ramp, 2, tau_c, 1}};
+    ref_params p = base_params(tf);
+    ref_source src;
+    ref_grid_source(&gz, &src);
+    double out[4], depth[25], margin[25];
+    /* iso 0.3: z = -0.4, t = 10.4; the ray starts inside (phi 1 >= 0.3) and leaves at the hit,
+       which is the bracket's inside end: at most 1e-4 dt before 10.4 */
+    p.mode = REF_MODE_ISO, p.iso = 0.3;
+    CHECK(ref_render_depth(&src, &p, depth, margin) == 0 && depth[12] <= 10.4 + 1e-12 &&
+              depth[12] >= 10.4 - 1e-4 * 0.35 && near(margin[12], 0.05, 1e-9),
+          "iso: hit at t %.9f (10.4 - 1e-4 dt <= t <= 10.4); margin %.9g = |phi - iso| at t 10.5, the closest "
+          "lattice sample",
+          depth[12], margin[12]);
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[0], 0.3, 1e-14) && near(out[2], 0.7, 1e-14) &&
+              out[3] == 1.0,
+          "iso: opaque, the colour at the iso value (%g %g %g %g)", out[0], out[1], out[2], out[3]);
+    p.shading = REF_SHADE_PHONG; /* gradient (0, 0, 0.5) along the view: (ka + kd) rgb + ks */
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[0], 0.3 + 0.4, 1e-13) &&
+              near(out[2], 0.7 + 0.4, 1e-13),
+          "iso: shaded with the gradient at the hit (r %.12g)", out[0]);
+    p.shading = REF_SHADE_NONE;
+    p.iso = 1.5; /* never reached: transparent, no depth */
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && out[3] == 0.0 && out[0] == 0.0, "iso: no crossing, no hit");
+    CHECK(ref_render_depth(&src, &p, depth, NULL) == 0 && isinf(depth[12]), "iso: no crossing, depth inf");
+    p.iso = NAN;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == -1, "iso: NaN refused");
+    p.iso = 0.3, p.field = 1;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == -1, "iso: field 1 of 1 refused");
+    p.field = 0;
+    /* slice: z = 0.2 (phi 0.6) behind z = 0.5 (phi 0.75, t = 9.5); a plane outside the box and one
+       parallel to the centre ray are never shown there */
+    p.mode = REF_MODE_SLICE;
+    double planes[4][6] = {{0, 0, 0.2, 0, 0, 1}, {0, 0, 2, 0, 0, 1}, {0, 0, 0.5, 0, 0, -3}, {0.1, 0, 0, 1, 0, 0}};
+    memcpy(p.planes, planes, sizeof planes);
+    p.nplanes = 1;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[0], 0.6, 1e-14) && out[3] == 1.0,
+          "slice: the field on the plane (%g)", out[0]);
+    p.nplanes = 4;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[0], 0.75, 1e-14) && out[3] == 1.0 &&
+              ref_render_depth(&src, &p, depth, margin) == 0 && near(depth[12], 9.5, 1e-14),
+          "slice: the nearest plane in the box wins (%g at t %g)", out[0], depth[12]);
+    p.shading = REF_SHADE_PHONG;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && near(out[0], 0.75, 1e-14), "slice: unshaded");
+    p.shading = REF_SHADE_NONE;
+    p.nplanes = 1, p.planes[0][2] = 1.5; /* outside the box */
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == 0 && out[3] == 0.0, "slice: a plane outside the box shows nothing");
+    p.nplanes = 0;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == -1, "slice: no plane refused");
+    p.nplanes = 1, p.planes[0][3] = p.planes[0][4] = p.planes[0][5] = 0.0;
+    CHECK(ref_render_pixel(&src, &p, 2, 2, out) == -1, "slice: zero normal refused");
 }
 
 /* Orthographic view of one particle: A = 1 - exp(-sum tau(phi(t_k)) dt), with a linear TF. */
@@ -485,6 +545,7 @@ int main(void)
     test_constant_box();
     test_shading();
     test_particle_render();
+    test_iso_slice();
     test_imgcmp(d);
     test_camera();
     test_surface();

@@ -117,3 +117,20 @@ bad:
     fprintf(stderr, "%s: %s: expected WIDTHxHEIGHT (e.g. 1024x768), got '%s'\n", cmd, flag, s);
     return -1;
 }
+
+int arg_plane(const char *cmd, const char *flag, const char *s, lc_plane *out)
+{
+    float v[6];
+    if (floats(s, v, 6)) {
+        fprintf(stderr, "%s: %s: expected px,py,pz,nx,ny,nz (a point and a normal: six numbers), got '%s'\n", cmd, flag,
+                s);
+        return -1;
+    }
+    if (v[3] == 0.0f && v[4] == 0.0f && v[5] == 0.0f) {
+        fprintf(stderr, "%s: %s: the normal (%s) is zero\n", cmd, flag, s);
+        return -1;
+    }
+    out->point = (lc_vec3){v[0], v[1], v[2]};
+    out->normal = (lc_vec3){v[3], v[4], v[5]};
+    return 0;
+}

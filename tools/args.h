@@ -11,6 +11,8 @@ int arg_size_t(const char *cmd, const char *flag, const char *s, size_t *out);
 int arg_vec3(const char *cmd, const char *flag, const char *s, lc_vec3 *out);
 int arg_pair(const char *cmd, const char *flag, const char *s, float out[2]);
 int arg_size(const char *cmd, const char *flag, const char *s, int *w, int *h);
+/* px,py,pz,nx,ny,nz: a point and a non-zero normal. */
+int arg_plane(const char *cmd, const char *flag, const char *s, lc_plane *out);
 /* The value of flag argv[*i] (advancing *i), or NULL after a message. */
 const char *arg_value(const char *cmd, int argc, char **argv, int *i);
 

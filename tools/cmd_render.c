@@ -64,8 +64,16 @@ static const char render_help[] =
     "  --tau T               peak extinction per world unit of a preset or default (default: by kind)\n"
     "  --range LO,HI         value range mapped to [0, 1] (default: the TF's, else the data's)\n"
     "  --dt DT               sampling step in world units (default: by kind, below)\n"
-    "  --mode M              dvr (emission-absorption; the default) or mip (maximum intensity\n"
-    "                        projection through the TF's colours; e.g. --mode mip --tf gray)\n"
+    "  --mode M              dvr (emission-absorption; the default), mip (maximum intensity\n"
+    "                        projection through the TF's colours), iso (the surface where the field\n"
+    "                        crosses --iso: the first crossing between lattice samples, bisected to\n"
+    "                        1e-4 dt, opaque in the TF's colour at that value, lit as --shade says)\n"
+    "                        or slice (the field through the TF's colours on the --plane planes:\n"
+    "                        each ray shows the nearest one in front inside the data's box)\n"
+    "  --iso V               iso: the iso value, in the data's units (as --range)\n"
+    "  --plane px,py,pz,nx,ny,nz   slice: the plane through point p with normal n; repeat for up\n"
+    "                        to 4 planes\n"
+    "  --field N             iso, slice: the field of multi-field data they show (default 0)\n"
     "  --shade [MODE]        none, diffuse (the default when MODE is omitted) or phong\n"
     "  --alpha-stop A        early ray termination opacity in (0, 1] (default 0.97; 1 = never)\n"
     "  --background r,g,b    background colour (default 0,0,0)\n"
@@ -90,7 +98,12 @@ static const char render_help[] =
     "  --quiet               print nothing but errors (and no progress)\n"
     "  example: lanecast render embryo.nhdr -o embryo.png --size 2048x2048 --stats --threads 8\n"
     "\n"
-    "examples: each kind's section below\n"
+    "examples: each kind's section below, and the modes:\n"
+    "  lanecast render engine.nhdr -o engine-mip.png --mode mip --tf gray\n"
+    "  lanecast render engine.nhdr -o engine-iso.png --mode iso --iso 150 --shade phong\n"
+    "  lanecast render engine.nhdr -o engine-slice.png --mode slice --plane 128,128,64,0,0,1 \\\n"
+    "                  --plane 128,128,64,1,0,0 --tf gray\n"
+    "  lanecast render 1tii.pdb -o 1tii-iso.png --mode iso --iso 0.5 --fields element --field 1 --shade\n"
     "\n"
     "exit status: 0 ok, 1 bad input or failed work (one message on stderr), 2 bad usage\n";
 
@@ -122,6 +135,7 @@ typedef struct ropts {
     int64_t frame, first, end, step;
     int seq;
     const char *topology;
+    int iso_set, field_set; /* --iso, --field given */
 } ropts;
 
 const cli_kind *cli_kind_of(lc_kind kind)
@@ -241,7 +255,7 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
     }
     static const char *const flags[] = {"--tf",     "--tau",    "--range",   "--dt",   "--alpha-stop", "--method",
                                         "--packet", "--target", "--threads", "--tile", "--mode",       "--colormap",
-                                        "--opacity"};
+                                        "--opacity", "--iso",   "--plane",   "--field"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -275,11 +289,23 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
     if (!strcmp(a, "--mode")) {
         if (!strcmp(v, "dvr")) o->rd.mode = LC_MODE_DVR;
         else if (!strcmp(v, "mip")) o->rd.mode = LC_MODE_MIP;
+        else if (!strcmp(v, "iso")) o->rd.mode = LC_MODE_ISO;
+        else if (!strcmp(v, "slice")) o->rd.mode = LC_MODE_SLICE;
         else {
-            fprintf(stderr, "%s: --mode: '%s' is not a render mode (dvr, mip)\n", o->cmd, v);
+            fprintf(stderr, "%s: --mode: '%s' is not a render mode (dvr, mip, iso, slice)\n", o->cmd, v);
             return -1;
         }
         return 1;
+    }
+    if (!strcmp(a, "--iso")) return o->iso_set = 1, arg_float(o->cmd, a, v, -3e38f, 3e38f, &o->rd.iso) ? -1 : 1;
+    if (!strcmp(a, "--field"))
+        return o->field_set = 1, arg_int(o->cmd, a, v, 0, LC_MAX_FIELDS - 1, &o->rd.field) ? -1 : 1;
+    if (!strcmp(a, "--plane")) {
+        if (o->rd.nplanes == LC_MAX_PLANES) {
+            fprintf(stderr, "%s: --plane: at most %d planes\n", o->cmd, LC_MAX_PLANES);
+            return -1;
+        }
+        return arg_plane(o->cmd, a, v, &o->rd.planes[o->rd.nplanes++]) ? -1 : 1;
     }
     if (lc_target_from_name(v, &o->target) != LC_OK) { /* --target */
         fprintf(stderr, "%s: --target: %s\n", o->cmd, lc_last_error());
@@ -356,6 +382,31 @@ static void frame_name(const char *pattern, int64_t f, char *out, size_t n)
 #pragma GCC diagnostic pop
 }
 
+/* The mode's own flags: each is needed by its mode and refused by the
+ * others (it would be ignored). */
+static int check_mode(const ropts *o)
+{
+    lc_mode m = o->rd.mode;
+    if (m == LC_MODE_ISO && !o->iso_set) {
+        fprintf(stderr, "%s: --mode iso needs --iso VALUE\n", o->cmd);
+        return -1;
+    }
+    if (m == LC_MODE_SLICE && o->rd.nplanes == 0) {
+        fprintf(stderr, "%s: --mode slice needs at least one --plane px,py,pz,nx,ny,nz\n", o->cmd);
+        return -1;
+    }
+    const char *stray = m != LC_MODE_ISO && o->iso_set ? "--iso"
+                        : m != LC_MODE_SLICE && o->rd.nplanes ? "--plane"
+                        : m != LC_MODE_ISO && m != LC_MODE_SLICE && o->field_set ? "--field"
+                                                                                 : NULL;
+    if (stray) {
+        fprintf(stderr, "%s: %s applies to --mode %s only\n", o->cmd, stray,
+                !strcmp(stray, "--iso") ? "iso" : !strcmp(stray, "--plane") ? "slice" : "iso or slice");
+        return -1;
+    }
+    return 0;
+}
+
 static void print_help(void)
 {
     fputs(render_help, stdout);
@@ -399,6 +450,7 @@ static int parse(ropts *o, int argc, char **argv, int want_input)
             }
         }
     }
+    if (check_mode(o)) return -1;
     if (camera_set && camera_set != 3) {
         fprintf(stderr, "%s: give both --eye and --at (or neither, to frame the data)\n", o->cmd);
         return -1;

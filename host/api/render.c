@@ -9,6 +9,44 @@
 #include "host/api/tf.h"
 
 
+/* The parameters of iso and slice (lc_render_desc.iso, field, planes). */
+static lc_status mode_params(lc_device *dev, const lc_render_desc *d, int nfields, lc_kframe *f)
+{
+    static const char *const names[] = {"dvr", "mip", "iso", "slice"};
+    if (d->mode != LC_MODE_ISO && d->mode != LC_MODE_SLICE) return LC_OK;
+    const char *m = names[d->mode];
+    if (d->field < 0 || d->field >= nfields)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: field = %d, the data has %d field%s (0 .. %d)", m,
+                         d->field, nfields, nfields == 1 ? "" : "s", nfields - 1);
+    f->field = d->field;
+    if (d->mode == LC_MODE_ISO) {
+        if (!isfinite(d->iso))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "iso: iso = %g, expected a finite value", (double)d->iso);
+        f->iso = d->iso;
+        return LC_OK;
+    }
+    if (d->nplanes < 1 || d->nplanes > LC_MAX_PLANES)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "slice: nplanes = %d, expected 1 to %d", d->nplanes,
+                         LC_MAX_PLANES);
+    f->nplanes = d->nplanes;
+    for (int i = 0; i < d->nplanes; i++) {
+        const lc_plane *pl = &d->planes[i];
+        double p[3] = {pl->point.x, pl->point.y, pl->point.z}, n[3] = {pl->normal.x, pl->normal.y, pl->normal.z};
+        double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2])))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "slice: planes[%d].point is not finite", i);
+        if (!(len > 0.0) || !isfinite(len) || !(isfinite(n[0]) && isfinite(n[1]) && isfinite(n[2])))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "slice: planes[%d].normal = (%g, %g, %g), expected a finite non-zero vector", i, n[0],
+                             n[1], n[2]);
+        for (int a = 0; a < 3; a++) {
+            f->planes[i].point[a] = (float)p[a];
+            f->planes[i].normal[a] = (float)(n[a] / len);
+        }
+    }
+    return LC_OK;
+}
+
 /* Everything in lc_kframe from the desc, the data's frame info and the TF;
  * the TF tables go into `tables` (LC_MAX_FIELDS * LC_TF_TABLE_SIZE * 4
  * floats). One implementation for every kind and mode. */
@@ -28,8 +66,11 @@ static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "shading = %d is not none, diffuse or phong", (int)d->shading);
     f->shade = (int32_t)d->shading;
     if ((int)d->mode < 0 || d->mode >= LC_MODE_COUNT)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "mode = %d is not a render mode (dvr, mip)", (int)d->mode);
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "mode = %d is not a render mode (dvr, mip, iso, slice)",
+                         (int)d->mode);
     f->mode = (int32_t)d->mode;
+    s = mode_params(dev, d, info->nfields, f);
+    if (s != LC_OK) return s;
     const lc_lighting *l = &d->lighting;
     int custom = l->ka != 0.0f || l->kd != 0.0f || l->ks != 0.0f || l->phong_exp != 0;
     f->ka = custom ? l->ka : 0.2f;
@@ -70,7 +111,8 @@ static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_
         const float *t = tables + (size_t)k * LC_TF_TABLE_SIZE * 4;
         if (t[4 * i0 + 3] != 0.0f || t[4 * i0 + 7] != 0.0f) f->zero_transparent = 0;
     }
-    /* a zero sample may be a ray's maximum (negative kappa): only dvr skips them */
+    /* a zero sample may be a ray's maximum (negative kappa) or one side of an iso crossing:
+       only dvr skips them (slice takes no lattice sample) */
     if (f->mode != LC_KMODE_DVR) f->zero_transparent = 0;
     return LC_OK;
 }
@@ -85,7 +127,7 @@ typedef struct padded_stats {
 typedef struct job {
     const lci_prepared *prep;
     const lc_kframe *frame;
-    float *rgba;
+    float *rgba, *depth;
     int width, height, tile, ntx;
     unsigned char *scratch;
     uint64_t scratch_bytes;
@@ -107,6 +149,7 @@ static void run_tile(void *ctx, int task, int worker)
     t.stride = j->width;
     t.pad = 0;
     t.rgba = j->rgba;
+    t.depth = j->depth;
     lc_kscratch sc = {j->scratch + (size_t)worker * j->scratch_bytes, j->scratch_bytes};
     j->prep->tile(j->prep->kscene, j->frame, &t, &sc, &j->stats[worker].s);
     int done = atomic_fetch_add_explicit(&j->done, 1, memory_order_relaxed) + 1;
@@ -114,6 +157,11 @@ static void run_tile(void *ctx, int task, int worker)
 }
 
 lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_render_stats *stats)
+{
+    return lci_render(dev, d, rgba, NULL, stats);
+}
+
+lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float *depth, lc_render_stats *stats)
 {
     if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_render: device is NULL");
     if (!d) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: desc is NULL");
@@ -162,7 +210,9 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
         goto done;
     }
     memset(rgba, 0, sizeof(float) * 4 * (size_t)d->width * (size_t)d->height);
-    job j = {&prep, frame, rgba, d->width, d->height, tile, (d->width + tile - 1) / tile, scratch, sb, ws,
+    if (depth)
+        for (size_t i = 0; i < (size_t)d->width * (size_t)d->height; i++) depth[i] = INFINITY;
+    job j = {&prep, frame, rgba, depth, d->width, d->height, tile, (d->width + tile - 1) / tile, scratch, sb, ws,
              0, 0, d->progress, d->progress_user};
     j.ntasks = j.ntx * ((d->height + tile - 1) / tile);
     lci_pool_run(dev->pool, j.ntasks, run_tile, &j);

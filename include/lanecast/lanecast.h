@@ -709,12 +709,30 @@ typedef enum lc_shading { LC_SHADE_NONE = 0, LC_SHADE_DIFFUSE = 1, LC_SHADE_PHON
 
 /* What a ray computes from the field samples (SPEC.md). */
 typedef enum lc_mode {
-    LC_MODE_DVR = 0,  /* emission-absorption volume rendering */
-    LC_MODE_MIP = 1,  /* maximum intensity projection: the largest normalised value along the
-                         ray through its field's colour map, opaque where the ray met the data
-                         (with several fields, the field whose normalised value is largest) */
-    LC_MODE_COUNT = 2
+    LC_MODE_DVR = 0,   /* emission-absorption volume rendering */
+    LC_MODE_MIP = 1,   /* maximum intensity projection: the largest normalised value along the
+                          ray through its field's colour map, opaque where the ray met the data
+                          (with several fields, the field whose normalised value is largest) */
+    LC_MODE_ISO = 2,   /* iso-surface of lc_render_desc.iso in field `field`: the first change of
+                          side (phi >= iso or not) between consecutive lattice samples, refined
+                          by bisection to 1e-4 dt; opaque, in the TF's colour at the iso value,
+                          shaded as `shading` says with the normal -grad/|grad| at the hit
+                          (LC_SHADE_NONE: flat); rays that cross nothing stay transparent */
+    LC_MODE_SLICE = 3, /* the field `field` on up to LC_MAX_PLANES planes through the TF's
+                          colours: one sample per ray where it meets the nearest plane in front
+                          of the eye inside the data's box; opaque there, unshaded; elsewhere
+                          transparent */
+    LC_MODE_COUNT = 4
 } lc_mode;
+
+/* A plane of LC_MODE_SLICE: a point on it and its normal (any length > 0;
+ * the side it faces does not matter). */
+typedef struct lc_plane {
+    lc_vec3 point;
+    lc_vec3 normal;
+} lc_plane;
+
+#define LC_MAX_PLANES 4
 
 /* How a kind walks its data; each kind takes its own (DEFAULT = the fast one). */
 typedef enum lc_method {
@@ -742,7 +760,12 @@ typedef struct lc_render_desc {
     const lc_tf *tf;           /* NULL = a default ("heat") TF */
     float range[2];            /* value range [lo, hi]; both 0 = the TF's range or the data's */
     const lc_volume *volume;   /* required: what to render (any kind) */
-    lc_mode mode;              /* LC_MODE_DVR (0) or LC_MODE_MIP; shading applies to dvr only */
+    lc_mode mode;              /* LC_MODE_DVR (0), MIP, ISO or SLICE; shading applies to dvr and iso */
+    float iso;                 /* LC_MODE_ISO: the iso value (the field's own units), finite */
+    int field;                 /* LC_MODE_ISO and LC_MODE_SLICE: the field they show (0 = the first;
+                                  0 .. nfields - 1); the other modes show every field */
+    lc_plane planes[LC_MAX_PLANES]; /* LC_MODE_SLICE: planes[0 .. nplanes - 1] */
+    int nplanes;               /* LC_MODE_SLICE: 1 .. LC_MAX_PLANES */
     float dt;                  /* sampling step in world units; 0 = a default from the data */
     float alpha_stop;          /* early termination; 0 = 0.97, 1 = never */
     lc_shading shading;
@@ -770,7 +793,12 @@ typedef struct lc_render_stats {
 
 /* Renders into rgba: width * height * 4 floats, row 0 at the top, holding
  * premultiplied colour C and opacity A (the background is not applied; see
- * lc_image_write). stats may be NULL. The volume and TF are only read. */
+ * lc_image_write). stats may be NULL. The volume and TF are only read.
+ * LC_ERROR_INVALID_ARGUMENT names the bad member: besides sizes, camera, dt,
+ * alpha_stop, shading, lighting, packet, range and the TF's field count, a
+ * mode out of range, iso a non-finite iso, iso or slice a field outside
+ * 0 .. nfields - 1, slice nplanes outside 1 .. LC_MAX_PLANES or a plane with a
+ * non-finite point or a zero or non-finite normal. */
 LC_API lc_status lc_render(lc_device *device, const lc_render_desc *desc, float *rgba, lc_render_stats *stats);
 
 /* ---------------------------------------------------------------- images */

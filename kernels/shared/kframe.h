@@ -43,7 +43,16 @@ _Static_assert(sizeof(lc_ktf) == 24, "lc_ktf layout");
 enum { LC_KSHADE_NONE = 0, LC_KSHADE_DIFFUSE = 1, LC_KSHADE_PHONG = 2 };
 
 /* Render modes (lc_mode): what the per-sample consumer (kernels/mode.h) does. */
-enum { LC_KMODE_DVR = 0, LC_KMODE_MIP = 1 };
+enum { LC_KMODE_DVR = 0, LC_KMODE_MIP = 1, LC_KMODE_ISO = 2, LC_KMODE_SLICE = 3 };
+
+#define LC_KMAX_PLANES 4 /* = LC_MAX_PLANES of the API (asserted in host/internal.h) */
+
+/* A slice plane: a point on it and its unit normal. */
+typedef struct lc_kplane {
+    float point[4];
+    float normal[4];
+} lc_kplane;
+_Static_assert(sizeof(lc_kplane) == 32, "lc_kplane layout");
 
 /* Lattice indices are clamped below this so k * dt stays exact in float and
  * k fits an int32 (2^24 = 16777216 > LC_KLATTICE_MAX). */
@@ -62,19 +71,27 @@ typedef struct lc_kframe {
     int32_t packet;      /* rays per packet group side (e.g. 8 for 8x8); 0 = lane width */
     int32_t zero_transparent; /* 1: every field's TF has tau = 0 at value 0, so samples where no
                                  particle (or nothing) contributes may be skipped exactly */
-    int32_t pad1;
+    int32_t field;       /* iso, slice: the field they show */
+    float iso;           /* iso: the iso value */
+    int32_t nplanes;     /* slice: planes[0 .. nplanes - 1] */
+    int32_t pad2[2];
+    lc_kplane planes[LC_KMAX_PLANES];
 } lc_kframe;
-_Static_assert(sizeof(lc_kframe) == 80 + 24 * LC_KMAX_FIELDS + 48, "lc_kframe layout");
+_Static_assert(sizeof(lc_kframe) == 80 + 24 * LC_KMAX_FIELDS + 64 + 32 * LC_KMAX_PLANES, "lc_kframe layout");
 
 /* A rectangle of pixels [x0, x1) x [y0, y1) and where its result goes: the
- * kernel writes premultiplied (C, A) into rgba[(y * stride + x) * 4 ...]. */
+ * kernel writes premultiplied (C, A) into rgba[(y * stride + x) * 4 ...] and,
+ * when depth is not NULL, in iso and slice modes the ray distance t of the
+ * point a pixel shows (the iso hit, the plane point; +inf where none) into
+ * depth[y * stride + x] (a test hook, lci_render). */
 typedef struct lc_ktile {
     int32_t x0, y0, x1, y1;
     int32_t stride;
     int32_t pad;
     float *rgba;
+    float *depth;
 } lc_ktile;
-_Static_assert(sizeof(lc_ktile) == 32, "lc_ktile layout");
+_Static_assert(sizeof(lc_ktile) == 40, "lc_ktile layout");
 
 /* Per-tile counters, summed by the host for --stats. */
 typedef struct lc_kstats {

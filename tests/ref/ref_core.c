@@ -171,7 +171,20 @@ static int setup(ctx *c, const ref_source *src, const ref_params *p)
 {
     if (!src || !p || !src->eval || src->nfields < 1 || src->nfields > REF_MAX_FIELDS || !p->tf) return -1;
     if (p->width < 1 || p->height < 1 || !(p->dt > 0.0) || !isfinite(p->dt) || !(p->rda >= 0.0)) return -1;
-    if (p->mode != REF_MODE_DVR && p->mode != REF_MODE_MIP) return -1; /* iso, slice: not implemented yet */
+    if ((int)p->mode < (int)REF_MODE_DVR || (int)p->mode > (int)REF_MODE_SLICE) return -1;
+    if (p->mode == REF_MODE_ISO || p->mode == REF_MODE_SLICE) {
+        if (p->field < 0 || p->field >= src->nfields) return -1;
+        if (p->mode == REF_MODE_ISO && !isfinite(p->iso)) return -1;
+        if (p->mode == REF_MODE_SLICE) {
+            if (p->nplanes < 1 || p->nplanes > REF_MAX_PLANES) return -1;
+            for (int i = 0; i < p->nplanes; i++) {
+                double n[3] = {p->planes[i][3], p->planes[i][4], p->planes[i][5]};
+                for (int a = 0; a < 6; a++)
+                    if (!isfinite(p->planes[i][a])) return -1;
+                if (normalize3(n)) return -1;
+            }
+        }
+    }
     if ((int)p->shading < 0 || (int)p->shading > (int)REF_SHADE_PHONG) return -1;
     for (int f = 0; f < src->nfields; f++)
         if (!tf_valid(&p->tf[f])) return -1;
@@ -210,13 +223,70 @@ static void shade(const ctx *c, const ref_tf *tf, const double g[3], const doubl
 
 /* Per-ray state of every mode; DVR uses C and A, MIP the running maximum of
  * the normalised value, the field that reached it and whether any sample was
- * taken. */
+ * taken; iso the previous sample and, once found, the hit; slice the hit. */
 typedef struct ray_state {
     double o[3], d[3];
     double C[3], A;
     double vmax;
     int fmax, seen;
+    double prev_phi, prev_t; /* iso: the previous lattice sample (seen: there is one) */
+    int hit;                 /* iso, slice: found */
+    double t_hit;
+    double margin;           /* see ref_render_depth */
 } ray_state;
+
+/* Field p->field at x0 + t d (iso, slice). */
+static double field_at(const ctx *c, const ray_state *r, double t, double (*grad)[3])
+{
+    double x[3], phi[REF_MAX_FIELDS];
+    for (int a = 0; a < 3; a++) x[a] = r->o[a] + t * r->d[a];
+    c->src->eval(c->src->user, x, phi, grad);
+    return phi[c->p->field];
+}
+
+/* iso (SPEC.md "Other modes"): the first pair of consecutive lattice samples
+ * on different sides of the iso value (inside: phi >= iso) is bisected in
+ * double precision until the bracket is at most 1e-4 dt wide; the hit is its
+ * end on the inside. Returns 1 (stop) on a hit. */
+static int iso_sample(const ctx *c, ray_state *r, double t, const double *phi)
+{
+    const double iso = c->p->iso, v = phi[c->p->field];
+    double m = fabs(v - iso);
+    r->margin = m < r->margin ? m : r->margin;
+    if (r->seen && (r->prev_phi >= iso) != (v >= iso)) {
+        int in_a = r->prev_phi >= iso;
+        double a = r->prev_t, b = t;
+        while (b - a > 1e-4 * c->p->dt) {
+            double mid = 0.5 * (a + b), pm = field_at(c, r, mid, NULL);
+            if ((pm >= iso) == in_a) a = mid;
+            else b = mid;
+        }
+        r->hit = 1;
+        r->t_hit = in_a ? a : b;
+        return 1;
+    }
+    r->seen = 1;
+    r->prev_phi = v, r->prev_t = t;
+    return 0;
+}
+
+/* slice: the nearest plane point with t in [t0, t1] and before t_surf. */
+static void slice_ray(const ctx *c, ray_state *r, double t0, double t1, double t_surf)
+{
+    const ref_params *p = c->p;
+    for (int i = 0; i < p->nplanes; i++) {
+        double n[3] = {p->planes[i][3], p->planes[i][4], p->planes[i][5]}, e[3];
+        normalize3(n);
+        for (int a = 0; a < 3; a++) e[a] = p->planes[i][a] - r->o[a];
+        double dn = dot3(r->d, n);
+        if (dn == 0.0) continue;
+        double tp = dot3(e, n) / dn;
+        double m = fmin(fabs(tp - t0), fabs(tp - t1));
+        if (isfinite(t_surf)) m = fmin(m, fabs(tp - t_surf));
+        r->margin = m < r->margin ? m : r->margin;
+        if (tp >= t0 && tp <= t1 && tp < t_surf && (!r->hit || tp < r->t_hit)) r->hit = 1, r->t_hit = tp;
+    }
+}
 
 /* MIP (SPEC.md "Other modes"): the largest normalised value v = (phi - lo) /
  * (hi - lo) along the ray over every field (the first to reach it wins). */
@@ -252,7 +322,7 @@ static int consume_sample(const ctx *c, ray_state *r, long k, double t, const do
 {
     switch (c->p->mode) {
     case REF_MODE_DVR: return dvr_sample(c, r, k, t, phi, grad);
-    case REF_MODE_ISO:   /* sign change against the previous sample, then bisection */
+    case REF_MODE_ISO: return iso_sample(c, r, t, phi);
     case REF_MODE_MIP: return mip_sample(c, r, phi);
     case REF_MODE_SLICE: /* not a lattice consumer: one sample on the plane */
     default: return 1;
@@ -262,6 +332,22 @@ static int consume_sample(const ctx *c, ray_state *r, long k, double t, const do
 static void finish_ray(const ctx *c, const ray_state *r, double out[4])
 {
     switch (c->p->mode) {
+    case REF_MODE_ISO:   /* the TF's colour at the iso value, shaded with the gradient at the hit */
+    case REF_MODE_SLICE: { /* the TF's colour at the plane point, unshaded */
+        const ref_tf *tf = &c->p->tf[c->p->field];
+        double rgb[3] = {0, 0, 0}, tau, grad[REF_MAX_FIELDS][3] = {{0}};
+        if (r->hit && c->p->mode == REF_MODE_SLICE) {
+            ref_tf_eval(tf, field_at(c, r, r->t_hit, NULL), rgb, &tau);
+        } else if (r->hit) {
+            ref_tf_eval(tf, c->p->iso, rgb, &tau);
+            if (c->p->shading != REF_SHADE_NONE) {
+                field_at(c, r, r->t_hit, grad);
+                shade(c, tf, grad[c->p->field], r->d, rgb);
+            }
+        }
+        out[0] = rgb[0], out[1] = rgb[1], out[2] = rgb[2], out[3] = r->hit ? 1.0 : 0.0;
+        break;
+    }
     case REF_MODE_MIP: { /* the maximum through its field's colour map, opaque where sampled */
         const ref_tf *tf = &c->p->tf[r->fmax];
         double rgb[3] = {0, 0, 0}, tau;
@@ -274,19 +360,25 @@ static void finish_ray(const ctx *c, const ray_state *r, double out[4])
     }
 }
 
-static void trace(const ctx *c, int px, int py, double out[4])
+/* One pixel: out = premultiplied (C, A); depth and margin as ref_render_depth. */
+static void trace(const ctx *c, int px, int py, double out[4], double *depth, double *margin)
 {
     const ref_params *p = c->p;
     const ref_source *s = c->src;
-    ray_state r = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 0.0, 0.0, 0, 0};
+    ray_state r = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 0.0, 0.0, 0, 0, 0.0, 0.0, 0, 0.0, INFINITY};
     double phi[REF_MAX_FIELDS], grad[REF_MAX_FIELDS][3] = {{0}};
     double t0, t1;
     long k0, k1;
     double t_surf = INFINITY, srgb[3] = {0, 0, 0};
     ref_camera_ray(&p->camera, p->width, p->height, px, py, r.o, r.d);
     int surf = p->surface && p->surface(p->surface_user, p, r.o, r.d, &t_surf, srgb);
-    if (ref_ray_box(r.o, r.d, s->lo, s->hi, &t0, &t1) && ref_lattice_range(t0, t1, p->dt, p->rda, &k0, &k1) > 0) {
-        int need_grad = p->shading != REF_SHADE_NONE;
+    if (!surf) t_surf = INFINITY;
+    if (p->mode == REF_MODE_SLICE) { /* no lattice: one sample on the nearest plane */
+        if (ref_ray_box(r.o, r.d, s->lo, s->hi, &t0, &t1)) slice_ray(c, &r, t0, t1, t_surf);
+    } else if (ref_ray_box(r.o, r.d, s->lo, s->hi, &t0, &t1) &&
+               ref_lattice_range(t0, t1, p->dt, p->rda, &k0, &k1) > 0) {
+        /* dvr shades every sample; iso takes its one gradient at the hit */
+        int need_grad = p->shading != REF_SHADE_NONE && p->mode == REF_MODE_DVR;
         for (long k = k0; k <= k1; k++) {
             double t = ref_lattice_t(k, p->dt, p->rda), x[3];
             if (surf && !(t < t_surf)) break; /* only samples strictly in front of the surface */
@@ -296,6 +388,8 @@ static void trace(const ctx *c, int px, int py, double out[4])
         }
     }
     finish_ray(c, &r, out);
+    if (depth) *depth = r.hit && (p->mode == REF_MODE_ISO || p->mode == REF_MODE_SLICE) ? r.t_hit : INFINITY;
+    if (margin) *margin = r.margin;
     if (surf) { /* the opaque surface behind whatever the ray gathered */
         double w = 1.0 - out[3];
         for (int ch = 0; ch < 3; ch++) out[ch] += w * srgb[ch];
@@ -307,7 +401,20 @@ int ref_render_pixel(const ref_source *src, const ref_params *p, int px, int py,
 {
     ctx c;
     if (setup(&c, src, p) || px < 0 || py < 0 || px >= p->width || py >= p->height) return -1;
-    trace(&c, px, py, out);
+    trace(&c, px, py, out, NULL, NULL);
+    return 0;
+}
+
+int ref_render_depth(const ref_source *src, const ref_params *p, double *depth, double *margin)
+{
+    ctx c;
+    if (!depth || setup(&c, src, p)) return -1;
+    for (int py = 0; py < p->height; py++)
+        for (int px = 0; px < p->width; px++) {
+            double o[4];
+            size_t i = (size_t)py * (size_t)p->width + (size_t)px;
+            trace(&c, px, py, o, depth + i, margin ? margin + i : NULL);
+        }
     return 0;
 }
 
@@ -319,7 +426,7 @@ static int render(const ref_source *src, const ref_params *p, double *outd, floa
         for (int px = 0; px < p->width; px++) {
             double o[4];
             size_t i = 4 * ((size_t)py * (size_t)p->width + (size_t)px);
-            trace(&c, px, py, o);
+            trace(&c, px, py, o, NULL, NULL);
             for (int ch = 0; ch < 4; ch++) {
                 if (outd) outd[i + ch] = o[ch];
                 if (outf) outf[i + ch] = (float)o[ch];

@@ -19,10 +19,12 @@ typedef struct ref_camera {
     double height; /* orthographic: image-plane height in world units, > 0 */
 } ref_camera;
 
-/* A mode consumes the field samples of a ray; only DVR is implemented, the
- * others make ref_render return -1 until they are added at the one switch in
- * ref_core.c (consume_sample / finish_ray). */
+/* A mode consumes the field samples of a ray (SPEC.md "Sampling and
+ * integration", "Other modes"); the one switch is in ref_core.c
+ * (consume_sample / finish_ray; slice takes no lattice sample, trace()). */
 typedef enum ref_mode { REF_MODE_DVR = 0, REF_MODE_ISO, REF_MODE_MIP, REF_MODE_SLICE } ref_mode;
+
+#define REF_MAX_PLANES 4
 
 typedef enum ref_shading { REF_SHADE_NONE = 0, REF_SHADE_DIFFUSE, REF_SHADE_PHONG } ref_shading;
 
@@ -84,6 +86,18 @@ struct ref_params {
     const void *tau_scale_user;
     ref_surface_fn surface; /* NULL: none */
     const void *surface_user;
+    /* iso: the iso value and the field (0 .. nfields - 1). Along the ray, the
+     * first pair of consecutive lattice samples on different sides (phi >= iso
+     * or not) is bisected to at most 1e-4 dt; the hit is the end of that
+     * bracket on the phi >= iso side; it shows the field's colour at the iso
+     * value, shaded with the gradient there, opaque. No crossing: transparent. */
+    double iso;
+    int field; /* iso and slice */
+    /* slice: planes[i] = point (x, y, z), normal (x, y, z) (non-zero); each ray
+     * shows the nearest plane point with t in its box overlap (t >= 0), in the
+     * field's colour at that point, opaque and unshaded; none: transparent. */
+    double planes[REF_MAX_PLANES][6];
+    int nplanes;
 };
 
 /* The lighting coefficients of p with the SPEC.md defaults applied (all zero:
@@ -112,9 +126,20 @@ void ref_tf_eval(const ref_tf *tf, double phi, double rgb[3], double *tau);
 /* One pixel: out = premultiplied (C, A), background not applied. */
 int ref_render_pixel(const ref_source *src, const ref_params *p, int px, int py, double out[4]);
 
+/* iso and slice, per pixel (width * height, row 0 at the top): depth = t of
+ * the point shown (the iso hit, the plane point), INFINITY where nothing is;
+ * margin (may be NULL) = how near the pixel came to another outcome: iso, the
+ * smallest |phi - iso| over the lattice samples it took (field units: a
+ * float renderer may put a sample this close on the other side, and find
+ * another first crossing; bisection points near the crossing only move the
+ * hit within the bracket); slice, the smallest distance in t of a plane
+ * point from either end of the ray's box overlap (or from the surface).
+ * Other modes: INFINITY in both. Returns 0 or -1 on bad parameters. */
+int ref_render_depth(const ref_source *src, const ref_params *p, double *depth, double *margin);
+
 /* width * height * 4 values, premultiplied C and A, background not applied,
- * row 0 at the top. Returns 0, or -1 on bad parameters or an unimplemented
- * mode (rgba then untouched). */
+ * row 0 at the top. Returns 0, or -1 on bad parameters (rgba then
+ * untouched). */
 int ref_render(const ref_source *src, const ref_params *p, double *rgba);
 int ref_render_f(const ref_source *src, const ref_params *p, float *rgba);
 
