@@ -412,6 +412,18 @@ static void test_api(lc_device *dev)
           "width 0: %s", lc_last_error());
     d.widths = s_ok, d.domain = (lc_box3){{0, 0, 0}, {1, -1, 1}};
     CHECK(lc_rbf_create(dev, &d, &v) == LC_ERROR_INVALID_ARGUMENT, "empty domain: %s", lc_last_error());
+    /* finite but huge: refused before the build (Embree's binning aborts on infinite extents) */
+    float c_far[6] = {0, 0, 0, 1.7e38f, 1, 1}, s_wide[2] = {1, 3e38f};
+    d.domain = (lc_box3){{0, 0, 0}, {0, 0, 0}}, d.centres = c_far;
+    CHECK(lc_rbf_create(dev, &d, &v) == LC_ERROR_INVALID_ARGUMENT && strstr(lc_last_error(), "RBF 1 (a centre"),
+          "centre 1.7e38: %s", lc_last_error());
+    d.centres = c, d.widths = s_wide;
+    CHECK(lc_rbf_create(dev, &d, &v) == LC_ERROR_INVALID_ARGUMENT && strstr(lc_last_error(), "RBF 1 (width beyond"),
+          "width 3e38: %s", lc_last_error());
+    d.widths = s_ok, d.domain = (lc_box3){{-3e38f, 0, 0}, {1, 1, 1}};
+    CHECK(lc_rbf_create(dev, &d, &v) == LC_ERROR_INVALID_ARGUMENT && strstr(lc_last_error(), "domain"),
+          "domain -3e38: %s", lc_last_error());
+    d.domain = (lc_box3){{0, 0, 0}, {0, 0, 0}};
     d.domain = (lc_box3){{0, 0, 0}, {0, 0, 0}}, d.weights = w_small;
     lc_rbf_info in;
     CHECK(lc_rbf_create(dev, &d, &v) == LC_OK && lc_rbf_get_info(v, &in) == LC_OK && in.count == 1 &&

@@ -22,7 +22,7 @@
 #include "host/encode/encode_local.h"
 
 #define DEFAULT_MAX_ERROR 0.02f
-#define DEFAULT_MAX_RBFS 16384
+#define DEFAULT_MAX_RBFS 4096 /* as lanecast.h and `lanecast encode --help` say */
 #define DEFAULT_FIT_SAMPLES ((size_t)1 << 21)
 #define DEFAULT_LM_SAMPLES 2048
 #define DEFAULT_LOCAL 4

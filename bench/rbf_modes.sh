@@ -1,0 +1,61 @@
+#!/bin/sh
+# Frame rate of an encoded RBF set (BVH gather and octree) against its
+# original grid, for every render mode, at 1024^2 (docs/BENCHMARKS-rbf.md).
+# The same camera, transfer function, value range and step for all three;
+# the RBF set renders inside the grid's box (--domain), so both sample the
+# same lattice. Each case: one warm-up, then REPEATS frames; the median of
+# the render times `--stats` prints. Rounds interleave the three so load
+# drift on a shared machine falls on all alike.
+# Usage: bench/rbf_modes.sh BUILD_DIR DATA_DIR OUT_FILE [REPEATS]
+set -eu
+build=$1 data=$2 out=$3 reps=${4:-5}
+exe=$build/tools/lanecast
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+size=1024x1024
+
+# volume, encoder flags, box max, iso value, range (the data's units)
+cases="hydrogen|--max-error 0.02|63|0.3|0,1
+neghip|--max-rbfs 2048 --max-error 0.001|65|120|0,255"
+
+median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+
+render_time() { # prints the render seconds of one frame
+    "$exe" render "$@" --size $size --stats --quiet -o "$tmp/img.exr" 2>&1 | awk '/^render /{print $2}'
+}
+
+{
+echo "# machine: $(nproc) CPUs,$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2); commit $(git -C "$(dirname "$0")" rev-parse --short HEAD)"
+echo "# $size, default target and threads, median of $reps frames after a warm-up; seconds per frame"
+echo "volume rbfs mode grid_s rbf_bvh_s rbf_octree_s grid_fps bvh_fps octree_fps"
+echo "$cases" | while IFS='|' read -r vol enc hi iso range; do
+    src="$data/volumes/$vol.nhdr"
+    # shellcheck disable=SC2086
+    "$exe" encode "$src" -o "$tmp/$vol.rbf" $enc > "$tmp/$vol.enc" 2>/dev/null
+    n=$(awk '/^rbfs/{print $2}' "$tmp/$vol.enc")
+    c=$(awk -v h="$hi" 'BEGIN{print h / 2}')
+    common="--eye $c,$c,$(awk -v h="$hi" 'BEGIN{print h * 2.6}') --at $c,$c,$c --tf heat --tau 0.3 --range $range --dt 0.5 --alpha-stop 1"
+    for mode in dvr mip iso slice; do
+        case $mode in
+        iso) mflags="--mode iso --iso $iso --shade phong" ;;
+        slice) mflags="--mode slice --plane $c,$c,$c,0,0,1 --plane $c,$c,$c,1,0,0" ;;
+        *) mflags="--mode $mode" ;;
+        esac
+        for r in $(seq 0 "$reps"); do
+            # shellcheck disable=SC2086
+            g=$(render_time "$src" $common $mflags)
+            # shellcheck disable=SC2086
+            b=$(render_time "$tmp/$vol.rbf" --domain 0,0,0,$hi,$hi,$hi --method bvh $common $mflags)
+            # shellcheck disable=SC2086
+            o=$(render_time "$tmp/$vol.rbf" --domain 0,0,0,$hi,$hi,$hi --rbf-accel octree $common $mflags)
+            [ "$r" -gt 0 ] && echo "$g $b $o" >> "$tmp/$vol.$mode"
+        done
+        gs=$(cut -d' ' -f1 "$tmp/$vol.$mode" | median)
+        bs=$(cut -d' ' -f2 "$tmp/$vol.$mode" | median)
+        os=$(cut -d' ' -f3 "$tmp/$vol.$mode" | median)
+        awk -v v="$vol" -v n="$n" -v m="$mode" -v g="$gs" -v b="$bs" -v o="$os" \
+            'BEGIN{printf "%s %s %s %.4f %.4f %.4f %.2f %.2f %.2f\n", v, n, m, g, b, o, 1/g, 1/b, 1/o}'
+    done
+done
+} > "$out"
+cat "$out"
