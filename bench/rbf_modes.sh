@@ -15,8 +15,8 @@ trap 'rm -rf "$tmp"' EXIT
 size=1024x1024
 
 # volume, encoder flags, box max, iso value, range (the data's units)
-cases="hydrogen|--max-error 0.02|63|0.3|0,1
-neghip|--max-rbfs 2048 --max-error 0.001|65|120|0,255"
+cases=${CASES:-"hydrogen|--max-error 0.02|63|0.3|0,1
+neghip|--max-rbfs 2048 --max-error 0.001|65|120|0,255"}
 
 median() { sort -g | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
 
@@ -32,10 +32,10 @@ echo "$cases" | while IFS='|' read -r vol enc hi iso range; do
     src="$data/volumes/$vol.nhdr"
     # shellcheck disable=SC2086
     "$exe" encode "$src" -o "$tmp/$vol.rbf" $enc > "$tmp/$vol.enc" 2>/dev/null
-    n=$(awk '/^rbfs/{print $2}' "$tmp/$vol.enc")
+    n=$(awk '/^rbfs/{print $2 + 0}' "$tmp/$vol.enc")
     c=$(awk -v h="$hi" 'BEGIN{print h / 2}')
     common="--eye $c,$c,$(awk -v h="$hi" 'BEGIN{print h * 2.6}') --at $c,$c,$c --tf heat --tau 0.3 --range $range --dt 0.5 --alpha-stop 1"
-    for mode in dvr mip iso slice; do
+    for mode in ${MODES:-dvr mip iso slice}; do
         case $mode in
         iso) mflags="--mode iso --iso $iso --shade phong" ;;
         slice) mflags="--mode slice --plane $c,$c,$c,0,0,1 --plane $c,$c,$c,1,0,0" ;;
