@@ -13,112 +13,27 @@
 #include "check.h"
 #include "imgcmp.h"
 #include "lanecast/lanecast.h"
-#include "ref/ref_core.h"
-#include "ref/ref_fields.h"
 
-#define MAXN 96
 #define W 64
 #define H 48
+#include "rbf_scene.h"
 
 static const char *outdir = ".";
 static lc_target targets[LC_TARGET_COUNT];
 static int ntargets;
 static double worst_255, worst_psnr = INFINITY;
 
-typedef struct scene {
-    const char *name;
-    int n;
-    float c[3 * MAXN], s[MAXN], w[MAXN];
-    float bias, eps, dt;
-    lc_box3 domain;
-    int leaf;
-    lc_shading shade;
-    float range[2];
-} scene;
-
-static uint32_t seed;
-static float rnd(float a, float b) { return a + (b - a) * (float)((seed = seed * 1664525u + 1013904223u) >> 8) / 16777216.0f; }
-
-/* n RBFs in [-2, 2]^3, widths s0..s1 (several sizes), weights w0..w1 (both signs). */
-static void fill(scene *sc, int n, float s0, float s1, float w0, float w1, uint32_t sd)
-{
-    seed = sd;
-    sc->n = n;
-    for (int i = 0; i < n; i++) {
-        for (int k = 0; k < 3; k++) sc->c[3 * i + k] = rnd(-2.0f, 2.0f);
-        sc->s[i] = rnd(s0, s1);
-        sc->w[i] = rnd(w0, w1);
-        if (fabsf(sc->w[i]) < 0.05f) sc->w[i] = 0.3f; /* keep every term visible */
-    }
-}
-
-static lc_rbf_desc desc_of(const scene *sc)
-{
-    lc_rbf_desc d = {.count = (size_t)sc->n, .centres = sc->c, .widths = sc->s, .weights = sc->w, .bias = sc->bias,
-                     .eps = sc->eps, .domain = sc->domain, .leaf_size = sc->leaf};
-    return d;
-}
-
-/* The TF of every image: a heat ramp; opaque for negative values (v < 0.3),
- * faint near the bias values of the scenes, dense at the top. The faint part
- * keeps one lattice sample more or less at a box face (float against double
- * entry points) below 2/255. */
-static const float tf_color[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.4f, 0.8f, 0.2f, 0.1f, 1.0f, 1.0f, 0.95f, 0.6f};
-static const float tf_opacity[] = {0.0f, 1.5f, 0.3f, 0.0f, 0.5f, 0.1f, 1.0f, 3.0f};
-static const lc_camera cam = {LC_PERSPECTIVE, {0.7f, 1.1f, 9.0f}, {0.1f, -0.2f, 0.0f}, {0, 1, 0}, 40.0f, 0.0f};
-
-/* The reference image of a scene, the support box or the domain as clip box. */
-static int ref_image(const scene *sc, float eps, float *img)
-{
-    static double c[3 * MAXN], s[MAXN], w[MAXN];
-    for (int i = 0; i < 3 * sc->n; i++) c[i] = sc->c[i];
-    for (int i = 0; i < sc->n; i++) s[i] = sc->s[i], w[i] = sc->w[i];
-    ref_rbf_set set = {(size_t)sc->n, c, s, w, sc->bias, eps};
-    ref_source src;
-    if (ref_rbf_source(&set, &src)) return -1;
-    const lc_box3 *d = &sc->domain;
-    if (d->lo.x != 0 || d->hi.x != 0) {
-        const double lo[3] = {d->lo.x, d->lo.y, d->lo.z}, hi[3] = {d->hi.x, d->hi.y, d->hi.z};
-        memcpy(src.lo, lo, sizeof lo), memcpy(src.hi, hi, sizeof hi);
-    }
-    double col[12], op[8];
-    for (int i = 0; i < 12; i++) col[i] = tf_color[i];
-    for (int i = 0; i < 8; i++) op[i] = tf_opacity[i];
-    ref_tf tf = {sc->range[0], sc->range[1], col, 3, op, 4};
-    ref_params p = {.width = W, .height = H, .tf = &tf, .dt = sc->dt, .alpha_stop = 1.0,
-                    .shading = (ref_shading)sc->shade};
-    p.camera.projection = REF_PERSPECTIVE;
-    for (int k = 0; k < 3; k++) {
-        p.camera.eye[k] = (&cam.eye.x)[k], p.camera.at[k] = (&cam.at.x)[k], p.camera.up[k] = (&cam.up.x)[k];
-    }
-    p.camera.fovy = cam.fovy;
-    return ref_render_f(&src, &p, img);
-}
-
-/* Renders a scene on dev with method m; 0 ok. */
-static int render(lc_device *dev, const lc_volume *v, const scene *sc, lc_method m, float *img, lc_render_stats *st)
-{
-    lc_tf_field f = {tf_color, 3, tf_opacity, 4, 1, {sc->range[0], sc->range[1]}};
-    lc_tf *tf = NULL;
-    if (lc_tf_create(dev, &f, 1, &tf) != LC_OK) return -1;
-    lc_render_desc rd = {.width = W, .height = H, .camera = cam, .tf = tf, .volume = v, .dt = sc->dt,
-                         .alpha_stop = 1.0f, .shading = sc->shade, .method = m};
-    lc_status s = lc_render(dev, &rd, img, st);
-    lc_tf_destroy(tf);
-    return s == LC_OK ? 0 : -1;
-}
-
 static void make_scenes(scene *sc, int *n)
 {
     memset(sc, 0, sizeof *sc * 5);
     sc[0].name = "signed";
-    fill(&sc[0], 12, 0.3f, 1.0f, -1.0f, 1.5f, 7u);
+    fill(&sc[0], 12, 0, 0.3f, 1.0f, -1.0f, 1.5f, 7u, 0.3f);
     sc[0].range[0] = -1.0f, sc[0].range[1] = 2.0f, sc[0].dt = 0.075f;
     sc[1] = sc[0], sc[1].name = "signed_phong", sc[1].shade = LC_SHADE_PHONG;
     sc[2] = sc[0], sc[2].name = "bias_domain_diffuse", sc[2].bias = 0.25f, sc[2].shade = LC_SHADE_DIFFUSE;
     sc[2].domain = (lc_box3){{-2.5f, -1.8f, -2.2f}, {2.2f, 2.4f, 1.9f}};
     sc[3].name = "many_sizes_eps";
-    fill(&sc[3], 80, 0.12f, 0.7f, -0.8f, 1.2f, 99u);
+    fill(&sc[3], 80, 0, 0.12f, 0.7f, -0.8f, 1.2f, 99u, 0.3f);
     sc[3].eps = 1e-3f, sc[3].leaf = 2, sc[3].shade = LC_SHADE_DIFFUSE, sc[3].dt = 0.03f;
     sc[3].range[0] = -1.0f, sc[3].range[1] = 1.5f;
     sc[4].name = "bias_only", sc[4].bias = 0.5f, sc[4].dt = 0.05f, sc[4].range[1] = 1.0f;
@@ -141,7 +56,7 @@ static void test_images(void)
             lc_device_desc dd = {.target = targets[ti], .threads = 2};
             lc_device *dev = NULL;
             lc_volume *v = NULL;
-            lc_rbf_desc d = desc_of(&sc[i]);
+            lc_rbf_desc d = desc_of(&sc[i], LC_RBF_ACCEL_DEFAULT, 0);
             if (lc_device_create(&dd, &dev) != LC_OK || lc_rbf_create(dev, &d, &v) != LC_OK) {
                 CHECK(0, "%s: create on %s: %s", sc[i].name, lc_target_name(targets[ti]), lc_last_error());
                 lc_device_destroy(dev);
@@ -188,7 +103,7 @@ static void test_images(void)
     bad.w[strongest] *= 1.1f;
     lc_rbf_info info;
     lc_volume *v = NULL;
-    lc_rbf_desc d = desc_of(&sc[0]), db = desc_of(&bad);
+    lc_rbf_desc d = desc_of(&sc[0], LC_RBF_ACCEL_DEFAULT, 0), db = desc_of(&bad, LC_RBF_ACCEL_DEFAULT, 0);
     lc_rbf_create(dev, &d, &v);
     lc_rbf_get_info(v, &info);
     lc_volume_destroy(v);
@@ -230,7 +145,7 @@ static void test_sample(void)
             lc_device_desc dd = {.target = targets[ti], .threads = 1};
             lc_device *dev = NULL;
             lc_volume *v = NULL;
-            lc_rbf_desc d = desc_of(s);
+            lc_rbf_desc d = desc_of(s, LC_RBF_ACCEL_DEFAULT, 0);
             lc_rbf_info info;
             if (lc_device_create(&dd, &dev) != LC_OK || lc_rbf_create(dev, &d, &v) != LC_OK ||
                 lc_rbf_get_info(v, &info) != LC_OK || lc_volume_sample(dev, v, NP, pts, val, grad) != LC_OK) {
@@ -317,7 +232,7 @@ static void test_round_trip(lc_device *dev)
     path_in(tp, sizeof tp, "rt_text.rbf"), path_in(bp, sizeof bp, "rt_binary.rbf");
     CHECK(write_text(tp, s) == 0 && write_bytes(bp, bin, binary_image(s, bin, (uint64_t)s->n)) == 0, "write files");
     lc_volume *orig = NULL;
-    lc_rbf_desc d = desc_of(s);
+    lc_rbf_desc d = desc_of(s, LC_RBF_ACCEL_DEFAULT, 0);
     d.domain = (lc_box3){{0, 0, 0}, {0, 0, 0}}; /* files carry no domain: compare with the support box */
     lc_rbf_create(dev, &d, &orig);
     enum { NP = 64 };

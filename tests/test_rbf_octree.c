@@ -17,98 +17,15 @@
 #include "check.h"
 #include "imgcmp.h"
 #include "lanecast/lanecast.h"
-#include "ref/ref_core.h"
-#include "ref/ref_fields.h"
 
-#define MAXN 400
 #define W 64
 #define H 48
+#include "rbf_scene.h"
 
 static const char *outdir = ".";
 static lc_target targets[LC_TARGET_COUNT];
 static int ntargets;
 static double worst_255, worst_psnr = INFINITY;
-
-typedef struct scene {
-    const char *name;
-    int n;
-    float c[3 * MAXN], s[MAXN], w[MAXN];
-    float bias, dt;
-    lc_box3 domain;
-    int cell_max;
-    lc_shading shade;
-    lc_mode mode;
-    float range[2];
-} scene;
-
-static uint32_t seed;
-static float rnd(float a, float b) { return a + (b - a) * (float)((seed = seed * 1664525u + 1013904223u) >> 8) / 16777216.0f; }
-
-/* n RBFs: uniform in [-2, 2]^3, or (clustered) around 3 centres with spread
- * 0.5; widths s0..s1, weights w0..w1 (|w| >= 0.05). */
-static void fill(scene *sc, int n, int clustered, float s0, float s1, float w0, float w1, uint32_t sd)
-{
-    seed = sd;
-    sc->n = n;
-    const float cl[3][3] = {{-1.0f, -0.5f, 0.3f}, {0.9f, 0.6f, -0.4f}, {0.2f, 1.2f, 0.8f}};
-    for (int i = 0; i < n; i++) {
-        for (int k = 0; k < 3; k++) sc->c[3 * i + k] = clustered ? cl[i % 3][k] + rnd(-0.5f, 0.5f) : rnd(-2.0f, 2.0f);
-        sc->s[i] = rnd(s0, s1);
-        sc->w[i] = rnd(w0, w1);
-        if (fabsf(sc->w[i]) < 0.05f) sc->w[i] = 0.2f;
-    }
-}
-
-static lc_rbf_desc desc_of(const scene *sc, lc_rbf_accel a, int significant)
-{
-    lc_rbf_desc d = {.count = (size_t)sc->n, .centres = sc->c, .widths = sc->s, .weights = sc->w, .bias = sc->bias,
-                     .domain = sc->domain, .accel = a, .cell_max = a == LC_RBF_ACCEL_OCTREE ? sc->cell_max : 0,
-                     .significant = significant};
-    return d;
-}
-
-static const float tf_color[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.4f, 0.8f, 0.2f, 0.1f, 1.0f, 1.0f, 0.95f, 0.6f};
-static const float tf_opacity[] = {0.0f, 1.5f, 0.3f, 0.0f, 0.5f, 0.1f, 1.0f, 3.0f};
-static const lc_camera cam = {LC_PERSPECTIVE, {0.7f, 1.1f, 9.0f}, {0.1f, -0.2f, 0.0f}, {0, 1, 0}, 40.0f, 0.0f};
-
-static int ref_image(const scene *sc, float eps, float *img)
-{
-    static double c[3 * MAXN], s[MAXN], w[MAXN];
-    for (int i = 0; i < 3 * sc->n; i++) c[i] = sc->c[i];
-    for (int i = 0; i < sc->n; i++) s[i] = sc->s[i], w[i] = sc->w[i];
-    ref_rbf_set set = {(size_t)sc->n, c, s, w, sc->bias, eps};
-    ref_source src;
-    if (ref_rbf_source(&set, &src)) return -1;
-    const lc_box3 *d = &sc->domain;
-    if (d->lo.x != 0 || d->hi.x != 0) {
-        const double lo[3] = {d->lo.x, d->lo.y, d->lo.z}, hi[3] = {d->hi.x, d->hi.y, d->hi.z};
-        memcpy(src.lo, lo, sizeof lo), memcpy(src.hi, hi, sizeof hi);
-    }
-    double col[12], op[8];
-    for (int i = 0; i < 12; i++) col[i] = tf_color[i];
-    for (int i = 0; i < 8; i++) op[i] = tf_opacity[i];
-    ref_tf tf = {sc->range[0], sc->range[1], col, 3, op, 4};
-    ref_params p = {.width = W, .height = H, .tf = &tf, .dt = sc->dt, .alpha_stop = 1.0,
-                    .shading = (ref_shading)sc->shade, .mode = sc->mode == LC_MODE_MIP ? REF_MODE_MIP : REF_MODE_DVR};
-    p.camera.projection = REF_PERSPECTIVE;
-    for (int k = 0; k < 3; k++) {
-        p.camera.eye[k] = (&cam.eye.x)[k], p.camera.at[k] = (&cam.at.x)[k], p.camera.up[k] = (&cam.up.x)[k];
-    }
-    p.camera.fovy = cam.fovy;
-    return ref_render_f(&src, &p, img);
-}
-
-static int render(lc_device *dev, const lc_volume *v, const scene *sc, lc_method m, float *img, lc_render_stats *st)
-{
-    lc_tf_field f = {tf_color, 3, tf_opacity, 4, 1, {sc->range[0], sc->range[1]}};
-    lc_tf *tf = NULL;
-    if (lc_tf_create(dev, &f, 1, &tf) != LC_OK) return -1;
-    lc_render_desc rd = {.width = W, .height = H, .camera = cam, .tf = tf, .volume = v, .dt = sc->dt,
-                         .alpha_stop = 1.0f, .shading = sc->shade, .method = m, .mode = sc->mode};
-    lc_status s = lc_render(dev, &rd, img, st);
-    lc_tf_destroy(tf);
-    return s == LC_OK ? 0 : -1;
-}
 
 enum { NSCENES = 7 };
 
@@ -116,11 +33,11 @@ static void make_scenes(scene *sc)
 {
     memset(sc, 0, sizeof *sc * NSCENES);
     sc[0].name = "dense_clustered";
-    fill(&sc[0], 300, 1, 0.08f, 0.3f, -0.4f, 0.6f, 11u);
+    fill(&sc[0], 300, 1, 0.08f, 0.3f, -0.4f, 0.6f, 11u, 0.2f);
     sc[0].range[0] = -1.0f, sc[0].range[1] = 2.0f, sc[0].dt = 0.02f, sc[0].cell_max = 8;
     sc[1] = sc[0], sc[1].name = "dense_phong_cell1", sc[1].shade = LC_SHADE_PHONG, sc[1].cell_max = 1;
     sc[2].name = "sparse_uniform";
-    fill(&sc[2], 40, 0, 0.2f, 0.6f, -1.0f, 1.5f, 7u);
+    fill(&sc[2], 40, 0, 0.2f, 0.6f, -1.0f, 1.5f, 7u, 0.2f);
     sc[2].range[0] = -1.0f, sc[2].range[1] = 2.0f, sc[2].dt = 0.05f, sc[2].cell_max = 4;
     sc[3] = sc[2], sc[3].name = "sparse_bias_domain_diffuse", sc[3].bias = 0.25f, sc[3].shade = LC_SHADE_DIFFUSE;
     sc[3].domain = (lc_box3){{-2.5f, -1.8f, -2.2f}, {2.2f, 2.4f, 1.9f}};
