@@ -128,13 +128,19 @@ static lc_status apply(lc_volume *v, lc_render_desc *rd)
     return lc_particles_set_params(v, &params);
 }
 
-/* Molecules (formats taking `select`) are coloured by element class unless
- * the user chose fields or a classification. */
+/* Molecules (the formats of elements and residues: PDB, mmCIF, GRO, XYZ,
+ * DCD) are coloured by element class unless the user chose fields or a
+ * classification. The format is the one whose option list format_options
+ * is (decide_kind hands over lc_format_info.options). */
 static int defaults(const char *cmd, cli_load *load, const char *format_options, int tf_given)
 {
-    const char *p = format_options ? strstr(format_options, "select") : NULL;
-    if (fields_given || tf_given || !p || (p[6] && p[6] != ' ')) return 0;
-    if (strstr(format_options, "value")) return 0; /* LAMMPS, GADGET take select too but are not molecules */
+    static const char *const molecular[] = {"pdb", "mmcif", "gro", "xyz", "dcd"};
+    int mol = 0;
+    lc_format_info f;
+    for (int i = 0; format_options && lc_format_get(i, &f) == LC_OK; i++)
+        if (f.options == format_options)
+            for (size_t k = 0; k < sizeof molecular / sizeof molecular[0]; k++) mol |= !strcmp(f.name, molecular[k]);
+    if (fields_given || tf_given || !mol) return 0;
     cpk = 1;
     return cli_load_add(load, cmd, "fields", "cpk");
 }
