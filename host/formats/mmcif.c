@@ -310,7 +310,7 @@ static lc_status walk(ctok *c, walk_state *w)
     else if (w->p && w->frame >= w->models)
         s = lci_error(c->t.dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld model%s",
                       c->t.path, (long long)w->frame, (long long)w->models, w->models > 1 ? "s" : "");
-    else if (w->p && w->p->n == 0)
+    else if (w->p && w->p->n == 0 && !w->p->o.select[0]) /* a selection: lci_atoms_finish says why */
         s = lci_error(c->t.dev, LC_ERROR_FORMAT, "%s:%ld: the _atom_site loop has no atoms in the model read", c->t.path,
                       loop_line);
 out:

@@ -45,7 +45,8 @@ static void pdb_element(const char *line, char *el, size_t n)
 /* The named columns of an ATOM/HETATM record (wwPDB 3.3 columns; names
  * after VMD's and MDAnalysis's, with aliases) that `fields = column:NAME`
  * and `value = COLUMN` can name. element is the element lanecast gives the
- * atom (columns 77-78, else from the name); charge reads "2+" and "1-". */
+ * atom (columns 77-78, else from the name); charge reads "2+" and "1-",
+ * blank as 0. */
 typedef struct pdb_col {
     const char *names; /* the name, then aliases */
     int a, b;
@@ -80,6 +81,7 @@ static lc_status pdb_col_error(lc_device *dev, const char *path, const char *wha
 /* A value from columns a..b: a number, or a charge "2+" / "1-" / "+1". */
 static int pdb_number(const char *s, int charge, float *out)
 {
+    if (charge && !s[0]) return *out = 0.0f, 0; /* blank: neutral */
     if (charge && s[0] && (s[1] == '+' || s[1] == '-') && !s[2] && s[0] >= '0' && s[0] <= '9')
         return *out = (float)((s[0] - '0') * (s[1] == '-' ? -1 : 1)), 0;
     return lci_parse_float(s, out);
