@@ -8,26 +8,47 @@
 static const char help[] =
     "particles (sums of truncated Gaussians, Knoll et al. 2014):\n"
     "  INPUT                 .xyz/.extxyz (element x y z, frames), .pdb/.ent (ATOM/HETATM, MODELs as\n"
-    "                        frames), .gro (frames), optionally .gz; .dcd (CHARMM/NAMD trajectory, with\n"
-    "                        --topology FILE.psf), LAMMPS text dumps, GADGET snapshots (format 1 or 2);\n"
-    "                        raw float32 x,y,z triples with --raw-particles\n"
+    "                        frames), .cif (mmCIF _atom_site, models as frames), .gro (frames), .csv\n"
+    "                        (named columns), optionally .gz; .dcd (CHARMM/NAMD trajectory, with\n"
+    "                        --topology FILE.psf), LAMMPS text dumps, GADGET snapshots (format 1 or 2),\n"
+    "                        HDF5 PartTypeN snapshots; raw float32 x,y,z triples with --raw-particles\n"
     "  --raw-particles N     INPUT holds exactly N little-endian float32 xyz triples (needs --radius)\n"
     "  --radius R            radius of every particle (default: covalent radius by element)\n"
     "  --radius-scale S      multiply element radii by S\n"
     "  --field-by MODE       field ids from an attribute: none (one field), element (one field per\n"
     "                        element), cpk (by element class: C, N, O, S, P, H, other, and solvent),\n"
-    "                        type (atom type: PDB/mmCIF/GRO/PSF; LAMMPS: type T is field T-1;\n"
+    "                        type (atom type: mmCIF/GRO/PSF; LAMMPS: type T is field T-1;\n"
     "                        GADGET/HDF5: each particle type present, the default there), chain,\n"
-    "                        residue (residue name), or column NAME (a LAMMPS or CSV column, numbers\n"
-    "                        or words); values beyond the 8th share field 7 (with a warning); a\n"
-    "                        format without the attribute fails naming it. --fields is the same\n"
-    "  --select EXPR         read only the atoms EXPR selects (PDB, GRO, XYZ, DCD with its PSF; LAMMPS\n"
-    "                        and GADGET: type T... (atom / particle type) and index A:B): all,\n"
-    "                        protein, backbone, water, ion, solvent, element C N O, name CA, resname\n"
-    "                        ALA, chain A, segid PROA, type CT1, index 0:999, resid 10:20, joined by\n"
-    "                        and, or, not and parentheses; words may end in * (prefix)\n"
-    "  --value COLUMN        LAMMPS: take k_i from this per-atom column (e.g. c_pe, vx, q);\n"
-    "                        GADGET: none (default), mass, u, rho or hsml (u, rho, hsml: gas only)\n"
+    "                        residue (residue name), or column NAME, a named column's values:\n"
+    "                          PDB   record serial name altloc resname chain resid icode x y z\n"
+    "                                occupancy bfactor (tempfactor, beta) segid element charge\n"
+    "                          mmCIF any _atom_site item (label_comp_id, auth_asym_id, ...) or the\n"
+    "                                PDB names above (resname, chain, bfactor, ...)\n"
+    "                          DCD   a PSF column: segid resid resname name type charge mass element\n"
+    "                          LAMMPS, CSV  any column (numbers or words)\n"
+    "                        Distinct values get fields 0..7 in order of first appearance; the 9th\n"
+    "                        and later share field 7 (one warning). A format without the attribute\n"
+    "                        or column fails naming it. --fields is the same flag\n"
+    "  --select EXPR         read only the atoms EXPR selects: all, protein, backbone, water, ion,\n"
+    "                        solvent, element C N O, name CA, resname ALA, chain A, segid PROA,\n"
+    "                        type CT1, index 0:999, resid 10:20, joined by and, or, not and\n"
+    "                        parentheses; words may end in * (prefix). Which keywords a format\n"
+    "                        answers (others fail naming the keyword and the format):\n"
+    "                          PDB, DCD+PSF  all; GRO, XYZ  those of their columns; mmCIF  all but\n"
+    "                          segid and type; CSV  index and the columns it has (type or field,\n"
+    "                          element, name, resname, chain, segid, resid); LAMMPS, GADGET, HDF5\n"
+    "                          index and type (atom / particle type)\n"
+    "  --value COLUMN        k_i (the Gaussian's weight) from a per-particle number:\n"
+    "                          PDB   occupancy, bfactor (tempfactor, beta), charge ('2-' is -2), or\n"
+    "                                another numeric column above (serial, resid, x, y, z)\n"
+    "                          mmCIF any numeric _atom_site item (occupancy, B_iso_or_equiv alias\n"
+    "                                bfactor, pdbx_formal_charge alias charge, ...)\n"
+    "                          DCD   the PSF's mass, charge or resid\n"
+    "                          CSV   any column (default: value, else mass); LAMMPS any per-atom\n"
+    "                                column (c_pe, vx, q); GADGET/HDF5 none (default), mass, u,\n"
+    "                                rho or hsml (u, rho, hsml: gas only)\n"
+    "                        a column the file lacks fails naming the file and the column; a cell\n"
+    "                        that is not a number fails naming the line\n"
     "  --knn K               GADGET: radius = distance to the K-th nearest particle of the same type\n"
     "                        where there is no smoothing length (default 32)\n"
     "  --types LIST          GADGET: the particle types to read, e.g. 0,1 (default: all)\n"
@@ -40,16 +61,19 @@ static const char help[] =
     "  --spheres SCALE       also ray-trace opaque spheres of radius SCALE * r (paper §5.2)\n"
     "  --buffer K            coherent buffer samples per ray (default 32, 64/M for M fields)\n"
     "  defaults: method coherent, dt a quarter of the smallest radius, range 0..kappa; molecules\n"
-    "  (PDB, GRO, XYZ, DCD) with no --fields, --tf, --colormap or --opacity: --fields cpk coloured\n"
-    "  by element (C grey, N blue, O red, S yellow, P orange, H white, others green) with water and\n"
-    "  ions (by residue name) a faint blue haze; otherwise TF heat (demo for several fields) with a\n"
-    "  peak extinction of 1 / the largest radius\n"
+    "  (PDB, mmCIF, GRO, XYZ, DCD) with no --fields, --tf, --colormap or --opacity: --fields cpk\n"
+    "  coloured by element (C grey, N blue, O red, S yellow, P orange, H white, others green) with\n"
+    "  water and ions (by residue name) a faint blue haze; otherwise TF heat (demo for several\n"
+    "  fields) with a peak extinction of 1 / the largest radius\n"
     "  examples: lanecast render 1tii.pdb -o 1tii.png --shade --fields element --tf demo\n"
     "            lanecast render 1tw7_solvated.pdb --select 'protein and not element H' -o prot.png\n"
     "            lanecast render 1tw7_solvated.pdb --select 'water and index 0:2999' --colormap magma -o w.png\n"
     "            lanecast render atoms.f32 --raw-particles 1000000 --radius 0.5 -o big.exr --stats\n"
     "            lanecast render melt.lammpstrj --fields type --frame 10 -o melt.png\n"
     "            lanecast render gadget_lcdm_gas.dat --types 0 --value u --knn 16 -o gas.png\n"
+    "            lanecast render 1tii.pdb --value bfactor --field-by column chain -o bfac.png\n"
+    "            lanecast render adk.dcd --topology adk.psf --value charge --field-by column segid -o q.png\n"
+    "            lanecast render atoms.csv --select 'type 1 2 and index 0:9999' --value energy -o e.png\n"
     "\n";
 
 static lc_particle_params params;
@@ -128,13 +152,19 @@ static lc_status apply(lc_volume *v, lc_render_desc *rd)
     return lc_particles_set_params(v, &params);
 }
 
-/* Molecules (formats taking `select`) are coloured by element class unless
- * the user chose fields or a classification. */
+/* Molecules (the formats of elements and residues: PDB, mmCIF, GRO, XYZ,
+ * DCD) are coloured by element class unless the user chose fields or a
+ * classification. The format is the one whose option list format_options
+ * is (decide_kind hands over lc_format_info.options). */
 static int defaults(const char *cmd, cli_load *load, const char *format_options, int tf_given)
 {
-    const char *p = format_options ? strstr(format_options, "select") : NULL;
-    if (fields_given || tf_given || !p || (p[6] && p[6] != ' ')) return 0;
-    if (strstr(format_options, "value")) return 0; /* LAMMPS, GADGET take select too but are not molecules */
+    static const char *const molecular[] = {"pdb", "mmcif", "gro", "xyz", "dcd"};
+    int mol = 0;
+    lc_format_info f;
+    for (int i = 0; format_options && lc_format_get(i, &f) == LC_OK; i++)
+        if (f.options == format_options)
+            for (size_t k = 0; k < sizeof molecular / sizeof molecular[0]; k++) mol |= !strcmp(f.name, molecular[k]);
+    if (fields_given || tf_given || !mol) return 0;
     cpk = 1;
     return cli_load_add(load, cmd, "fields", "cpk");
 }

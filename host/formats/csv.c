@@ -5,9 +5,14 @@
  * distance to the knn-th neighbour), value or mass (the default value
  * column; `value = NAME` picks any column, `value = none` none), type or
  * field (field ids: integers 0..7 as they are, or names numbered in order of
- * first appearance; `fields = NAME | none`). Plain or gzip. Every error
- * names the file and the line (and the column). Not the RBF encoder's
- * sample input, which reads its CSV through its own path. */
+ * first appearance; `fields = column:NAME | none` picks any column; a 9th
+ * distinct name, or an integer id above 7, shares field 7 with one warning,
+ * fieldmap.h). `select` (select.h) sees index (the row, from 0) and the
+ * columns type (else field), element, name, resname, chain, segid and resid
+ * when the header names them; a keyword needing a column the file lacks
+ * fails naming it. Plain or gzip. Every error names the file and the line
+ * (and the column). Not the RBF encoder's sample input, which reads its CSV
+ * through its own path. */
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -103,9 +108,14 @@ static lc_status pick(lc_device *dev, const char *path, long ln, const row *h, c
     *col = -1;
     if (opt && !strcmp(opt, "none")) return LC_OK;
     if (opt) {
-        if ((*col = find_col(h, opt)) < 0)
-            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s:%ld: option %s = '%s', but the header names no such column",
-                             path, ln, key, opt);
+        if ((*col = find_col(h, opt)) < 0) {
+            char list[600] = "";
+            for (int i = 0; i < h->n && i < MAX_COLS && strlen(list) < sizeof list - 40; i++)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", h->cell[i]);
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "%s:%ld: option %s = '%s', but the header names no such column (it names: %s)", path, ln,
+                             key, opt, list);
+        }
         return LC_OK;
     }
     *col = find_col(h, d1);
@@ -122,6 +132,10 @@ static lc_status csv_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     if ((s = lci_text_open(dev, a->path, &t)) != LC_OK) return s;
     lci_plist p;
     memset(&p, 0, sizeof p);
+    lci_fieldmap fm;
+    memset(&fm, 0, sizeof fm);
+    lci_psel ps;
+    memset(&ps, 0, sizeof ps);
     char header[LCI_LINE_MAX];
     row h, r;
     int rc;
@@ -149,8 +163,19 @@ static lc_status csv_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     if ((s = pick(dev, a->path, hline, &h, o.value, "value", "value", "mass", &cv)) != LC_OK ||
         (s = pick(dev, a->path, hline, &h, o.fields, "fields", "type", "field", &cf)) != LC_OK)
         goto out;
-    char names[LC_MAX_FIELDS][32];
-    int nnames = 0, by_name = -1; /* by_name: -1 undecided, 0 integers, 1 names */
+    /* select: index, and the attribute columns the header names */
+    enum { A_TYPE, A_ELEMENT, A_NAME, A_RESNAME, A_CHAIN, A_SEGID, A_RESID, A_N };
+    static const char *const attr_cols[A_N] = {"type", "element", "name", "resname", "chain", "segid", "resid"};
+    int ca[A_N];
+    char gives[160] = "index";
+    for (int k = 0; k < A_N; k++)
+        if ((ca[k] = find_col(&h, attr_cols[k])) >= 0)
+            snprintf(gives + strlen(gives), sizeof gives - strlen(gives), ", %s", attr_cols[k]);
+    if (ca[A_TYPE] < 0 && (ca[A_TYPE] = find_col(&h, "field")) >= 0)
+        snprintf(gives + strlen(gives), sizeof gives - strlen(gives), ", type (the field column)");
+    if ((s = lci_psel_open(dev, a, &ps)) != LC_OK) goto out;
+    ps.gives = gives; /* lci_psel_open clears it */
+    int by_name = -1; /* -1 undecided, 0 integer ids (0..7 as they are), 1 names (in order of first appearance) */
     while ((rc = lci_text_line(&t)) == 1) {
         if (is_blank(t.line)) continue;
         split(t.line, delim, &r);
@@ -158,6 +183,20 @@ static lc_status csv_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
             s = lci_error(dev, LC_ERROR_FORMAT, "%s:%ld: %d values, but the header (line %ld) names %d columns", a->path,
                           t.lineno, r.n, hline, h.n);
             goto out;
+        }
+        if (ps.sel) {
+            const char *av[A_N];
+            for (int k = 0; k < A_N; k++) av[k] = ca[k] >= 0 ? r.cell[ca[k]] : NULL;
+            char *rend = NULL;
+            long resid = av[A_RESID] ? strtol(av[A_RESID], &rend, 10) : 0;
+            lci_atom_attr at = {.name = av[A_NAME], .resname = av[A_RESNAME], .chain = av[A_CHAIN], .segid = av[A_SEGID],
+                                .type = av[A_TYPE], .resid = resid, .has_resid = rend && rend != av[A_RESID] && !*rend};
+            if (av[A_RESID] && !at.has_resid) {
+                s = lci_error(dev, LC_ERROR_FORMAT, "%s:%ld: column %d (resid) is '%s', expected an integer", a->path,
+                              t.lineno, ca[A_RESID] + 1, av[A_RESID]);
+                goto out;
+            }
+            if (!lci_psel_keep(&ps, ps.seen, av[A_ELEMENT], &at)) continue;
         }
         float v[5] = {0, 0, 0, o.radius, 1.0f};
         const int cols[5] = {cx, cy, cz, o.radius > 0.0f ? -1 : cr, cv};
@@ -178,22 +217,16 @@ static lc_status csv_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
             int is_int = end != c && !*end;
             if (by_name < 0) by_name = !is_int;
             if (!by_name) {
-                if (!is_int || id < 0 || id >= LC_MAX_FIELDS) {
-                    s = lci_error(dev, LC_ERROR_FORMAT, "%s:%ld: column %d (%s) is '%s', expected a field id 0 to %d",
-                                  a->path, t.lineno, cf + 1, h.cell[cf], c, LC_MAX_FIELDS - 1);
+                if (!is_int || id < 0) {
+                    s = lci_error(dev, LC_ERROR_FORMAT, "%s:%ld: column %d (%s) is '%s', expected a field id >= 0 like "
+                                  "the rows before (a column of names must not start with a number)",
+                                  a->path, t.lineno, cf + 1, h.cell[cf], c);
                     goto out;
                 }
-                f = (int)id;
+                /* ids 0..7 as they are; larger ones share the last field (fieldmap.h) */
+                f = id < LC_MAX_FIELDS ? (int)id : lci_fieldmap_merge(&fm, c, 0);
             } else {
-                for (f = 0; f < nnames && strncmp(names[f], c, sizeof names[0] - 1); f++) {}
-                if (f == nnames) {
-                    if (nnames == LC_MAX_FIELDS) {
-                        s = lci_error(dev, LC_ERROR_FORMAT, "%s:%ld: column %d (%s) names a %dth kind '%s', at most %d",
-                                      a->path, t.lineno, cf + 1, h.cell[cf], LC_MAX_FIELDS + 1, c, LC_MAX_FIELDS);
-                        goto out;
-                    }
-                    snprintf(names[nnames++], sizeof names[0], "%s", c);
-                }
+                f = lci_fieldmap_id(&fm, c, 0);
             }
             maxf = f > maxf ? f : maxf;
         }
@@ -206,7 +239,7 @@ static lc_status csv_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
         s = LC_ERROR_FORMAT;
         goto out;
     }
-    if (p.n == 0) {
+    if (p.n == 0 && !ps.sel) { /* with a selection, lci_psel_close says it matched nothing */
         s = lci_error(dev, LC_ERROR_FORMAT, "%s:%ld: no rows after the header (line %ld)", a->path, t.lineno, hline);
         goto out;
     }
@@ -223,14 +256,21 @@ static lc_status csv_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     }
     if (o.radius_scale > 0.0f)
         for (size_t i = 0; i < p.n; i++) p.r[i] *= o.radius_scale;
+    if (cf >= 0) {
+        char what[300];
+        snprintf(what, sizeof what, "column %s", h.cell[cf]);
+        lci_fieldmap_warn(dev, a->path, what, &fm);
+    }
 out:
+    s = lci_psel_close(dev, a, &ps, p.n, s);
+    lci_fieldmap_free(&fm);
     lci_text_close(&t);
     return lci_plist_finish(dev, a->path, s, &p, cf >= 0 ? maxf + 1 : 1, cv >= 0, out);
 }
 
 const lci_format lci_format_csv = {
     .name = "csv", .kind = LC_KIND_PARTICLES, .extensions = ".csv .tsv",
-    .options = "radius radius_scale knn value fields",
+    .options = "radius radius_scale knn value fields select",
     .description = "particles in CSV with a header: x,y,z; radius (else the knn-th neighbour distance); value = any "
                    "column (default value or mass); type/field column as fields",
     .read = csv_read};

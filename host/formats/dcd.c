@@ -19,7 +19,9 @@
  * lc_load_desc.frame picks a frame; frames are found by seeking. The
  * companion (lc_load_desc.companion, or else STEM.psf next to the DCD) gives
  * each atom its element, hence its radius (elements.h) and, with
- * `fields = element`, its field. Without a topology every atom gets one
+ * `fields = element`, its field; `fields = column:NAME` maps any PSF column
+ * (segid, resid, resname, name, type, charge, mass, element) to fields and
+ * `value = mass | charge | resid` takes k_i from the PSF. Without a topology every atom gets one
  * radius and a warning says why. Every error names the file and byte. */
 #include <errno.h>
 #include <math.h>
@@ -199,6 +201,40 @@ static lc_status topology(lc_device *dev, const lci_read_args *a, lci_psf *psf, 
     return LC_OK;
 }
 
+/* The PSF columns `fields = column:NAME` can name (the element is the one
+ * psf.c gives the atom); `value = COLUMN` takes the numeric ones. */
+enum { P_SEGID, P_RESID, P_RESNAME, P_NAME, P_TYPE, P_CHARGE, P_MASS, P_ELEMENT, P_N };
+static const char *const psf_cols[P_N] = {"segid", "resid", "resname", "name", "type", "charge", "mass", "element"};
+
+static lc_status psf_columns(lc_device *dev, const char *path, const lci_atom_opts *o, int *fcol, int *vcol)
+{
+    for (int k = 0; k < P_N; k++) {
+        if (o->column && !strcasecmp(o->column, psf_cols[k])) *fcol = k;
+        if (o->value && !strcasecmp(o->value, psf_cols[k]) && (k == P_RESID || k == P_CHARGE || k == P_MASS)) *vcol = k;
+    }
+    if (o->column && *fcol < 0)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: fields by column '%s': the PSF topology has no such "
+                         "column (it has segid, resid, resname, name, type, charge, mass, and element)", path, o->column);
+    if (o->value && *vcol < 0)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: value = '%s': the PSF topology has no such numeric column "
+                         "(it has mass, charge and resid)", path, o->value);
+    return LC_OK;
+}
+
+/* An atom's column k as text (for fields by column). */
+static const char *psf_text(const lci_psf_atom *pa, int k, char *buf, size_t n)
+{
+    switch (k) {
+    case P_SEGID: return pa->segid;
+    case P_RESNAME: return pa->resname;
+    case P_NAME: return pa->name;
+    case P_TYPE: return pa->type;
+    case P_ELEMENT: return pa->element;
+    case P_RESID: snprintf(buf, n, "%ld", pa->resid); return buf;
+    default: snprintf(buf, n, "%g", (double)(k == P_CHARGE ? pa->charge : pa->mass)); return buf;
+    }
+}
+
 static lc_status dcd_read(lc_device *dev, const lci_read_args *a, lci_loaded *out)
 {
     lci_atoms p;
@@ -243,10 +279,21 @@ static lc_status dcd_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
                 (double)(p.o.radius > 0.0f ? p.o.radius : LCI_DEFAULT_RADIUS));
         if (!(p.o.radius > 0.0f)) p.o.radius = LCI_DEFAULT_RADIUS;
     }
+    int fcol = -1, vcol = -1;
+    if ((p.o.column || p.o.value) && !psf.atom) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %s '%s' needs the PSF topology (%s)", a->path,
+                      p.o.column ? "fields by column" : "value =", p.o.column ? p.o.column : p.o.value, why);
+        goto out;
+    }
+    if ((s = psf_columns(dev, a->path, &p.o, &fcol, &vcol)) != LC_OK) goto out;
     for (int64_t i = 0; i < d.natom; i++) {
         const lci_psf_atom *pa = psf.atom ? &psf.atom[i] : NULL;
-        lci_atom_attr at = {pa ? pa->name : NULL, pa ? pa->resname : NULL, NULL, pa ? pa->segid : NULL,
-                            pa ? pa->type : NULL, pa ? pa->resid : 0, pa != NULL};
+        char colv[32];
+        lci_atom_attr at = {.name = pa ? pa->name : NULL, .resname = pa ? pa->resname : NULL,
+                            .segid = pa ? pa->segid : NULL, .type = pa ? pa->type : NULL, .resid = pa ? pa->resid : 0,
+                            .has_resid = pa != NULL};
+        if (fcol >= 0) at.column = psf_text(pa, fcol, colv, sizeof colv);
+        if (vcol >= 0) at.value = vcol == P_MASS ? pa->mass : vcol == P_CHARGE ? pa->charge : (float)pa->resid;
         if (lci_atoms_add_attr(&p, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], pa ? pa->element : "X", &at)) {
             s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", a->path);
             break;
@@ -280,7 +327,7 @@ static int dcd_magic(const unsigned char *h, size_t n)
 }
 
 const lci_format lci_format_dcd = {
-    .name = "dcd", .kind = LC_KIND_PARTICLES, .extensions = ".dcd", .options = "radius radius_scale fields select",
+    .name = "dcd", .kind = LC_KIND_PARTICLES, .extensions = ".dcd", .options = "radius radius_scale fields select value",
     .description = "CHARMM/NAMD/X-PLOR DCD trajectory (either byte order, unit cells, fixed atoms); elements from the "
                    "PSF topology (companion, or STEM.psf)",
     .magic = dcd_magic, .read = dcd_read, .frames = dcd_frames, .companion = 1};

@@ -29,6 +29,15 @@ float lci_element_radius(const char *sym)
     return 0.0f;
 }
 
+/* 1 if word is one of list's space-separated words. */
+static int word_in(const char *list, const char *word)
+{
+    size_t n = strlen(word);
+    for (const char *p = list; (p = strstr(p, word)); p += n)
+        if ((p == list || p[-1] == ' ') && (!p[n] || p[n] == ' ')) return 1;
+    return 0;
+}
+
 lc_status lci_atom_options(lc_device *dev, const lci_read_args *a, lci_atom_opts *o)
 {
     memset(o, 0, sizeof *o);
@@ -44,13 +53,15 @@ lc_status lci_atom_options(lc_device *dev, const lci_read_args *a, lci_atom_opts
         if (lci_field_by_parse(x->value, &by, &col))
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                           "%s: option fields = '%s', expected none, element, cpk, type, chain or residue", a->path, x->value);
-        else if (by == LCI_BY_COLUMN)
+        else if (by == LCI_BY_COLUMN && !word_in(LCI_COLUMN_FORMATS, o->format) && a->format)
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: fields by column '%s': %s files have no per-atom columns "
                           "to map (use element, type, chain or residue)", a->path, col, o->format);
         o->fields_by_element = by == LCI_BY_ELEMENT;
         o->cpk = by == LCI_BY_CPK;
-        if (by == LCI_BY_TYPE || by == LCI_BY_CHAIN || by == LCI_BY_RESIDUE) o->by_attr = by;
+        if (by == LCI_BY_TYPE || by == LCI_BY_CHAIN || by == LCI_BY_RESIDUE || by == LCI_BY_COLUMN) o->by_attr = by;
+        if (by == LCI_BY_COLUMN) o->column = col;
     }
+    if (s == LC_OK && (x = lci_option_find(a, "value")) && strcmp(x->value, "none")) o->value = x->value;
     if (s == LC_OK && (x = lci_option_find(a, "select"))) {
         char what[512];
         snprintf(what, sizeof what, "%s: select", a->path);
@@ -82,6 +93,7 @@ static uint8_t field_of(lci_atoms *p, const char *sym, const lci_atom_attr *attr
     const char *v = !attr                               ? NULL
                      : p->o.by_attr == LCI_BY_TYPE      ? attr->type
                      : p->o.by_attr == LCI_BY_CHAIN     ? attr->chain
+                     : p->o.by_attr == LCI_BY_COLUMN    ? attr->column
                                                         : attr->resname;
     if (!v) {
         p->field_missing++;
@@ -121,6 +133,11 @@ int lci_atoms_add_attr(lci_atoms *p, float x, float y, float z, const char *sym,
         uint8_t *c = realloc(p->field, cap);
         if (!c) return -1;
         p->field = c;
+        if (p->o.value) {
+            float *v = realloc(p->v, cap * sizeof(float));
+            if (!v) return -1;
+            p->v = v;
+        }
         if (p->o.cpk) {
             uint8_t *sv = realloc(p->solvent, cap);
             if (!sv) return -1;
@@ -131,6 +148,7 @@ int lci_atoms_add_attr(lci_atoms *p, float x, float y, float z, const char *sym,
     p->xyz[3 * p->n] = x, p->xyz[3 * p->n + 1] = y, p->xyz[3 * p->n + 2] = z;
     p->r[p->n] = radius_for(p, sym);
     p->field[p->n] = field_of(p, sym, attr);
+    if (p->o.value) p->v[p->n] = attr ? attr->value : 1.0f;
     if (p->o.cpk) {
         const char *res = attr ? attr->resname : NULL;
         int solv = res && (lci_resname_water(res) || lci_resname_ion(res));
@@ -147,10 +165,11 @@ void lci_atoms_free(lci_atoms *p)
     free(p->xyz);
     free(p->r);
     free(p->field);
+    free(p->v);
     free(p->solvent);
     lci_select_free(p->sel);
     lci_fieldmap_free(&p->fm);
-    p->xyz = p->r = NULL;
+    p->xyz = p->r = p->v = NULL;
     p->field = p->solvent = NULL;
     p->sel = NULL;
     p->n = p->cap = 0;
@@ -159,23 +178,30 @@ void lci_atoms_free(lci_atoms *p)
 lc_status lci_atoms_finish(lc_device *dev, const char *path, lc_status s, lci_atoms *p, lci_loaded *out)
 {
     if (s == LC_OK && p->sel_missing)
-        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s': '%s' needs %s, which this file does not give",
-                      path, p->o.select, p->sel_missing,
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                      "%s: select = '%s': keyword '%s' needs %s, which this %s file does not give", path, p->o.select,
+                      p->sel_missing,
                       !strcmp(p->sel_missing, "name") || !strcmp(p->sel_missing, "backbone") ? "atom names"
                       : !strcmp(p->sel_missing, "chain")   ? "chain identifiers"
                       : !strcmp(p->sel_missing, "segid")   ? "segment identifiers"
                       : !strcmp(p->sel_missing, "type")    ? "atom types"
                       : !strcmp(p->sel_missing, "resid")   ? "residue numbers"
-                                                           : "residue names");
+                                                           : "residue names", p->o.format);
     if (s == LC_OK && p->field_missing)
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: fields by %s: this %s file gives no %s (%d atoms without)", path,
                       lci_field_by_name(p->o.by_attr), p->o.format,
-                      p->o.by_attr == LCI_BY_TYPE    ? "atom types"
-                      : p->o.by_attr == LCI_BY_CHAIN ? "chain identifiers"
-                                                     : "residue names",
+                      p->o.by_attr == LCI_BY_TYPE     ? "atom types"
+                      : p->o.by_attr == LCI_BY_CHAIN  ? "chain identifiers"
+                      : p->o.by_attr == LCI_BY_COLUMN ? "such column"
+                                                      : "residue names",
                       p->field_missing);
-    if (s == LC_OK)
-        lci_fieldmap_warn(dev, path, p->o.fields_by_element ? "element" : lci_field_by_name(p->o.by_attr), &p->fm);
+    if (s == LC_OK) {
+        char what[300];
+        snprintf(what, sizeof what, "%s%s", p->o.fields_by_element ? "element" : lci_field_by_name(p->o.by_attr),
+                 p->o.by_attr == LCI_BY_COLUMN ? p->o.column - 1 : "");
+        if (p->o.by_attr == LCI_BY_COLUMN) what[6] = ' '; /* "column NAME" */
+        lci_fieldmap_warn(dev, path, what, &p->fm);
+    }
     if (s == LC_OK && p->o.select[0] && p->n == 0)
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s' matches none of the %zu atoms", path,
                       p->o.select, p->seen);
@@ -201,6 +227,7 @@ lc_status lci_atoms_finish(lc_device *dev, const char *path, lc_status s, lci_at
     d->positions = p->xyz;
     d->radii = p->r;
     d->fields = p->field;
+    d->values = p->v;
     d->nfields = p->o.cpk ? (p->nnames ? p->nnames : 1) : p->fm.n ? p->fm.n : 1;
     free(p->solvent);
     lci_select_free(p->sel);
@@ -211,5 +238,6 @@ lc_status lci_atoms_finish(lc_device *dev, const char *path, lc_status s, lci_at
     lci_loaded_keep(out, p->xyz);
     lci_loaded_keep(out, p->r);
     lci_loaded_keep(out, p->field);
+    if (p->v) lci_loaded_keep(out, p->v);
     return LC_OK;
 }

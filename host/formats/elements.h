@@ -15,19 +15,24 @@
 float lci_element_radius(const char *sym);
 
 /* The options every molecular format takes: radius, radius_scale, fields
- * (alias field_by: none, element, cpk, type, chain or residue; distinct values
+ * (alias field_by: none, element, cpk, type, chain, residue, or column:NAME
+ * for the formats with named columns, LCI_COLUMN_FORMATS; distinct values
  * beyond 8 share field 7, with a warning) and select (select.h). fields = cpk gives fixed
  * fields by element class: 0 C, 1 N, 2 O, 3 S, 4 P, 5 H, 6 any other
  * element, and 7 solvent (water and ions by residue name, any element) when
  * the atoms read hold something besides solvent; nfields = 1 + the largest
  * id used. */
 #define LCI_CPK_SOLVENT 7
+#define LCI_COLUMN_FORMATS "pdb mmcif dcd" /* formats taking fields = column:NAME and value = COLUMN */
 typedef struct lci_atom_opts {
     float radius;       /* > 0: every atom's radius */
     float radius_scale; /* > 0: scales the element radii */
     int fields_by_element;
     int cpk;
-    lci_field_by by_attr; /* LCI_BY_TYPE, _CHAIN, _RESIDUE: fields by that attribute; else NONE */
+    lci_field_by by_attr; /* LCI_BY_TYPE, _CHAIN, _RESIDUE, _COLUMN: fields by that attribute; else NONE */
+    const char *column;   /* fields = column:NAME (PDB, mmCIF, DCD's PSF): the reader resolves NAME and gives
+                             each atom's value in lci_atom_attr.column */
+    const char *value;    /* value = COLUMN (same formats): k_i from lci_atom_attr.value; NULL: none */
     const char *format;   /* for messages */
     char select[1024];  /* "" = every atom */
 } lci_atom_opts;
@@ -38,6 +43,7 @@ lc_status lci_atom_options(lc_device *dev, const lci_read_args *a, lci_atom_opts
 typedef struct lci_atoms {
     float *xyz, *r;
     uint8_t *field;
+    float *v;                      /* k_i when o.value is set, else NULL */
     size_t n, cap;
     lci_fieldmap fm;               /* element or attribute of each field */
     int nnames;                    /* fields used (cpk) */

@@ -13,6 +13,11 @@ int lci_fieldmap_id(lci_fieldmap *m, const char *value, int fold)
         snprintf(m->names[m->n], sizeof m->names[0], "%s", value);
         return m->n++;
     }
+    return lci_fieldmap_merge(m, value, fold);
+}
+
+int lci_fieldmap_merge(lci_fieldmap *m, const char *value, int fold)
+{
     m->merged++;
     int seen = 0;
     for (int i = 0; i < m->nextra && !seen; i++)
@@ -28,11 +33,12 @@ int lci_fieldmap_id(lci_fieldmap *m, const char *value, int fold)
 void lci_fieldmap_warn(lc_device *dev, const char *path, const char *what, const lci_fieldmap *m)
 {
     if (!m->merged) return;
+    const char *last = m->n == LC_MAX_FIELDS ? m->names[LC_MAX_FIELDS - 1] : "";
     lci_log(dev, LC_LOG_WARNING,
-            "%s: fields by %s: %s%d more distinct values than the %d fields (first '%s') share field %d with '%s' "
+            "%s: fields by %s: %s%d more distinct values than the %d fields (first '%s') share field %d%s%s%s "
             "(%zu items)",
             path, what, m->extra_full ? "more than " : "", m->nextra, LC_MAX_FIELDS, m->extra ? m->extra[0] : "?",
-            LC_MAX_FIELDS - 1, m->names[LC_MAX_FIELDS - 1], m->merged);
+            LC_MAX_FIELDS - 1, last[0] ? " with '" : "", last, last[0] ? "'" : "", m->merged);
 }
 
 void lci_fieldmap_free(lci_fieldmap *m)

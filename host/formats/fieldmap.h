@@ -1,7 +1,9 @@
 /* Field ids from an attribute's values (`field_by` / `fields` load option:
  * element, type, chain, residue, column:NAME): the first LC_MAX_FIELDS
  * distinct values get ids 0..7 in order of first appearance; further values
- * share the last field, and lci_fieldmap_warn says how many were merged. */
+ * share the last field, and lci_fieldmap_warn says how many were merged
+ * (one warning per file). Every format mapping values to fields goes
+ * through here, so a 9th distinct value merges the same way in all of them. */
 #ifndef LC_HOST_FIELDMAP_H
 #define LC_HOST_FIELDMAP_H
 
@@ -20,6 +22,10 @@ typedef struct lci_fieldmap {
 
 /* The field id of value (case-sensitive unless fold); grows the map. */
 int lci_fieldmap_id(lci_fieldmap *m, const char *value, int fold);
+/* Counts value as merged into the shared last field (for formats whose ids
+ * are numbers: ids 0..7 as they are, larger ones through here); returns
+ * LC_MAX_FIELDS - 1. */
+int lci_fieldmap_merge(lci_fieldmap *m, const char *value, int fold);
 /* Warns (when values were merged) naming the file and what was mapped. */
 void lci_fieldmap_warn(lc_device *dev, const char *path, const char *what, const lci_fieldmap *m);
 void lci_fieldmap_free(lci_fieldmap *m);

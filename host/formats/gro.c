@@ -161,7 +161,7 @@ static lc_status atom_line(lci_text *t, long i, long natoms, int w, lci_atoms *p
     gro_element(resname, atom, el, sizeof el);
     char *rend;
     long rnum = strtol(resid, &rend, 10);
-    lci_atom_attr at = {atom, resname, NULL, NULL, NULL, rnum, rend != resid && !*rend};
+    lci_atom_attr at = {.name = atom, .resname = resname, .resid = rnum, .has_resid = rend != resid && !*rend};
     if (lci_atoms_add_attr(p, xyz[0], xyz[1], xyz[2], el, &at))
         return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", t->path, t->lineno);
     return LC_OK;

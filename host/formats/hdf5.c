@@ -7,7 +7,9 @@
  * InternalEnergy/InternalEnergies. Options as the GADGET reader's: types,
  * fields = type|none, value = none|mass|u|rho|hsml, radius, radius_scale,
  * knn (radius = SmoothingLength when the type has it, else the distance to
- * the knn-th neighbour).
+ * the knn-th neighbour). `select` (select.h): index over the file's
+ * particles (PartType0 first) and type (the N of PartTypeN); a selected
+ * particle keeps the radius found among all of its type's particles.
  *
  * `dataset = PATH`: a 3-D dataset (C order, so its last dimension is x)
  * becomes a grid (uint8, int16, uint16 and float32 as they are, other
@@ -188,7 +190,26 @@ typedef struct hopts {
     int types[6], types_given, by_type, value, knn;
     float radius, radius_scale;
     const char *dataset;
+    lci_psel sel; /* select: index over the file's particles (type order), type = the PartType number */
 } hopts;
+
+/* Keeps the particles [base, base + n) of p that the selection takes
+ * (index first + i, type t; t < 0: no type); returns how many. */
+static int64_t select_range(lci_psel *ps, lci_plist *p, size_t base, int64_t n, size_t first, int t)
+{
+    if (!ps->sel) return n;
+    char ty[2] = {(char)('0' + t), 0};
+    lci_atom_attr attr = {.type = t >= 0 ? ty : NULL};
+    size_t w = base;
+    for (int64_t i = 0; i < n; i++) {
+        size_t q = base + (size_t)i;
+        if (!lci_psel_keep(ps, first + (size_t)i, NULL, &attr)) continue;
+        memmove(p->xyz + 3 * w, p->xyz + 3 * q, 3 * sizeof(float));
+        p->r[w] = p->r[q], p->v[w] = p->v[q], p->f[w] = p->f[q];
+        w++;
+    }
+    return (int64_t)(w - base);
+}
 
 static lc_status parse_opts(lc_device *dev, const lci_read_args *a, hopts *o)
 {
@@ -249,8 +270,9 @@ static lc_status fill_radii(lc_device *dev, const char *path, const hopts *o, co
     return LC_OK;
 }
 
-static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, const hopts *o, lci_loaded *out)
+static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, hopts *o, lci_loaded *out)
 {
+    size_t first = 0; /* the file's particles before this type (the selection's index) */
     lci_plist p;
     memset(&p, 0, sizeof p);
     lc_status s = LC_OK;
@@ -313,16 +335,20 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, const 
                 if (o->value == V_NONE)
                     for (int64_t i = 0; i < n; i++) v[i] = 1.0f;
                 for (int64_t i = 0; i < n; i++) p.f[base + (size_t)i] = (uint8_t)(o->by_type ? nfields : 0);
-                p.n += (size_t)n;
-                nfields++;
-                any = 1;
+                int64_t kept = select_range(&o->sel, &p, base, n, first, t);
+                if (kept > 0) { /* no field for a type the selection left empty */
+                    p.n += (size_t)kept;
+                    nfields++;
+                    any = 1;
+                }
             }
+            first += (size_t)n;
         }
         if (ds >= 0) H5Dclose(ds);
         H5Gclose(g);
         lci_load_progress(dev, (t + 1) / 6.0); /* by particle type: libhdf5 reads each dataset in one call */
     }
-    if (s == LC_OK && !any)
+    if (s == LC_OK && !any && !o->sel.sel) /* with a selection, lci_psel_close says it matched nothing */
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: no particles in the chosen PartTypeN groups%s", path,
                       o->value != V_NONE ? " with that value" : "");
     double nfiles[6];
@@ -335,7 +361,7 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, const 
     return lci_plist_finish(dev, path, s, &p, o->by_type ? nfields : 1, o->value != V_NONE, out);
 }
 
-static lc_status read_dataset(lc_device *dev, const lci_read_args *a, hid_t f, const hopts *o, lci_loaded *out)
+static lc_status read_dataset(lc_device *dev, const lci_read_args *a, hid_t f, hopts *o, lci_loaded *out)
 {
     const char *path = a->path, *name = o->dataset;
     if (!exists(f, name) && strcmp(name, "/"))
@@ -355,11 +381,13 @@ static lc_status read_dataset(lc_device *dev, const lci_read_args *a, hid_t f, c
         if (s == LC_OK) s = fill_radii(dev, path, o, p.xyz, n, p.r, 0);
         if (s == LC_OK) {
             memset(p.f, 0, (size_t)n);
-            p.n = (size_t)n;
+            p.n = (size_t)select_range(&o->sel, &p, 0, n, 0, -1);
         }
         H5Dclose(ds);
         return lci_plist_finish(dev, path, s, &p, 1, 0, out);
     }
+    if (s == LC_OK && o->sel.sel)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select applies to particles, but %s is a grid", path, name);
     if (s == LC_OK && di.rank != 3)
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: rank %d, expected a 3-D dataset (a grid) or N x 3 (positions)", path,
                       name, di.where, di.rank);
@@ -414,11 +442,17 @@ static lc_status hdf5_read(lc_device *dev, const lci_read_args *a, lci_loaded *o
     quiet q;
     quiet_on(&q);
     hid_t f;
-    if ((s = h5_open(dev, a->path, &f)) == LC_OK) {
+    if ((s = lci_psel_open(dev, a, &o.sel)) == LC_OK && (s = h5_open(dev, a->path, &f)) == LC_OK) {
+        o.sel.gives = o.dataset ? "index (a positions dataset has no types)" : "index and type (0 to 5)";
         s = o.dataset ? read_dataset(dev, a, f, &o, out) : read_snapshot(dev, a->path, f, &o, out);
         H5Fclose(f);
     }
     quiet_off(&q);
+    if (o.sel.sel) { /* after the descriptor was made: a failed check frees it */
+        lc_status c = lci_psel_close(dev, a, &o.sel, s == LC_OK ? ((lc_particles_desc *)out->desc)->count : 0, s);
+        if (c != LC_OK && s == LC_OK) lci_loaded_free(out);
+        s = c;
+    }
     return s;
 }
 
@@ -492,7 +526,7 @@ static int hdf5_magic(const unsigned char *h, size_t n)
 
 const lci_format lci_format_hdf5 = {
     .name = "hdf5", .kind = LC_KIND_NONE, .extensions = ".hdf5 .h5 .he5",
-    .options = "dataset types value knn radius radius_scale fields spacing origin type",
+    .options = "dataset types value knn radius radius_scale fields spacing origin type select",
     .description = "HDF5: GADGET/AREPO/SWIFT PartTypeN snapshots (types as fields, value = none|mass|u|rho|hsml), "
                    "or dataset = PATH: 3-D as a grid, N x 3 as particles",
     .magic = hdf5_magic, .read = HDF5_READ, .package = "libhdf5-dev", .kind_of = HDF5_KIND};

@@ -6,8 +6,15 @@
  * Models (pdbx_PDB_model_num, contiguous runs of one number) are frames:
  * lc_load_desc.frame N reads the (N+1)-th; a loop without model numbers is
  * one frame. Alternate locations (label_alt_id): the first of each atom is
- * kept (altloc.h). Plain or gzip; every error names the file and line. */
+ * kept (altloc.h). `select` sees name (label_atom_id), resname
+ * (label_comp_id), chain (auth_asym_id, else label_asym_id), resid
+ * (auth_seq_id, else label_seq_id) and index; segid and type fail naming
+ * the keyword. `value = COLUMN` takes k_i from any numeric _atom_site item
+ * (occupancy, B_iso_or_equiv alias bfactor, ...) and `fields =
+ * column:NAME` maps any item's distinct values to fields (col_alias below).
+ * Plain or gzip; every error names the file and line. */
 #include <ctype.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -97,10 +104,40 @@ static int keyword(const char *s, int quoted)
                        !strncasecmp(s, "save_", 5) || !strncasecmp(s, "global_", 7) || !strncasecmp(s, "stop_", 5));
 }
 
-enum { C_TYPE, C_X, C_Y, C_Z, C_MODEL, C_ALT, C_ATOM, C_ASYM, C_SEQ, C_INS, C_AUTH_ASYM, C_AUTH_SEQ, C_NCOLS };
+enum { C_TYPE, C_X, C_Y, C_Z, C_MODEL, C_ALT, C_ATOM, C_ASYM, C_SEQ, C_INS, C_AUTH_ASYM, C_AUTH_SEQ, C_COMP,
+       C_AUTH_COMP, C_NCOLS };
 static const char *const col_names[C_NCOLS] = {
     "type_symbol", "Cartn_x", "Cartn_y", "Cartn_z", "pdbx_PDB_model_num", "label_alt_id", "label_atom_id",
-    "label_asym_id", "label_seq_id", "pdbx_PDB_ins_code", "auth_asym_id", "auth_seq_id"};
+    "label_asym_id", "label_seq_id", "pdbx_PDB_ins_code", "auth_asym_id", "auth_seq_id", "label_comp_id",
+    "auth_comp_id"};
+
+/* `fields = column:NAME` and `value = COLUMN` name any _atom_site item (with
+ * or without the "_atom_site." prefix), or one of the PDB-style names below
+ * (the first item of the list the loop has). */
+static const char *const col_alias[][2] = {
+    {"bfactor", "B_iso_or_equiv"}, {"tempfactor", "B_iso_or_equiv"}, {"beta", "B_iso_or_equiv"},
+    {"resname", "label_comp_id auth_comp_id"}, {"chain", "auth_asym_id label_asym_id"},
+    {"name", "label_atom_id auth_atom_id"}, {"resid", "auth_seq_id label_seq_id"}, {"element", "type_symbol"},
+    {"charge", "pdbx_formal_charge"}, {"altloc", "label_alt_id"}, {"record", "group_PDB"}, {"serial", "id"},
+    {"x", "Cartn_x"}, {"y", "Cartn_y"}, {"z", "Cartn_z"}};
+
+/* The rank of item among the candidates for the user's name (0 best), or -1. */
+static int alias_rank(const char *user, const char *item)
+{
+    if (!user) return -1;
+    if (!strncasecmp(user, "_atom_site.", 11)) user += 11;
+    const char *cands = user;
+    for (size_t i = 0; i < sizeof col_alias / sizeof col_alias[0]; i++)
+        if (!strcasecmp(user, col_alias[i][0])) cands = col_alias[i][1];
+    int rank = 0;
+    for (const char *w = cands; *w; rank++) {
+        size_t n = cands == user ? strlen(w) : strcspn(w, " ");
+        if (strlen(item) == n && !strncasecmp(w, item, n)) return rank;
+        w += n;
+        while (*w == ' ') w++;
+    }
+    return -1;
+}
 
 #define MAX_COLS 128
 
@@ -109,6 +146,8 @@ typedef struct walk_state {
     lci_atoms *p;    /* NULL: count models only */
     int64_t models;  /* models seen */
     lci_altlocs alt;
+    int fcol, vcol;  /* loop columns of fields = column:NAME and value = COLUMN, -1: none */
+    char vitem[TOK_MAX]; /* the value column's item name */
 } walk_state;
 
 static int unknown(const char *v) { return !v[0] || ((v[0] == '?' || v[0] == '.') && !v[1]); }
@@ -161,7 +200,18 @@ static lc_status row_done(ctok *c, walk_state *w, char row[][TOK_MAX], const int
     int keep = lci_altloc_keep(&w->alt, res, atom, col[C_ALT] < 0 || unknown(row[col[C_ALT]]));
     if (keep == 0) return LC_OK;
     element_of(col[C_TYPE] >= 0 ? row[col[C_TYPE]] : "?", atom, el, sizeof el);
-    if (keep < 0 || lci_atoms_add(w->p, x[0], x[1], x[2], el))
+    int comp = col[C_COMP] >= 0 ? col[C_COMP] : col[C_AUTH_COMP];
+    char *rend = NULL;
+    long resid = seq >= 0 ? strtol(row[seq], &rend, 10) : 0;
+    lci_atom_attr at = {.name = col[C_ATOM] >= 0 ? atom : NULL, .resname = comp >= 0 ? row[comp] : NULL,
+                        .chain = asym >= 0 ? row[asym] : NULL, .resid = resid,
+                        .has_resid = rend && rend != row[seq] && !*rend};
+    if (w->fcol >= 0) at.column = row[w->fcol];
+    if (w->vcol >= 0 && (unknown(row[w->vcol]) || coordinate(row[w->vcol], &at.value) || !isfinite(at.value)))
+        return lci_error(c->t.dev, LC_ERROR_FORMAT, "%s:%ld: value = %s: _atom_site.%s is '%s', not a number%s",
+                         c->t.path, line, w->p->o.value, w->vitem, row[w->vcol],
+                         unknown(row[w->vcol]) ? " (unknown)" : "");
+    if (keep < 0 || lci_atoms_add_attr(w->p, x[0], x[1], x[2], el, &at))
         return lci_error(c->t.dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory at line %ld", c->t.path, line);
     return LC_OK;
 }
@@ -185,8 +235,10 @@ static lc_status walk(ctok *c, walk_state *w)
         }
         loop_line = line;
         /* the loop's tags */
-        int ncols = 0, col[C_NCOLS], site = 0;
+        int ncols = 0, col[C_NCOLS], site = 0, frank = 1 << 20, vrank = 1 << 20;
+        char items[1000] = "";
         for (int k = 0; k < C_NCOLS; k++) col[k] = -1;
+        w->fcol = w->vcol = -1;
         while ((rc = next_token(c, tok, &quoted, &line)) == 1 && !quoted && tok[0] == '_') {
             int is_site = !strncasecmp(tok, "_atom_site.", 11);
             if (ncols == 0) site = is_site;
@@ -203,12 +255,27 @@ static lc_status walk(ctok *c, walk_state *w)
                 }
                 for (int k = 0; k < C_NCOLS; k++)
                     if (!strcasecmp(tok + 11, col_names[k])) col[k] = ncols;
+                int r = w->p ? alias_rank(w->p->o.column, tok + 11) : -1;
+                if (r >= 0 && r < frank) frank = r, w->fcol = ncols;
+                r = w->p ? alias_rank(w->p->o.value, tok + 11) : -1;
+                if (r >= 0 && r < vrank) vrank = r, w->vcol = ncols, put_tok(w->vitem, tok + 11, strlen(tok + 11));
+                if (strlen(items) + strlen(tok + 11) + 8 < sizeof items)
+                    snprintf(items + strlen(items), sizeof items - strlen(items), "%s%s", ncols ? " " : "", tok + 11);
+                else if (!strstr(items, "..."))
+                    snprintf(items + strlen(items), sizeof items - strlen(items), " ...");
             }
             ncols++;
         }
         if (rc < 0) break;
         if (!site) continue; /* another category's loop: its values are skipped as tokens */
         found = 1;
+        if (w->p && ((w->p->o.column && w->fcol < 0) || (w->p->o.value && w->vcol < 0))) {
+            int f = w->p->o.column && w->fcol < 0;
+            s = lci_error(c->t.dev, LC_ERROR_INVALID_ARGUMENT, "%s:%ld: %s '%s': the _atom_site loop has no such "
+                          "column (it has: %s)", c->t.path, loop_line, f ? "fields by column" : "value =",
+                          f ? w->p->o.column : w->p->o.value, items);
+            goto out;
+        }
         for (int a = 0; a < 3; a++)
             if (col[C_X + a] < 0) {
                 s = lci_error(c->t.dev, LC_ERROR_FORMAT, "%s:%ld: the _atom_site loop has no _atom_site.%s column",
@@ -243,7 +310,7 @@ static lc_status walk(ctok *c, walk_state *w)
     else if (w->p && w->frame >= w->models)
         s = lci_error(c->t.dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld model%s",
                       c->t.path, (long long)w->frame, (long long)w->models, w->models > 1 ? "s" : "");
-    else if (w->p && w->p->n == 0)
+    else if (w->p && w->p->n == 0 && !w->p->o.select[0]) /* a selection: lci_atoms_finish says why */
         s = lci_error(c->t.dev, LC_ERROR_FORMAT, "%s:%ld: the _atom_site loop has no atoms in the model read", c->t.path,
                       loop_line);
 out:
@@ -305,7 +372,7 @@ static int mmcif_magic(const unsigned char *h, size_t n)
 }
 
 const lci_format lci_format_mmcif = {
-    .name = "mmcif", .kind = LC_KIND_PARTICLES, .extensions = ".cif .mmcif", .options = "radius radius_scale fields",
+    .name = "mmcif", .kind = LC_KIND_PARTICLES, .extensions = ".cif .mmcif", .options = "radius radius_scale fields select value",
     .description = "PDBx/mmCIF: the _atom_site loop (type_symbol, Cartn_x/y/z), first altloc of each atom; models "
                    "as frames",
     .magic = mmcif_magic, .read = mmcif_read, .frames = mmcif_frames};

@@ -238,7 +238,10 @@ int lci_psel_keep(lci_psel *ps, size_t index, const char *element, const lci_ato
 
 lc_status lci_psel_close(lc_device *dev, const lci_read_args *a, lci_psel *ps, size_t kept, lc_status s)
 {
-    if (s == LC_OK && ps->sel && ps->missing)
+    if (s == LC_OK && ps->sel && ps->missing && ps->gives)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s': keyword '%s' does not apply to %s files (they "
+                      "give %s)", a->path, ps->expr, ps->missing, a->format ? a->format : "these", ps->gives);
+    else if (s == LC_OK && ps->sel && ps->missing)
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: select = '%s': %s files cannot answer '%s' (they give type and "
                       "index%s)", a->path, ps->expr, a->format ? a->format : "these", ps->missing,
                       a->format && !strcmp(a->format, "lammps") ? ", and element with an element column" : "");

@@ -15,6 +15,8 @@ typedef struct lci_psel {
     lci_select *sel; /* NULL: no selection */
     const char *expr, *missing;
     size_t seen;
+    const char *gives; /* what the file answers, for the message on a keyword it cannot ("index and type");
+                          NULL: the LAMMPS/GADGET wording */
 } lci_psel;
 lc_status lci_psel_open(lc_device *dev, const lci_read_args *a, lci_psel *ps);
 /* 1 keep, 0 drop the particle of this index. */

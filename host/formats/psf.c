@@ -117,6 +117,7 @@ static lc_status read_atoms(lci_text *t, lci_psf *p)
         snprintf(a->segid, sizeof a->segid, "%.8s", tok[1]);
         snprintf(a->resname, sizeof a->resname, "%.8s", tok[3]);
         a->resid = strtol(tok[2], NULL, 10);
+        a->charge = charge;
         a->mass = mass;
         element_of(a->name, mass, a->element, sizeof a->element);
         p->natom = i + 1;

@@ -9,7 +9,7 @@
 typedef struct lci_psf_atom {
     char name[9], type[9], element[4], segid[9], resname[9];
     long resid;
-    float mass;
+    float charge, mass;
 } lci_psf_atom;
 
 typedef struct lci_psf {

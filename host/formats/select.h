@@ -26,6 +26,11 @@ typedef struct lci_atom_attr {
     const char *name, *resname, *chain, *segid, *type;
     long resid;
     int has_resid;
+    /* loader extras, not seen by selections: the value of the `fields =
+     * column:NAME` column (NULL: the atom lacks it) and k_i from the `value`
+     * column (elements.h) */
+    const char *column;
+    float value;
 } lci_atom_attr;
 
 typedef struct lci_select lci_select;
