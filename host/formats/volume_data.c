@@ -75,16 +75,19 @@ int lci_parse_doubles(const char *v, double *out, int n)
         if (end == v || errno || !isfinite(out[i])) return 0;
         v = end;
     }
-    return 1;
+    while (*v && (isspace((unsigned char)*v) || *v == ')' || *v == ',')) v++;
+    return *v == 0; /* nothing but separators after the numbers */
 }
 
 int lci_parse_sizes(const char *v, int64_t *out, int n)
 {
     char *end;
     for (int i = 0; i < n; i++) {
+        while (isspace((unsigned char)*v)) v++;
+        if (!isdigit((unsigned char)*v)) return 0; /* no sign: sizes are >= 2 */
         errno = 0;
         long long x = strtoll(v, &end, 10);
-        if (end == v || errno) return 0;
+        if (end == v || errno || x < 2 || x > INT32_MAX) return 0;
         out[i] = x;
         v = end;
     }
@@ -92,24 +95,78 @@ int lci_parse_sizes(const char *v, int64_t *out, int n)
     return *v == 0;
 }
 
+int lci_parse_offset(const char *v, long long *out)
+{
+    char *end;
+    while (isspace((unsigned char)*v)) v++;
+    if (!isdigit((unsigned char)*v) && *v != '-') return 0;
+    errno = 0;
+    long long x = strtoll(v, &end, 10);
+    if (end == v || errno || x < -1 || x > LCI_MAX_OFFSET) return 0;
+    while (isspace((unsigned char)*end)) end++;
+    if (*end) return 0;
+    *out = x;
+    return 1;
+}
+
+int lci_parse_spacings(const char *v, double *out, int n)
+{
+    if (!lci_parse_doubles(v, out, n)) return 0;
+    for (int i = 0; i < n; i++)
+        if (!(out[i] >= LCI_MIN_SPACING && out[i] <= LCI_MAX_COORD)) return 0;
+    return 1;
+}
+
+lc_status lci_vol_geometry(lc_device *dev, const char *path, const int size[3], lc_vec3 spacing, lc_vec3 origin)
+{
+    const float s[3] = {spacing.x, spacing.y, spacing.z}, o[3] = {origin.x, origin.y, origin.z};
+    for (int a = 0; a < 3; a++) {
+        if (!((double)s[a] >= LCI_MIN_SPACING && (double)s[a] <= LCI_MAX_COORD))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "%s: spacing %g along %c is outside [%g, %g] (a wrong unit, or a damaged header?)", path,
+                             (double)s[a], "xyz"[a], LCI_MIN_SPACING, LCI_MAX_COORD);
+        double far = fabs((double)o[a]) + (double)(size[a] - 1) * (double)s[a];
+        if (!(far <= LCI_MAX_COORD))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "%s: origin %g and spacing %g along %c put the volume's far side at %g, beyond +-%g (a "
+                             "wrong unit, or a damaged header?)",
+                             path, (double)o[a], (double)s[a], "xyz"[a], far, LCI_MAX_COORD);
+    }
+    return LC_OK;
+}
+
 /* The data file of a volume, open and checked before anything is allocated:
  * a regular file, long enough for the header's offset, and holding exactly
  * `bytes` of raw data, or gzip data that could inflate to them (deflate
  * compresses at most 1032:1). */
-static lc_status open_data(lc_device *dev, const char *header, const char *file, long long offset, int gzip,
+static lc_status open_data(lc_device *dev, const char *header, const char *file, long long *offset, int gzip,
                            uint64_t bytes, FILE **out, int64_t *len)
 {
     lc_status s = lci_open_regular(dev, file, header, out, len);
     if (s != LC_OK) return s;
-    uint64_t avail = *len >= offset ? (uint64_t)(*len - offset) : 0;
-    if (*len < offset)
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %lld bytes, shorter than the header's offset %lld", file,
-                      (long long)*len, offset);
+    char who[1200]; /* "header: its data file file" or "file" */
+    if (strcmp(header, file)) snprintf(who, sizeof who, "%s: its data file %s", header, file);
+    else snprintf(who, sizeof who, "%s", file);
+    if (*offset < 0) { /* byte skip / HeaderSize -1: the data is the file's last bytes (raw data only) */
+        if (gzip) s = lci_error(dev, LC_ERROR_FORMAT, "%s: a byte skip (HeaderSize) of -1 needs raw, not compressed, data", header);
+        else if ((uint64_t)*len < bytes)
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: %lld bytes, fewer than the %llu bytes of voxels the header needs",
+                          who, (long long)*len, (unsigned long long)bytes);
+        else *offset = *len - (int64_t)bytes;
+        if (s != LC_OK) {
+            fclose(*out), *out = NULL;
+            return s;
+        }
+    }
+    uint64_t avail = *len >= *offset ? (uint64_t)(*len - *offset) : 0;
+    if (*len < *offset)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %lld bytes, shorter than the header's offset %lld", who,
+                      (long long)*len, *offset);
     else if (!gzip && avail != bytes)
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: holds %llu bytes of data but the sizes and type need %llu", file,
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: holds %llu bytes of data but the sizes and type need %llu", who,
                       (unsigned long long)avail, (unsigned long long)bytes);
     else if (gzip && bytes / 1032 > avail)
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %llu bytes of voxels cannot come from %llu bytes of gzip data", file,
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %llu bytes of voxels cannot come from %llu bytes of gzip data", who,
                       (unsigned long long)bytes, (unsigned long long)avail);
     if (s != LC_OK) fclose(*out), *out = NULL;
     return s;
@@ -213,7 +270,7 @@ lc_status lci_vol_read_with_header(lc_device *dev, const char *path, const lci_v
         offset = h.byte_skip;
     } else {
         snprintf(data_path, sizeof data_path, "%s", path);
-        offset = h.data_offset + h.byte_skip;
+        offset = h.byte_skip < 0 ? -1 : h.data_offset + h.byte_skip; /* both at most 2^62: no overflow */
     }
     if (o->type != LC_VALUE_DEFAULT && o->type != h.type)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the header's type differs from the requested one", path);
@@ -246,7 +303,7 @@ lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, 
     uint64_t bytes = count * (uint64_t)es;
     FILE *f;
     int64_t len;
-    lc_status s = open_data(dev, path, data_path, offset, h->gzip, bytes, &f, &len);
+    lc_status s = open_data(dev, path, data_path, &offset, h->gzip, bytes, &f, &len);
     if (s != LC_OK) return s;
     void *data = lci_alloc_checked(dev, path, count, (uint64_t)es, 64, "voxels", 0);
     if (!data) s = LC_ERROR_OUT_OF_MEMORY;
@@ -284,5 +341,5 @@ lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, 
     d->data = data;
     out->desc = d;
     lci_loaded_keep(out, data);
-    return LC_OK;
+    return lci_vol_geometry(dev, path, d->size, d->spacing, d->origin);
 }
