@@ -121,12 +121,12 @@ lc_status lci_vol_geometry(lc_device *dev, const char *path, const int size[3], 
 {
     const float s[3] = {spacing.x, spacing.y, spacing.z}, o[3] = {origin.x, origin.y, origin.z};
     for (int a = 0; a < 3; a++) {
-        if (!((double)s[a] >= LCI_MIN_SPACING && (double)s[a] <= LCI_MAX_COORD))
+        if (!(s[a] >= (float)LCI_MIN_SPACING && s[a] <= (float)LCI_MAX_COORD)) /* in float, as stored */
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                              "%s: spacing %g along %c is outside [%g, %g] (a wrong unit, or a damaged header?)", path,
                              (double)s[a], "xyz"[a], LCI_MIN_SPACING, LCI_MAX_COORD);
         double far = fabs((double)o[a]) + (double)(size[a] - 1) * (double)s[a];
-        if (!(far <= LCI_MAX_COORD))
+        if (!(far <= (double)(float)LCI_MAX_COORD))
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                              "%s: origin %g and spacing %g along %c put the volume's far side at %g, beyond +-%g (a "
                              "wrong unit, or a damaged header?)",
