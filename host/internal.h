@@ -28,6 +28,8 @@ struct lc_device {
     void (*load_progress)(void *user, float fraction);
     void *load_progress_user;
     float load_last; /* the last fraction reported */
+    /* lc_volume_load's memory limit (option max_memory) while a reader runs, 0 = the default (host/formats/checked.h) */
+    unsigned long long load_max_memory;
 };
 
 /* Reports the fraction (0..1) of the file read to lc_load_desc.progress, when

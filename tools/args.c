@@ -14,21 +14,35 @@ const char *arg_value(const char *cmd, int argc, char **argv, int *i)
     return argv[++*i];
 }
 
-int arg_float(const char *cmd, const char *flag, const char *s, float lo, float hi, float *out)
+/* The value as the float it becomes, compared with the float bounds in
+ * float (a double compared with a float bound would refuse the bound
+ * itself: "1e-30 is outside [1e-30, ...]"); hi_open: hi itself is refused. */
+static int float_in(const char *cmd, const char *flag, const char *s, float lo, float hi, int hi_open, float *out)
 {
     char *end;
     errno = 0;
     double v = strtod(s, &end);
-    if (end == s || *end || errno == ERANGE || !isfinite(v)) {
+    if (end == s || *end || !isfinite(v) || (errno == ERANGE && v != 0.0)) {
         fprintf(stderr, "%s: %s: '%s' is not a number\n", cmd, flag, s);
         return -1;
     }
-    if (v < lo || v > hi) {
-        fprintf(stderr, "%s: %s: %s is outside [%g, %g]\n", cmd, flag, s, (double)lo, (double)hi);
+    float f = (float)v;
+    if (!isfinite(f) || f < lo || f > hi || (hi_open && f >= hi) || (v != 0.0 && f == 0.0f)) {
+        fprintf(stderr, "%s: %s: %s is outside [%g, %g%c\n", cmd, flag, s, (double)lo, (double)hi, hi_open ? ')' : ']');
         return -1;
     }
-    *out = (float)v;
+    *out = f;
     return 0;
+}
+
+int arg_float(const char *cmd, const char *flag, const char *s, float lo, float hi, float *out)
+{
+    return float_in(cmd, flag, s, lo, hi, 0, out);
+}
+
+int arg_float_below(const char *cmd, const char *flag, const char *s, float lo, float hi, float *out)
+{
+    return float_in(cmd, flag, s, lo, hi, 1, out);
 }
 
 int arg_int(const char *cmd, const char *flag, const char *s, long lo, long hi, int *out)
@@ -132,5 +146,43 @@ int arg_plane(const char *cmd, const char *flag, const char *s, lc_plane *out)
     }
     out->point = (lc_vec3){v[0], v[1], v[2]};
     out->normal = (lc_vec3){v[3], v[4], v[5]};
+    return 0;
+}
+
+int arg_ints(const char *cmd, const char *flag, const char *s, int n, long long lo, long long hi, long long *out)
+{
+    const char *p = s;
+    for (int k = 0; k < n; k++) {
+        char *end;
+        errno = 0;
+        long long v = strtoll(p, &end, 10); /* integers as integers: never through a float */
+        const char *why = NULL;
+        if (end == p) why = "is not an integer";
+        else if (errno == ERANGE || v < lo || v > hi) why = "is out of range";
+        else if (k + 1 < n ? *end != ',' : *end != '\0') why = k + 1 < n ? "is not followed by ','" : "has junk after it";
+        if (why) {
+            fprintf(stderr, "%s: %s: '%s': value %d %s (expected %d comma-separated integers from %lld to %lld)\n", cmd,
+                    flag, s, k + 1, why, n, lo, hi);
+            return -1;
+        }
+        out[k] = v;
+        p = end + 1;
+    }
+    return 0;
+}
+
+int arg_memory(const char *cmd, const char *flag, const char *s)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    int ok = end != s && s[0] >= '0' && s[0] <= '9' && isfinite(v) && v > 0 && !errno;
+    if (ok && *end && strchr("kKmMgGtT", *end)) end++;
+    if (ok && (!strcmp(end, "iB") || !strcmp(end, "ib"))) end += 2;
+    else if (ok && (*end == 'B' || *end == 'b')) end++;
+    if (!ok || *end) {
+        fprintf(stderr, "%s: %s: '%s' is not a size (bytes, or with K, M, G, T: e.g. 512M, 8G)\n", cmd, flag, s);
+        return -1;
+    }
     return 0;
 }

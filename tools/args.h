@@ -5,7 +5,15 @@
 
 #include "lanecast/lanecast.h"
 
+/* A number that, as a float, lies in [lo, hi] (arg_float_below: [lo, hi)). */
 int arg_float(const char *cmd, const char *flag, const char *s, float lo, float hi, float *out);
+int arg_float_below(const char *cmd, const char *flag, const char *s, float lo, float hi, float *out);
+/* n comma-separated integers in [lo, hi], parsed as integers (no float
+ * rounding: 16777217 stays 16777217) with overflow checks. */
+int arg_ints(const char *cmd, const char *flag, const char *s, int n, long long lo, long long hi, long long *out);
+/* A memory size as the library's max_memory option takes it ("8G", "512M",
+ * bytes): 0 ok, -1 (message printed) not one. */
+int arg_memory(const char *cmd, const char *flag, const char *s);
 int arg_int(const char *cmd, const char *flag, const char *s, long lo, long hi, int *out);
 int arg_size_t(const char *cmd, const char *flag, const char *s, size_t *out);
 int arg_vec3(const char *cmd, const char *flag, const char *s, lc_vec3 *out);

@@ -59,6 +59,13 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     if (!strcmp(a, "--big-endian")) return cli_load_add(load, cmd, "endian", "big") ? -1 : 1;
     if (!(v = arg_value(cmd, argc, argv, i))) return -1;
     if (!strcmp(a, "--dims")) {
+        long long d[3];
+        if (arg_ints(cmd, a, v, 3, 2, 2147483647LL, d)) return -1;
+        if ((double)d[0] * (double)d[1] * (double)d[2] > 2147483583.0) { /* the library's limit: 2^31 - 65 values */
+            fprintf(stderr, "%s: --dims: %s is %.0f nodes, more than a grid holds (2^31 - 65)\n", cmd, v,
+                    (double)d[0] * (double)d[1] * (double)d[2]);
+            return -1;
+        }
         load->format = "raw-volume";
         return cli_load_add(load, cmd, "size", v) ? -1 : 1;
     }
@@ -105,7 +112,11 @@ static lc_status default_tf(lc_device *dev, const lc_volume *v, const cli_tf_req
     if (s != LC_OK) return s;
     /* a preset: peak extinction so the densest material stops a ray in about 1/8 of the diagonal */
     float dx = gi.bounds.hi.x - gi.bounds.lo.x, dy = gi.bounds.hi.y - gi.bounds.lo.y, dz = gi.bounds.hi.z - gi.bounds.lo.z;
-    float t = req->tau > 0.0f ? req->tau : 8.0f / sqrtf(dx * dx + dy * dy + dz * dz);
+    /* the diagonal in double: squares of tiny (1e-30) or huge extents leave
+       float's range; the loaders keep spacings in [1e-30, 1e30]
+       (lci_vol_geometry), so 8 / diag is finite */
+    double diag = sqrt((double)dx * dx + (double)dy * dy + (double)dz * dz);
+    float t = req->tau > 0.0f ? req->tau : (float)(8.0 / diag);
     return lc_tf_preset(dev, req->preset, 1, t, out);
 }
 

@@ -25,6 +25,8 @@ static const char render_help[] =
     "input: the format is decided by the file's magic bytes, then its extension (see the kind\n"
     "sections below for the formats and flags of each kind of data)\n"
     "  --frame N             read frame N (from 0) of a trajectory (lanecast info INPUT counts them)\n"
+    "  --max-memory SIZE     refuse inputs needing more memory than SIZE (e.g. 512M, 8G; default 3/4\n"
+    "                        of the physical memory), e.g. --max-memory 2G\n"
     "  --frames A:B[:S]      render frames A, A+S, ... before B (B omitted: to the end; S default 1)\n"
     "                        as an image sequence; -o then names each image with a printf-style\n"
     "                        frame number, e.g. -o out_%04d.png; the first error stops the sequence\n"
@@ -191,7 +193,7 @@ static int parse_view(ropts *o, int argc, char **argv, int *i, int *camera_set)
     if (!strcmp(a, "--eye")) return *camera_set |= 1, arg_vec3(o->cmd, a, v, &c->eye) ? -1 : 1;
     if (!strcmp(a, "--at")) return *camera_set |= 2, arg_vec3(o->cmd, a, v, &c->at) ? -1 : 1;
     if (!strcmp(a, "--up")) return arg_vec3(o->cmd, a, v, &c->up) ? -1 : 1;
-    if (!strcmp(a, "--fov")) return arg_float(o->cmd, a, v, 0.01f, 179.0f, &c->fovy) ? -1 : 1;
+    if (!strcmp(a, "--fov")) return arg_float_below(o->cmd, a, v, 0.01f, 179.0f, &c->fovy) ? -1 : 1; /* as lc_camera */
     if (!strcmp(a, "--background")) return arg_vec3(o->cmd, a, v, &o->background) ? -1 : 1;
     if (!strcmp(a, "--orbit")) return arg_int(o->cmd, a, v, 1, 100000, &o->orbit) ? -1 : 1;
     if (!strcmp(a, "--view")) {
@@ -319,8 +321,12 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
 static int parse_input(ropts *o, int argc, char **argv, int *i)
 {
     const char *a = argv[*i], *v;
-    if (strcmp(a, "--frame") && strcmp(a, "--frames") && strcmp(a, "--topology") && strcmp(a, "--dataset")) return 0;
+    if (strcmp(a, "--frame") && strcmp(a, "--frames") && strcmp(a, "--topology") && strcmp(a, "--dataset") &&
+        strcmp(a, "--max-memory"))
+        return 0;
     if (!(v = arg_value(o->cmd, argc, argv, i))) return -1;
+    if (!strcmp(a, "--max-memory")) /* the loaders' memory limit (lc_load_desc option max_memory) */
+        return arg_memory(o->cmd, a, v) || cli_load_add(&o->load, o->cmd, "max_memory", v) ? -1 : 1;
     if (!strcmp(a, "--topology")) return o->topology = v, 1;
     if (!strcmp(a, "--dataset")) return cli_load_add(&o->load, o->cmd, "dataset", v) ? -1 : 1;
     char *end;
@@ -473,7 +479,7 @@ static int parse(ropts *o, int argc, char **argv, int want_input)
         fprintf(stderr, "%s: --orbit: give --orbit or --frame/--frames, not both\n", o->cmd);
         return -1;
     }
-    if (!o->output) {
+    if (!o->output || !o->output[0]) {
         fprintf(stderr, "%s: no output image: give -o OUT.png\n", o->cmd);
         return -1;
     }
@@ -622,6 +628,21 @@ static const cli_kind *decide_kind(ropts *o, lc_device *dev, lc_kind forced, int
     lc_kind kind = forced;
     *frames = 1;
     *fopts = "";
+    if (kind == LC_KIND_NONE && o->load.format && o->input) {
+        /* --dims / --raw-particles name a headerless format: a file that says
+           what it is (magic bytes) has its own header, and the flag would be
+           read over it */
+        lc_file_info fi;
+        if (lc_file_probe(dev, o->input, NULL, &fi) == LC_OK && strcmp(fi.format, o->load.format) &&
+            strncmp(fi.format, "raw", 3)) {
+            int dims = !strcmp(o->load.format, "raw-volume");
+            fprintf(stderr, "%s: %s does not apply to %s: it is a %s file, whose header gives %s (drop %s)\n", o->cmd,
+                    dims ? "--dims" : "--raw-particles", o->input, fi.format, dims ? "the sizes" : "the particles",
+                    dims ? "--dims" : "--raw-particles");
+            *usage = 1;
+            return NULL;
+        }
+    }
     if (kind == LC_KIND_NONE) {
         lc_file_info fi;
         /* the options too: a container's kind may depend on them (HDF5 --dataset) */

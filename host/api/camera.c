@@ -47,6 +47,8 @@ lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int 
     vec3 eye = {cam->eye.x, cam->eye.y, cam->eye.z}, at = {cam->at.x, cam->at.y, cam->at.z};
     vec3 up = {cam->up.x, cam->up.y, cam->up.z};
     if (glm_vec3_norm(up) == 0.0f) glm_vec3_copy((vec3){0.0f, 1.0f, 0.0f}, up);
+    float upmax = fmaxf(fabsf(up[0]), fmaxf(fabsf(up[1]), fabsf(up[2])));
+    if (upmax > 0.0f) glm_vec3_scale(up, 1.0f / upmax, up); /* a direction: its length must not overflow */
     vec3 lo = {bounds->lo.x, bounds->lo.y, bounds->lo.z}, hi = {bounds->hi.x, bounds->hi.y, bounds->hi.z};
     vec3 centre, diag;
     glm_vec3_center(lo, hi, centre);
@@ -65,6 +67,14 @@ lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int 
     if (cam->projection == LC_ORTHOGRAPHIC && ortho_h == 0.0f) ortho_h = 2.1f * radius;
     vec3 fwd, right, upv;
     glm_vec3_sub(at, eye, fwd);
+    /* scaled before normalising: |at - eye|^2 overflows float beyond ~1.8e19,
+       which made a far eye look like "up is parallel" */
+    float big = fmaxf(fabsf(fwd[0]), fmaxf(fabsf(fwd[1]), fabsf(fwd[2])));
+    if (!isfinite(big))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "camera: eye (%g, %g, %g) and at (%g, %g, %g) are too far apart for float arithmetic", (double)eye[0],
+                         (double)eye[1], (double)eye[2], (double)at[0], (double)at[1], (double)at[2]);
+    glm_vec3_scale(fwd, 1.0f / big, fwd);
     glm_vec3_normalize(fwd);
     glm_vec3_cross(fwd, up, right);
     if (glm_vec3_norm(right) < 1e-6f * glm_vec3_norm(up))

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "host/api/tf.h"
+#include "host/formats/checked.h"
 #if LC_HAVE_JSON
 #include <json-c/json.h>
 #endif
@@ -318,6 +319,29 @@ static lc_status read_paraview(parse_ctx *c, json_object *root, lc_tf **out)
     return s;
 }
 
+/* What is still open at the end of a truncated JSON text: the innermost of
+ * a string, an array or an object (for the message). */
+static const char *open_at_end(const char *json, size_t len)
+{
+    char stack[64];
+    int depth = 0, in_string = 0;
+    for (size_t i = 0; i < len; i++) {
+        char ch = json[i];
+        if (in_string) {
+            if (ch == '\\') i++;
+            else if (ch == '"') in_string = 0;
+        } else if (ch == '"') in_string = 1;
+        else if (ch == '{' || ch == '[') {
+            if (depth < (int)sizeof stack) stack[depth] = ch;
+            depth++;
+        } else if ((ch == '}' || ch == ']') && depth > 0) depth--;
+    }
+    if (in_string) return "a string";
+    if (depth == 0) return "a value";
+    char top = depth <= (int)sizeof stack ? stack[depth - 1] : '{';
+    return top == '{' ? "an object" : "an array";
+}
+
 lc_status lc_tf_parse(lc_device *device, const char *json, const char *name, lc_tf **out)
 {
     if (!name) name = "transfer function";
@@ -325,6 +349,10 @@ lc_status lc_tf_parse(lc_device *device, const char *json, const char *name, lc_
     *out = NULL;
     if (!json) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_tf_parse: json is NULL");
     parse_ctx c = {device, name};
+    size_t blank = strspn(json, " \t\r\n");
+    if (!json[blank])
+        return lci_error(device, LC_ERROR_FORMAT, "%s: %s, expected a JSON object", name,
+                         blank ? "only white space" : "empty file");
     json_tokener *tok = json_tokener_new();
     if (!tok) return lci_error(device, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
     size_t len = strlen(json);
@@ -336,6 +364,9 @@ lc_status lc_tf_parse(lc_device *device, const char *json, const char *name, lc_
         int line = 1;
         for (size_t i = 0; i < off && i < len; i++) line += json[i] == '\n';
         if (root) json_object_put(root);
+        if (jerr == json_tokener_continue) /* the text ended inside something */
+            return lci_error(device, LC_ERROR_FORMAT, "%s:%d: the JSON ends at byte %zu inside %s (truncated?)", name,
+                             line, len, open_at_end(json, len));
         return lci_error(device, LC_ERROR_FORMAT, "%s:%d: invalid JSON: %s", name, line,
                          jerr == json_tokener_success ? "unexpected end" : json_tokener_error_desc(jerr));
     }
@@ -399,8 +430,9 @@ lc_status lc_tf_load(lc_device *device, const char *path, lc_tf **out)
     if (!out) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_tf_load: out is NULL");
     *out = NULL;
     if (!path) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "lc_tf_load: path is NULL");
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return lci_error(device, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *fp;
+    lc_status os = lci_open_regular(device, path, NULL, &fp, NULL); /* not a directory or FIFO */
+    if (os != LC_OK) return os;
     char *buf = NULL;
     size_t n = 0, cap = 0;
     for (;;) {
@@ -430,6 +462,15 @@ lc_status lc_tf_load(lc_device *device, const char *path, lc_tf **out)
         return lci_error(device, LC_ERROR_IO, "%s: read error", path);
     }
     buf[n] = '\0';
+    const char *nul = memchr(buf, 0, n);
+    if (nul) {
+        int line = 1;
+        for (const char *q = buf; q < nul; q++) line += *q == '\n';
+        lc_status e = lci_error(device, LC_ERROR_FORMAT, "%s:%d: a NUL byte at byte %zu (not a JSON text file?)", path,
+                                line, (size_t)(nul - buf));
+        free(buf);
+        return e;
+    }
     lc_status s = lc_tf_parse(device, buf, path, out);
     free(buf);
     return s;

@@ -3,6 +3,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "host/formats/binfile.h"
+#include "host/formats/checked.h"
 
 lc_status lci_bin_open(lc_device *dev, const char *path, const char *what, lci_bin *b)
 {
@@ -10,14 +11,8 @@ lc_status lci_bin_open(lc_device *dev, const char *path, const char *what, lci_b
     b->dev = dev;
     b->path = path;
     b->marker = 4;
-    b->f = fopen(path, "rb");
-    if (!b->f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fileno(b->f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        lci_bin_close(b);
-        return lci_error(dev, LC_ERROR_IO, "%s: not a regular file", path);
-    }
-    b->size = (int64_t)st.st_size;
+    lc_status s = lci_open_regular(dev, path, NULL, &b->f, &b->size);
+    if (s != LC_OK) return s;
     unsigned char m[2] = {0, 0};
     if (fread(m, 1, 2, b->f) == 2 && m[0] == 0x1f && m[1] == 0x8b) {
         lci_bin_close(b);

@@ -17,7 +17,8 @@ static lc_status field(lci_header_lines *r, const char *k, const char *v, lci_vo
     if (!strcasecmp(k, "NDims")) {
         if (strcmp(v, "3") != 0) return BAD("%s:%d: NDims %s, only 3-D volumes are supported", path, ln, v);
     } else if (!strcasecmp(k, "DimSize")) {
-        if (!lci_parse_sizes(v, h->size, 3)) return BAD("%s:%d: DimSize \"%s\": expected three integers", path, ln, v);
+        if (!lci_parse_sizes(v, h->size, 3))
+            return BAD("%s:%d: DimSize \"%s\": expected three integers from 2 to 2147483647", path, ln, v);
         h->have_sizes = 1;
     } else if (!strcasecmp(k, "ElementType")) {
         if (!strcmp(v, "MET_UCHAR")) h->type = LC_VALUE_UINT8;
@@ -29,19 +30,26 @@ static lc_status field(lci_header_lines *r, const char *k, const char *v, lci_vo
                        v);
         h->have_type = 1;
     } else if (!strcasecmp(k, "ElementSpacing")) {
-        if (!lci_parse_doubles(v, h->spacing, 3))
-            return BAD("%s:%d: ElementSpacing \"%s\": expected three numbers", path, ln, v);
+        if (!lci_parse_spacings(v, h->spacing, 3))
+            return BAD("%s:%d: ElementSpacing \"%s\": expected three numbers from %g to %g", path, ln, v,
+                       LCI_MIN_SPACING, LCI_MAX_COORD);
         h->have_spacing = 1;
     } else if (!strcasecmp(k, "Offset") || !strcasecmp(k, "Origin") || !strcasecmp(k, "Position")) {
         if (!lci_parse_doubles(v, h->origin, 3)) return BAD("%s:%d: %s \"%s\": expected three numbers", path, ln, k, v);
         h->have_origin = 1;
     } else if (!strcasecmp(k, "ElementByteOrderMSB") || !strcasecmp(k, "BinaryDataByteOrderMSB")) {
+        if (strcasecmp(v, "True") && strcasecmp(v, "False"))
+            return BAD("%s:%d: %s = %s: expected True or False", path, ln, k, v);
         h->big_endian = !strcasecmp(v, "True");
     } else if (!strcasecmp(k, "CompressedData")) {
+        if (strcasecmp(v, "True") && strcasecmp(v, "False"))
+            return BAD("%s:%d: CompressedData = %s: expected True or False", path, ln, v);
         h->gzip = !strcasecmp(v, "True");
         if (h->gzip && !LC_HAVE_ZLIB) return lci_missing_at(r, "CompressedData = True");
     } else if (!strcasecmp(k, "HeaderSize")) {
-        h->byte_skip = strtoll(v, NULL, 10);
+        if (!lci_parse_offset(v, &h->byte_skip))
+            return BAD("%s:%d: HeaderSize \"%s\": expected an integer from -1 (data at the end of the file) to 2^62", path,
+                       ln, v);
     } else if (!strcasecmp(k, "ElementDataFile")) {
         if (strcasecmp(v, "LOCAL") != 0) snprintf(h->data_file, sizeof h->data_file, "%s", v);
         *stop = 1;

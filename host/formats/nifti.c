@@ -24,6 +24,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "host/formats/checked.h"
 #include "host/formats/volume_data.h"
 #include "host/kinds/grid.h"
 
@@ -144,6 +145,10 @@ static lc_status read_head(lc_device *dev, const char *path, nhead *h)
                    (long long)h->dim[2], (long long)h->dim[3]);
     if (h->single && (!(h->vox_offset >= (h->version == 2 ? 540 : 348)) || h->vox_offset > 1e15))
         return BAD("%s: byte %d: vox_offset %g lies inside the header", path, h->off_vox, h->vox_offset);
+    /* the library reads a whole frame before lanecast sees it: the memory limit first */
+    uint64_t frame_bytes;
+    if (lci_size_check(dev, path, voxels, (uint64_t)t->bytes, 0, "voxels", &frame_bytes) != LC_OK)
+        return LC_ERROR_OUT_OF_MEMORY;
     /* the voxels must fit in what the file holds: exactly for a plain .nii,
        within deflate's largest ratio (1032:1) for a gzip one */
     struct stat st;
@@ -286,8 +291,8 @@ static lc_status nifti_read(lc_device *dev, const lci_read_args *a, lci_loaded *
         lci_log(dev, LC_LOG_INFO, "%s: %s voxels read as float32", a->path, t->name);
     /* reorder (and convert) into world x, y, z, increasing */
     int es = lci_value_size(to);
-    if (!(data = malloc(count * (uint64_t)es + 64))) {
-        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu voxels", a->path, (unsigned long long)count);
+    if (!(data = lci_alloc_checked(dev, a->path, count, (uint64_t)es, 64, "voxels", 0))) {
+        s = LC_ERROR_OUT_OF_MEMORY;
         goto out;
     }
     uint64_t stride[3] = {1, (uint64_t)n[0], (uint64_t)n[0] * (uint64_t)n[1]};
@@ -329,6 +334,7 @@ static lc_status nifti_read(lc_device *dev, const lci_read_args *a, lci_loaded *
     out->desc = d;
     lci_loaded_keep(out, data);
     data = NULL;
+    s = lci_vol_geometry(dev, a->path, d->size, d->spacing, d->origin);
 out:
     free(data);
     nifti_free_NBL(&nbl);

@@ -59,18 +59,24 @@ static lc_status field(lci_header_lines *r, const char *k, const char *v, lci_vo
             return BAD("%s:%d: type \"%s\" is not supported (uint8, uint16, int16 or float)", path, ln, v);
         h->have_type = 1;
     } else if (!strcasecmp(k, "sizes")) {
-        if (!lci_parse_sizes(v, h->size, 3)) return BAD("%s:%d: sizes \"%s\": expected three integers", path, ln, v);
+        if (!lci_parse_sizes(v, h->size, 3))
+            return BAD("%s:%d: sizes \"%s\": expected three integers from 2 to 2147483647", path, ln, v);
         h->have_sizes = 1;
     } else if (!strcasecmp(k, "spacings")) {
-        if (!lci_parse_doubles(v, h->spacing, 3))
-            return BAD("%s:%d: spacings \"%s\": expected three numbers", path, ln, v);
+        if (!lci_parse_spacings(v, h->spacing, 3))
+            return BAD("%s:%d: spacings \"%s\": expected three numbers from %g to %g", path, ln, v, LCI_MIN_SPACING,
+                       LCI_MAX_COORD);
         h->have_spacing = 1;
     } else if (!strcasecmp(k, "space directions")) {
         double m[9];
         if (!lci_parse_doubles(v, m, 9))
             return BAD("%s:%d: space directions \"%s\": expected three vectors", path, ln, v);
-        for (int a = 0; a < 3; a++)
+        for (int a = 0; a < 3; a++) {
             h->spacing[a] = sqrt(m[3 * a] * m[3 * a] + m[3 * a + 1] * m[3 * a + 1] + m[3 * a + 2] * m[3 * a + 2]);
+            if (!(h->spacing[a] >= LCI_MIN_SPACING && h->spacing[a] <= LCI_MAX_COORD))
+                return BAD("%s:%d: space directions: axis %d has length %g, expected %g to %g", path, ln, a,
+                           h->spacing[a], LCI_MIN_SPACING, LCI_MAX_COORD);
+        }
         h->have_spacing = 1;
     } else if (!strcasecmp(k, "space origin")) {
         if (!lci_parse_doubles(v, h->origin, 3)) return BAD("%s:%d: space origin \"%s\": expected (x,y,z)", path, ln, v);
@@ -81,8 +87,9 @@ static lc_status field(lci_header_lines *r, const char *k, const char *v, lci_vo
         snprintf(h->data_file, sizeof h->data_file, "%s", v);
         *stop = 1;
     } else if (!strcasecmp(k, "byte skip")) {
-        h->byte_skip = strtoll(v, NULL, 10);
-        if (h->byte_skip < 0) return BAD("%s:%d: byte skip %s is not supported", path, ln, v);
+        if (!lci_parse_offset(v, &h->byte_skip))
+            return BAD("%s:%d: byte skip \"%s\": expected an integer from -1 (data at the end of the file) to 2^62", path,
+                       ln, v);
     } else {
         return layout_field(r, k, v, h);
     }

@@ -2,6 +2,7 @@
  * count and the radius come from the options. Plain or gzip. */
 #include <stdlib.h>
 #include <string.h>
+#include "host/formats/checked.h"
 #include "host/formats/elements.h"
 #include "host/formats/text_reader.h"
 
@@ -12,12 +13,24 @@ static lc_status read_xyz(lci_text *t, size_t n, float radius, lci_atoms *p)
         return lci_error(t->dev, LC_ERROR_INVALID_ARGUMENT, "%s: raw particles need a radius (> 0)", t->path);
     if (n > (size_t)INT32_MAX / 2)
         return lci_error(t->dev, LC_ERROR_INVALID_ARGUMENT, "%s: %zu particles is too many", t->path, n);
-    p->xyz = malloc(n * 3 * sizeof(float));
+    /* the file's size first: a plain file holds exactly 12 bytes a particle,
+       a gzip one at most 1032 times its size (deflate's largest ratio) */
+    size_t want = n * 3 * sizeof(float);
+    if (!t->gz && (uint64_t)t->size != want)
+        return lci_error(t->dev, LC_ERROR_FORMAT,
+                         "%s: holds %lld bytes, but a count of %zu particles needs %zu (12 bytes each); wrong count?",
+                         t->path, t->size, n, want);
+    if (t->gz && want / 1032 > (uint64_t)t->size)
+        return lci_error(t->dev, LC_ERROR_FORMAT, "%s: %zu particles (%zu bytes) cannot come from %lld bytes of gzip data",
+                         t->path, n, want, t->size);
+    uint64_t total;
+    if (lci_size_check(t->dev, t->path, n, 3 * sizeof(float) + sizeof(float) + 1, 0, "particles", &total) != LC_OK)
+        return LC_ERROR_OUT_OF_MEMORY;
+    p->xyz = malloc(want);
     p->r = malloc(n * sizeof(float));
     p->field = calloc(n, 1);
     if (!p->xyz || !p->r || !p->field)
         return lci_error(t->dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu particles", t->path, n);
-    size_t want = n * 3 * sizeof(float);
     long long got = lci_text_read(t, p->xyz, want);
     if (got < 0) return LC_ERROR_IO;
     if ((size_t)got != want)

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include "host/formats/checked.h"
 #include "host/formats/format.h"
 #include "host/formats/text_reader.h"
 
@@ -175,7 +176,13 @@ static lc_status split_options(lc_device *dev, const char *path, const lci_forma
         const lc_option *o = &d->options[i];
         if (!o->key || !o->value)
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option %d has no key or value", path, i);
-        if (!strcmp(o->key, "field_by") && in_list(f->options, "fields", 6)) { /* field_by: the name for fields */
+        if (!strcmp(o->key, "max_memory")) { /* every format: the memory limit (checked.h) */
+            uint64_t m;
+            if (lci_parse_memory(o->value, &m))
+                return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                                 "%s: option max_memory = '%s': expected a size in bytes, e.g. 512M, 8G", path, o->value);
+            dev->load_max_memory = m;
+        } else if (!strcmp(o->key, "field_by") && in_list(f->options, "fields", 6)) { /* field_by: the name for fields */
             fopts[*nf] = *o;
             fopts[(*nf)++].key = "fields";
         } else if (in_list(f->options, o->key, strlen(o->key)))
@@ -217,6 +224,7 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
     lc_kind kind;
     s = kind_of(dev, f, path, d, &kind);
     const lci_kind_ops *k = lci_kind(kind);
+    dev->load_max_memory = 0;
     if (s == LC_OK) s = split_options(dev, path, f, k, d, fopts, &nf);
     lci_loaded l;
     memset(&l, 0, sizeof l);
@@ -228,8 +236,9 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
         if (s == LC_OK && d->progress) d->progress(d->progress_user, 1.0f);
         dev->load_progress = NULL, dev->load_progress_user = NULL;
     }
+    dev->load_max_memory = 0;
     for (int i = 0; s == LC_OK && i < d->noptions; i++)
-        if (in_list(k->option_keys, d->options[i].key, strlen(d->options[i].key)))
+        if (strcmp(d->options[i].key, "max_memory") && in_list(k->option_keys, d->options[i].key, strlen(d->options[i].key)))
             s = k->set_option(dev, l.desc, &d->options[i], path);
     if (s == LC_OK) {
         s = k->create(dev, l.desc, out);
@@ -268,13 +277,29 @@ lc_status lci_read_grid(lc_device *dev, const char *path, const lc_load_desc *de
     if (!f->read)
         return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: %s files are not supported by this build (install %s and rebuild)",
                          path, f->name, f->package ? f->package : "its library");
-    for (int i = 0; i < d->noptions; i++)
-        if (!d->options[i].key || !d->options[i].value || !in_list(f->options, d->options[i].key, strlen(d->options[i].key)))
+    uint64_t limit = 0;
+    for (int i = 0; i < d->noptions; i++) {
+        const lc_option *o = &d->options[i];
+        if (o->key && o->value && !strcmp(o->key, "max_memory")) {
+            if (lci_parse_memory(o->value, &limit))
+                return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                                 "%s: option max_memory = '%s': expected a size in bytes, e.g. 512M, 8G", path, o->value);
+        } else if (!o->key || !o->value || !in_list(f->options, o->key, strlen(o->key)))
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to %s files (they take: %s)",
-                             path, d->options[i].key ? d->options[i].key : "(null)", f->name, f->options);
+                             path, o->key ? o->key : "(null)", f->name, f->options);
+    }
     *format = f->name;
-    lci_read_args a = {path, d, d->options, d->noptions, f->name};
+    /* the reader sees the format's options only */
+    lc_option *fo = malloc(sizeof *fo * (size_t)(d->noptions + 1));
+    if (!fo) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lci_read_grid: out of memory");
+    int nf = 0;
+    for (int i = 0; i < d->noptions; i++)
+        if (strcmp(d->options[i].key, "max_memory")) fo[nf++] = d->options[i];
+    lci_read_args a = {path, d, fo, nf, f->name};
+    if (dev) dev->load_max_memory = limit;
     s = f->read(dev, &a, out);
+    if (dev) dev->load_max_memory = 0;
+    free(fo);
     if (s != LC_OK) lci_loaded_free(out);
     return s;
 }

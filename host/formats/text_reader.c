@@ -1,5 +1,7 @@
 /* Plain or gzip-compressed input for the particle formats (text_reader.h).
- * Plain files are read with stdio, gzip ones with zlib; a gzip file is
+ * Plain files are read with stdio, gzip ones through the streaming inflater
+ * (gzstream.h: fixed buffers, several members read as one, trailing bytes an
+ * error); a gzip file is
  * recognised by its first two bytes (1f 8b, RFC 1952), not its name. In a
  * build without zlib (-Dzlib=disabled) a gzip file fails to open with one
  * line naming the file, zlib and its Debian package. */
@@ -7,18 +9,14 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include "host/formats/checked.h"
+#include "host/formats/gzstream.h"
 #include "host/formats/text_reader.h"
-#if LC_HAVE_ZLIB
-#include <zlib.h>
-#endif
 
-/* 1 if the file starts with the gzip magic, 0 if not, -1 if it cannot be opened. */
 /* Bytes of the file consumed so far (compressed bytes for gzip). */
 static long long consumed(const lci_text *t)
 {
-#if LC_HAVE_ZLIB
-    if (t->gz) return (long long)gzoffset((gzFile)t->gz);
-#endif
+    if (t->gz) return (long long)lci_gz_offset(t->gz);
     return t->f ? (long long)ftello(t->f) : 0;
 }
 
@@ -27,14 +25,15 @@ static void report(const lci_text *t)
     if (t->size > 0) lci_load_progress(t->dev, (double)consumed(t) / (double)t->size);
 }
 
-static int is_gzip(const char *path)
+/* Opens a regular file and tells whether it starts with the gzip magic. */
+static lc_status open_file(lc_device *dev, const char *path, FILE **f, int64_t *size, int *gz)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return -1;
+    lc_status s = lci_open_regular(dev, path, NULL, f, size);
+    if (s != LC_OK) return s;
     unsigned char m[2] = {0, 0};
-    int gz = fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
-    fclose(f);
-    return gz;
+    *gz = fread(m, 1, 2, *f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
+    rewind(*f);
+    return LC_OK;
 }
 
 lc_status lci_text_open(lc_device *dev, const char *path, lci_text *t)
@@ -42,69 +41,65 @@ lc_status lci_text_open(lc_device *dev, const char *path, lci_text *t)
     memset(t, 0, sizeof *t);
     t->dev = dev;
     t->path = path;
-    int gz = is_gzip(path);
-    if (gz < 0) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    int gz;
+    int64_t size;
+    lc_status s = open_file(dev, path, &t->f, &size, &gz);
+    if (s != LC_OK) return s;
+    t->size = size;
     if (gz) {
-#if LC_HAVE_ZLIB
-        gzFile g = gzopen(path, "rb");
-        if (!g) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-        gzbuffer(g, 1 << 18);
-        t->gz = g;
-        FILE *f = fopen(path, "rb");
-        if (f && fseeko(f, 0, SEEK_END) == 0) t->size = ftello(f);
-        if (f) fclose(f);
-        return LC_OK;
-#else
-        return lci_missing(dev, path, "gzip-compressed input", LCI_FEATURE_ZLIB);
-#endif
+        if (!LC_HAVE_ZLIB) s = lci_missing(dev, path, "gzip-compressed input", LCI_FEATURE_ZLIB);
+        else s = lci_gz_open(dev, path, t->f, 0, size, &t->gz);
+        if (s != LC_OK) lci_text_close(t);
     }
-    t->f = fopen(path, "rb");
-    if (!t->f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    if (fseeko(t->f, 0, SEEK_END) == 0) t->size = ftello(t->f);
-    rewind(t->f);
-    return LC_OK;
+    return s;
 }
 
 void lci_text_close(lci_text *t)
 {
-#if LC_HAVE_ZLIB
-    if (t->gz) gzclose((gzFile)t->gz);
-#endif
+    lci_gz_close(t->gz);
     if (t->f) fclose(t->f);
     t->gz = NULL;
     t->f = NULL;
 }
 
+/* The next byte: 0..255, -1 at the end, -2 after an error (reported). */
+static int next_byte(lci_text *t)
+{
+    if (t->gz) return lci_gz_getc(t->gz);
+    int c = getc_unlocked(t->f);
+    if (c != EOF) return c;
+    if (ferror(t->f)) {
+        lci_error(t->dev, LC_ERROR_IO, "%s:%ld: read error: %s", t->path, t->lineno + 1, strerror(errno));
+        return -2;
+    }
+    return -1;
+}
+
 int lci_text_line(lci_text *t)
 {
-#if LC_HAVE_ZLIB
-    if (t->gz) {
-        if (!gzgets((gzFile)t->gz, t->line, sizeof t->line)) {
-            int err;
-            const char *msg = gzerror((gzFile)t->gz, &err);
-            if (err != Z_OK && err != Z_STREAM_END) {
-                lci_error(t->dev, LC_ERROR_IO, "%s:%ld: read error: %s", t->path, t->lineno + 1, msg);
-                return -1;
-            }
-            return 0;
-        }
-    } else
-#endif
-    if (!fgets(t->line, sizeof t->line, t->f)) {
-        if (ferror(t->f)) {
-            lci_error(t->dev, LC_ERROR_IO, "%s:%ld: read error: %s", t->path, t->lineno + 1, strerror(errno));
+    size_t len = 0, cap = sizeof t->line - 1;
+    int c;
+    while ((c = next_byte(t)) >= 0) {
+        if (c == 0) {
+            lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: a NUL byte at column %zu (binary data in a text file?)", t->path,
+                      t->lineno + 1, len + 1);
             return -1;
         }
-        return 0;
+        if (c == '\n') {
+            if (len < cap) t->line[len++] = '\n'; /* a line of exactly cap characters keeps no newline */
+            break;
+        }
+        if (len == cap) {
+            lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: line longer than %zu characters", t->path, t->lineno + 1, cap);
+            return -1;
+        }
+        t->line[len++] = (char)c;
     }
+    if (c == -2) return -1;
+    if (c == -1 && len == 0) return 0;
+    t->line[len] = '\0';
     t->lineno++;
     if (!(t->lineno & 4095)) report(t);
-    size_t len = strlen(t->line);
-    if (len == sizeof t->line - 1 && t->line[len - 1] != '\n') {
-        lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: line longer than %zu characters", t->path, t->lineno,
-                  sizeof t->line - 2);
-        return -1;
-    }
     return 1;
 }
 
@@ -112,16 +107,13 @@ long long lci_text_read(lci_text *t, void *dst, size_t n)
 {
     size_t got = 0;
     while (got < n) {
-        size_t chunk = n - got > (1u << 30) ? (1u << 30) : n - got;
+        size_t chunk = n - got > (1u << 24) ? (1u << 24) : n - got;
         size_t k;
-#if LC_HAVE_ZLIB
         if (t->gz) {
-            int r = gzread((gzFile)t->gz, (unsigned char *)dst + got, (unsigned)chunk);
-            if (r < 0) return lci_error(t->dev, LC_ERROR_IO, "%s: read error", t->path), -1;
+            long long r = lci_gz_read(t->gz, (unsigned char *)dst + got, chunk);
+            if (r < 0) return -1;
             k = (size_t)r;
-        } else
-#endif
-        {
+        } else {
             k = fread((unsigned char *)dst + got, 1, chunk, t->f);
             if (k < chunk && ferror(t->f))
                 return lci_error(t->dev, LC_ERROR_IO, "%s: read error: %s", t->path, strerror(errno)), -1;
@@ -136,21 +128,26 @@ long long lci_text_read(lci_text *t, void *dst, size_t n)
 lc_status lci_file_head(lc_device *dev, const char *path, unsigned char *head, size_t cap, size_t *n, int *gzip)
 {
     *n = 0;
-    *gzip = is_gzip(path);
-    if (*gzip < 0) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *f;
+    int64_t size;
+    lc_status s = open_file(dev, path, &f, &size, gzip);
+    if (s != LC_OK) return s;
     if (*gzip) {
-#if LC_HAVE_ZLIB /* a read error here only means no magic bytes; the reader reports it */
-        gzFile g = gzopen(path, "rb");
-        if (!g) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-        int k = gzread(g, head, (unsigned)cap);
-        gzclose(g);
-        *n = k > 0 ? (size_t)k : 0;
-#endif /* else: no magic bytes to look at; the extension decides and the reader says what is missing */
-        return LC_OK;
+        /* a read error here only means no magic bytes; the reader reports it.
+           Without zlib: no magic bytes to look at; the extension decides and
+           the reader says what is missing */
+        lci_gz *g = NULL;
+        char keep[LCI_MSG_MAX];
+        snprintf(keep, sizeof keep, "%s", lc_last_error());
+        if (LC_HAVE_ZLIB && lci_gz_open(NULL, path, f, 0, size, &g) == LC_OK) {
+            long long k = lci_gz_read(g, head, cap);
+            *n = k > 0 ? (size_t)k : 0;
+            lci_gz_close(g);
+        }
+        lci_error(NULL, LC_OK, "%s", keep);
+    } else {
+        *n = fread(head, 1, cap, f);
     }
-    FILE *f = fopen(path, "rb");
-    if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    *n = fread(head, 1, cap, f);
     fclose(f);
     return LC_OK;
 }

@@ -13,18 +13,20 @@
 typedef struct lci_text {
     lc_device *dev;
     const char *path;
-    FILE *f;   /* a plain file, or NULL */
-    void *gz;  /* a gzFile when the file is gzip-compressed (LC_HAVE_ZLIB), or NULL */
-    char line[LCI_LINE_MAX];
+    FILE *f;   /* the file (plain or compressed) */
+    struct lci_gz *gz; /* the inflate stream when the file is gzip-compressed (gzstream.h), or NULL */
+    char line[LCI_LINE_MAX]; /* up to LCI_LINE_MAX - 1 characters (not counting a newline) */
     long lineno; /* of the line in `line`, 1-based */
     long long size; /* bytes in the file (compressed for gzip), for load progress */
 } lci_text;
 
-/* Opens path (gzip when its first bytes say so); errors name the file. */
+/* Opens path (gzip when its first bytes say so; a regular file, else an
+ * error: checked.h); errors name the file. */
 lc_status lci_text_open(lc_device *dev, const char *path, lci_text *t);
 void lci_text_close(lci_text *t);
-/* Reads the next line into t->line: 1 ok, 0 at the end, -1 error (reported,
- * naming the file and line). */
+/* Reads the next line into t->line (with its newline when it fits; a final
+ * line needs none): 1 ok, 0 at the end, -1 error (reported, naming the file
+ * and line): a line over LCI_LINE_MAX - 1 characters, a NUL byte in it. */
 int lci_text_line(lci_text *t);
 /* Reads up to n bytes into dst: the count read (short only at the end), or
  * -1 on a read error (reported). */

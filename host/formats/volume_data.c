@@ -10,9 +10,8 @@
 #include <string.h>
 #include <strings.h>
 #include "host/formats/volume_data.h"
-#if LC_HAVE_ZLIB
-#include <zlib.h>
-#endif
+#include "host/formats/checked.h"
+#include "host/formats/gzstream.h"
 #include "host/kinds/grid.h"
 
 static char *trim(char *s)
@@ -76,16 +75,19 @@ int lci_parse_doubles(const char *v, double *out, int n)
         if (end == v || errno || !isfinite(out[i])) return 0;
         v = end;
     }
-    return 1;
+    while (*v && (isspace((unsigned char)*v) || *v == ')' || *v == ',')) v++;
+    return *v == 0; /* nothing but separators after the numbers */
 }
 
 int lci_parse_sizes(const char *v, int64_t *out, int n)
 {
     char *end;
     for (int i = 0; i < n; i++) {
+        while (isspace((unsigned char)*v)) v++;
+        if (!isdigit((unsigned char)*v)) return 0; /* no sign: sizes are >= 2 */
         errno = 0;
         long long x = strtoll(v, &end, 10);
-        if (end == v || errno) return 0;
+        if (end == v || errno || x < 2 || x > INT32_MAX) return 0;
         out[i] = x;
         v = end;
     }
@@ -93,107 +95,116 @@ int lci_parse_sizes(const char *v, int64_t *out, int n)
     return *v == 0;
 }
 
-#if LC_HAVE_ZLIB
-/* Inflates `avail` bytes at `in` (gzip or zlib wrapper) into exactly `bytes`
- * at dst: the stream must end there, neither short nor long. */
-static lc_status inflate_exact(lc_device *dev, const char *file, unsigned char *in, uint64_t avail, uint64_t bytes,
-                               void *dst)
+int lci_parse_offset(const char *v, long long *out)
 {
-    z_stream z;
-    memset(&z, 0, sizeof z);
-    if (inflateInit2(&z, 15 + 32) != Z_OK) /* gzip or zlib header */
-        return lci_error(dev, LC_ERROR_INTERNAL, "%s: zlib initialisation failed", file);
-    uint64_t out_done = 0, in_done = 0;
-    int r = Z_OK;
-    unsigned char extra;
-    while (r == Z_OK) {
-        if (z.avail_in == 0) {
-            uint64_t n = avail - in_done < (1u << 30) ? avail - in_done : (1u << 30);
-            z.next_in = in + in_done;
-            z.avail_in = (uInt)n;
-            in_done += n;
-        }
-        if (out_done < bytes) {
-            uint64_t n = bytes - out_done < (1u << 30) ? bytes - out_done : (1u << 30);
-            z.next_out = (unsigned char *)dst + out_done;
-            z.avail_out = (uInt)n;
-        } else {
-            z.next_out = &extra; /* anything beyond the expected size is an error */
-            z.avail_out = 1;
-        }
-        uInt before = z.avail_out;
-        r = inflate(&z, Z_NO_FLUSH);
-        uint64_t produced = before - z.avail_out;
-        if (out_done >= bytes && produced) {
-            r = Z_DATA_ERROR + 100;
-            break;
-        }
-        out_done += produced;
-        if (r == Z_BUF_ERROR && in_done == avail && z.avail_in == 0) break;
-        if (r == Z_BUF_ERROR) r = Z_OK;
+    char *end;
+    while (isspace((unsigned char)*v)) v++;
+    if (!isdigit((unsigned char)*v) && *v != '-') return 0;
+    errno = 0;
+    long long x = strtoll(v, &end, 10);
+    if (end == v || errno || x < -1 || x > LCI_MAX_OFFSET) return 0;
+    while (isspace((unsigned char)*end)) end++;
+    if (*end) return 0;
+    *out = x;
+    return 1;
+}
+
+int lci_parse_spacings(const char *v, double *out, int n)
+{
+    if (!lci_parse_doubles(v, out, n)) return 0;
+    for (int i = 0; i < n; i++)
+        if (!(out[i] >= LCI_MIN_SPACING && out[i] <= LCI_MAX_COORD)) return 0;
+    return 1;
+}
+
+lc_status lci_vol_geometry(lc_device *dev, const char *path, const int size[3], lc_vec3 spacing, lc_vec3 origin)
+{
+    const float s[3] = {spacing.x, spacing.y, spacing.z}, o[3] = {origin.x, origin.y, origin.z};
+    for (int a = 0; a < 3; a++) {
+        if (!(s[a] >= (float)LCI_MIN_SPACING && s[a] <= (float)LCI_MAX_COORD)) /* in float, as stored */
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "%s: spacing %g along %c is outside [%g, %g] (a wrong unit, or a damaged header?)", path,
+                             (double)s[a], "xyz"[a], LCI_MIN_SPACING, LCI_MAX_COORD);
+        double far = fabs((double)o[a]) + (double)(size[a] - 1) * (double)s[a];
+        if (!(far <= (double)(float)LCI_MAX_COORD))
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "%s: origin %g and spacing %g along %c put the volume's far side at %g, beyond +-%g (a "
+                             "wrong unit, or a damaged header?)",
+                             path, (double)o[a], (double)s[a], "xyz"[a], far, LCI_MAX_COORD);
     }
-    inflateEnd(&z);
-    if (r == Z_DATA_ERROR + 100)
-        return lci_error(dev, LC_ERROR_FORMAT, "%s: gzip data inflates to more than the %llu bytes the sizes and type give",
-                         file, (unsigned long long)bytes);
-    if (r == Z_STREAM_END && out_done != bytes)
-        return lci_error(dev, LC_ERROR_FORMAT, "%s: gzip data inflates to %llu bytes but the sizes and type need %llu",
-                         file, (unsigned long long)out_done, (unsigned long long)bytes);
-    if (r != Z_STREAM_END)
-        return lci_error(dev, LC_ERROR_FORMAT, "%s: gzip data is %s after %llu of %llu bytes", file,
-                         r == Z_BUF_ERROR || r == Z_OK ? "truncated" : "corrupt", (unsigned long long)out_done,
-                         (unsigned long long)bytes);
     return LC_OK;
 }
-#else
-static lc_status inflate_exact(lc_device *dev, const char *file, unsigned char *in, uint64_t avail, uint64_t bytes,
-                               void *dst)
-{
-    (void)in, (void)avail, (void)bytes, (void)dst;
-    return lci_missing(dev, file, "compressed voxel data", LCI_FEATURE_ZLIB);
-}
-#endif
 
-/* Reads exactly `bytes` of voxels from `file` starting at `offset`: raw data
- * must fill the rest of the file exactly; gzip data must inflate to exactly
- * `bytes` and end its stream. */
-static lc_status read_data(lc_device *dev, const char *header, const char *file, long long offset, int gzip,
+/* The data file of a volume, open and checked before anything is allocated:
+ * a regular file, long enough for the header's offset, and holding exactly
+ * `bytes` of raw data, or gzip data that could inflate to them (deflate
+ * compresses at most 1032:1). */
+static lc_status open_data(lc_device *dev, const char *header, const char *file, long long *offset, int gzip,
+                           uint64_t bytes, FILE **out, int64_t *len)
+{
+    lc_status s = lci_open_regular(dev, file, header, out, len);
+    if (s != LC_OK) return s;
+    char who[1200]; /* "header: its data file file" or "file" */
+    if (strcmp(header, file)) snprintf(who, sizeof who, "%s: its data file %s", header, file);
+    else snprintf(who, sizeof who, "%s", file);
+    if (*offset < 0) { /* byte skip / HeaderSize -1: the data is the file's last bytes (raw data only) */
+        if (gzip) s = lci_error(dev, LC_ERROR_FORMAT, "%s: a byte skip (HeaderSize) of -1 needs raw, not compressed, data", header);
+        else if ((uint64_t)*len < bytes)
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: %lld bytes, fewer than the %llu bytes of voxels the header needs",
+                          who, (long long)*len, (unsigned long long)bytes);
+        else *offset = *len - (int64_t)bytes;
+        if (s != LC_OK) {
+            fclose(*out), *out = NULL;
+            return s;
+        }
+    }
+    uint64_t avail = *len >= *offset ? (uint64_t)(*len - *offset) : 0;
+    if (*len < *offset)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %lld bytes, shorter than the header's offset %lld", who,
+                      (long long)*len, *offset);
+    else if (!gzip && avail != bytes)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: holds %llu bytes of data but the sizes and type need %llu", who,
+                      (unsigned long long)avail, (unsigned long long)bytes);
+    else if (gzip && bytes / 1032 > avail)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %llu bytes of voxels cannot come from %llu bytes of gzip data", who,
+                      (unsigned long long)bytes, (unsigned long long)avail);
+    if (s != LC_OK) fclose(*out), *out = NULL;
+    return s;
+}
+
+/* Reads exactly `bytes` of voxels from f at `offset`, in pieces (for the
+ * load progress): raw data as it is; gzip data inflated straight into dst,
+ * which must end exactly there (one byte more is looked for and refused,
+ * so a member larger than the volume is never read whole). */
+static lc_status read_data(lc_device *dev, const char *file, FILE *f, long long offset, int64_t len, int gzip,
                            uint64_t bytes, void *dst)
 {
-    FILE *f = fopen(file, "rb");
-    if (!f && strcmp(header, file))
-        return lci_error(dev, LC_ERROR_IO, "%s: its data file %s: cannot open: %s", header, file, strerror(errno));
-    if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", file, strerror(errno));
+    lci_gz *g = NULL;
     lc_status s = LC_OK;
-    unsigned char *in = NULL;
-    long long len = fseeko(f, 0, SEEK_END) == 0 ? ftello(f) : -1;
-    uint64_t avail = len >= offset ? (uint64_t)(len - offset) : 0;
-    if (len < 0) s = lci_error(dev, LC_ERROR_IO, "%s: cannot seek: %s", file, strerror(errno));
-    else if (len < offset)
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %lld bytes, shorter than the header's offset %lld", file, len, offset);
-    else if (!gzip && avail != bytes)
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: holds %llu bytes of data but the sizes and type need %llu", file,
-                      (unsigned long long)avail, (unsigned long long)bytes);
-    else if (!gzip) {
-        fseeko(f, offset, SEEK_SET);
-        for (uint64_t got = 0; got < bytes && s == LC_OK; ) { /* in pieces, for the load progress */
-            size_t k = bytes - got > (1u << 24) ? (1u << 24) : (size_t)(bytes - got);
-            if (fread((unsigned char *)dst + got, 1, k, f) != k)
-                s = lci_error(dev, LC_ERROR_IO, "%s: byte %llu: read failed: %s", file,
-                              (unsigned long long)(offset + (long long)got), strerror(errno));
-            got += k;
-            lci_load_progress(dev, (double)got / (double)bytes);
-        }
-    } else if (!(in = malloc(avail ? avail : 1))) {
-        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu compressed bytes", file,
-                      (unsigned long long)avail);
-    } else {
-        fseeko(f, offset, SEEK_SET);
-        if (fread(in, 1, avail, f) != avail) s = lci_error(dev, LC_ERROR_IO, "%s: read failed: %s", file, strerror(errno));
-        else s = inflate_exact(dev, file, in, avail, bytes, dst);
+    if (gzip) s = lci_gz_open(dev, file, f, offset, len, &g);
+    else if (fseeko(f, (off_t)offset, SEEK_SET) != 0)
+        s = lci_error(dev, LC_ERROR_IO, "%s: byte %lld: cannot seek: %s", file, offset, strerror(errno));
+    for (uint64_t got = 0; got < bytes && s == LC_OK;) {
+        size_t k = bytes - got > (1u << 24) ? (1u << 24) : (size_t)(bytes - got);
+        long long r = g ? lci_gz_read(g, (unsigned char *)dst + got, k) : (long long)fread((unsigned char *)dst + got, 1, k, f);
+        if (r < 0) s = LC_ERROR_FORMAT; /* reported */
+        else if (g && (size_t)r < k)
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: gzip data inflates to %llu bytes but the sizes and type need %llu",
+                          file, (unsigned long long)(got + (uint64_t)r), (unsigned long long)bytes);
+        else if ((size_t)r < k)
+            s = lci_error(dev, LC_ERROR_IO, "%s: byte %llu: read failed: %s", file,
+                          (unsigned long long)(offset + (long long)got), strerror(errno));
+        got += k;
+        lci_load_progress(dev, (double)got / (double)bytes);
     }
-    free(in);
-    fclose(f);
+    unsigned char extra;
+    long long r;
+    if (s == LC_OK && g && (r = lci_gz_read(g, &extra, 1)) != 0)
+        s = r < 0 ? LC_ERROR_FORMAT
+                  : lci_error(dev, LC_ERROR_FORMAT,
+                              "%s: gzip data inflates to more than the %llu bytes the sizes and type give", file,
+                              (unsigned long long)bytes);
+    lci_gz_close(g);
     return s;
 }
 
@@ -244,9 +255,10 @@ lc_status lci_vol_read_with_header(lc_device *dev, const char *path, const lci_v
 {
     lci_vol_header h;
     memset(&h, 0, sizeof h);
-    FILE *f = fopen(path, "rb");
-    if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
-    lc_status s = parse(dev, path, f, &h);
+    FILE *f;
+    lc_status s = lci_open_regular(dev, path, NULL, &f, NULL);
+    if (s != LC_OK) return s;
+    s = parse(dev, path, f, &h);
     fclose(f);
     if (s != LC_OK) return s;
     char data_path[2048];
@@ -258,7 +270,7 @@ lc_status lci_vol_read_with_header(lc_device *dev, const char *path, const lci_v
         offset = h.byte_skip;
     } else {
         snprintf(data_path, sizeof data_path, "%s", path);
-        offset = h.data_offset + h.byte_skip;
+        offset = h.byte_skip < 0 ? -1 : h.data_offset + h.byte_skip; /* both at most 2^62: no overflow */
     }
     if (o->type != LC_VALUE_DEFAULT && o->type != h.type)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the header's type differs from the requested one", path);
@@ -289,11 +301,14 @@ lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, 
     uint64_t count = voxel_count(dev, path, h);
     if (!count) return LC_ERROR_FORMAT;
     uint64_t bytes = count * (uint64_t)es;
-    void *data = malloc(bytes + 64);
-    if (!data)
-        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu bytes of voxels", path,
-                         (unsigned long long)bytes);
-    lc_status s = read_data(dev, path, data_path, offset, h->gzip, bytes, data);
+    FILE *f;
+    int64_t len;
+    lc_status s = open_data(dev, path, data_path, &offset, h->gzip, bytes, &f, &len);
+    if (s != LC_OK) return s;
+    void *data = lci_alloc_checked(dev, path, count, (uint64_t)es, 64, "voxels", 0);
+    if (!data) s = LC_ERROR_OUT_OF_MEMORY;
+    if (s == LC_OK) s = read_data(dev, data_path, f, offset, len, h->gzip, bytes, data);
+    fclose(f);
     lc_grid_desc *d = s == LC_OK ? calloc(1, sizeof *d) : NULL; /* copied by the grid, which owns its voxels */
     if (s == LC_OK && !d) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     if (s != LC_OK) {
@@ -326,5 +341,5 @@ lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, 
     d->data = data;
     out->desc = d;
     lci_loaded_keep(out, data);
-    return LC_OK;
+    return lci_vol_geometry(dev, path, d->size, d->spacing, d->origin);
 }

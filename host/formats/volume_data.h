@@ -20,7 +20,7 @@ typedef struct lci_vol_header {
     int gzip;             /* 1: gzip/zlib stream */
     int big_endian;
     char data_file[1024]; /* "" = attached after the header */
-    long long byte_skip;
+    long long byte_skip;  /* -1: the data is the file's last bytes */
     long data_offset;     /* attached: where the header ends */
 } lci_vol_header;
 
@@ -57,7 +57,23 @@ lc_status lci_header_done(lci_header_lines *r, lci_vol_header *h, const char *ty
 /* Numbers of a header value: n doubles (separated by white space, commas or
  * parentheses) or exactly n integers. 1 ok, 0 not. */
 int lci_parse_doubles(const char *v, double *out, int n);
+/* n integers from 2 to 2^31-1 (no sign), nothing else */
 int lci_parse_sizes(const char *v, int64_t *out, int n);
+/* n numbers in [LCI_MIN_SPACING, LCI_MAX_COORD] (0 0 0 is not a default) */
+int lci_parse_spacings(const char *v, double *out, int n);
+/* A byte offset (NRRD byte skip, MetaImage HeaderSize): one integer from -1
+ * (both formats: the data is the last bytes of its file) to LCI_MAX_OFFSET,
+ * nothing else on the line; 1 ok, 0 not. */
+int lci_parse_offset(const char *v, long long *out);
+#define LCI_MAX_OFFSET (1LL << 62) /* so that header end + offset cannot overflow */
+
+/* Geometry lanecast can render in float: spacings in [LCI_MIN_SPACING,
+ * LCI_MAX_COORD] and |origin| + (n - 1) * spacing <= LCI_MAX_COORD along
+ * each axis (so extents, the diagonal and 16 / diagonal stay finite);
+ * otherwise LC_ERROR_INVALID_ARGUMENT naming the file, the axis and the values. */
+#define LCI_MIN_SPACING 1e-30
+#define LCI_MAX_COORD 1e30
+lc_status lci_vol_geometry(lc_device *dev, const char *path, const int size[3], lc_vec3 spacing, lc_vec3 origin);
 
 /* Reads the header of `path` with parse (which fills h from the open file),
  * finds the data (detached: relative to the header's folder), and loads it. */

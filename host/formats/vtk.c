@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include "host/formats/checked.h"
 #include "host/formats/volume_data.h"
 #include "host/kinds/grid.h"
 
@@ -190,10 +191,7 @@ static lc_status vtk_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     if (s != LC_OK) return s;
     const lc_option *want = lci_option_find(a, "scalars");
     vrd rr = {.dev = dev, .path = a->path}, *r = &rr;
-    if (!(r->f = fopen(a->path, "rb"))) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", a->path, strerror(errno));
-    fseeko(r->f, 0, SEEK_END);
-    r->size = ftello(r->f);
-    fseeko(r->f, 0, SEEK_SET);
+    if ((s = lci_open_regular(dev, a->path, NULL, &r->f, &r->size)) != LC_OK) return s;
     void *data = NULL;
     int64_t dims[3] = {0, 0, 0};
     double spacing[3] = {1, 1, 1}, origin[3] = {0, 0, 0};
@@ -405,8 +403,8 @@ static lc_status vtk_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     }
     /* the array itself */
     int es = lci_value_size(vt->to);
-    if (!(data = malloc(count * (uint64_t)es + 64))) {
-        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu values", a->path, (unsigned long long)count);
+    if (!(data = lci_alloc_checked(dev, a->path, count, (uint64_t)es, 64, "values", 0))) {
+        s = LC_ERROR_OUT_OF_MEMORY;
         goto out;
     }
     char what[300];
@@ -433,6 +431,7 @@ static lc_status vtk_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     out->desc = d;
     lci_loaded_keep(out, data);
     data = NULL;
+    s = lci_vol_geometry(dev, a->path, d->size, d->spacing, d->origin);
 out:
     free(data);
     fclose(r->f);

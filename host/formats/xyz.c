@@ -25,17 +25,26 @@ static int blank(const char *s)
     return !*s || *s == '#';
 }
 
-/* 1 if s is a lone count (0 .. INT32_MAX/2), 0 if not. */
+/* 1 if s is a lone count (0 .. INT32_MAX/2), 0 if not, -1 if it is a lone
+ * integer out of that range (negative or too large: an error, not atoms). */
 static int count_line(const char *s, long *n)
 {
     char *end;
     errno = 0;
     long v = strtol(s, &end, 10);
-    if (end == s || errno || v < 0 || v > (long)INT32_MAX / 2) return 0;
-    while (isspace((unsigned char)*end)) end++;
-    if (*end) return 0;
+    if (end == s) return 0;
+    const char *e = end;
+    while (isspace((unsigned char)*e)) e++;
+    if (*e) return 0;
+    if (errno || v < 0 || v > (long)INT32_MAX / 2) return -1;
     *n = v;
     return 1;
+}
+
+static lc_status bad_count(const lci_text *t)
+{
+    return lci_error(t->dev, LC_ERROR_FORMAT, "%s:%ld: atom count '%.*s' is not a count from 0 to %ld", t->path,
+                     t->lineno, trim_len(t->line), t->line, (long)INT32_MAX / 2);
 }
 
 /* The next line that is not blank: 1, 0 at the end, -1 error. */
@@ -120,7 +129,12 @@ static lc_status walk(lci_text *t, int64_t frame, lci_atoms *p, int64_t *nframes
     int rc = next_line(t);
     if (rc < 0) return LC_ERROR_IO;
     long declared;
-    if (rc == 0 || !count_line(t->line, &declared)) { /* bare atom lines: one frame */
+    int c = rc == 1 ? count_line(t->line, &declared) : 0;
+    if (c < 0) return bad_count(t);
+    if (rc == 0) /* like an empty PDB file: nothing to render is an error */
+        return lci_error(t->dev, LC_ERROR_FORMAT, "%s: no atoms (an empty file, or only blank and comment lines)",
+                         t->path);
+    if (c == 0) { /* bare atom lines: one frame */
         *nframes = 1;
         if (p && frame > 0)
             return lci_error(t->dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds 1 frame "
@@ -137,11 +151,13 @@ static lc_status walk(lci_text *t, int64_t frame, lci_atoms *p, int64_t *nframes
         *nframes = k + 1;
         if ((rc = next_line(t)) < 0) return LC_ERROR_IO;
         /* the frame read: the next line must start a frame too (else its count was wrong) */
-        if (rc == 0 || (p && k == frame && count_line(t->line, &declared))) {
+        c = rc == 1 ? count_line(t->line, &declared) : 0;
+        if (c < 0) return bad_count(t);
+        if (rc == 0 || (p && k == frame && c)) {
             if (p && k == frame) return LC_OK;
             break;
         }
-        if (!count_line(t->line, &declared))
+        if (!c)
             return lci_error(t->dev, LC_ERROR_FORMAT,
                              "%s:%ld: expected the atom count of frame %lld, got '%.*s'; does the count of frame %lld match "
                              "its atoms?",
