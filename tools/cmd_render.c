@@ -702,7 +702,12 @@ static void print_stats(const ropts *o, const cli_kind *kind, const lc_volume *v
  * the opacity's source (--opacity: the file's, else the data's). */
 static lc_status make_tf(ropts *o, lc_device *dev, const cli_kind *kind, lc_volume *vol, lc_tf **tf)
 {
-    int is_file = o->tf && (strchr(o->tf, '.') || strchr(o->tf, '/'));
+    /* a preset name is a preset; otherwise a name with '.' or '/', or any
+       existing path (a directory too: lc_tf_load then says what it is), is a
+       file, and anything else an unknown preset */
+    int preset = 0;
+    for (int i = 0; o->tf && lc_tf_preset_name(i); i++) preset |= !strcmp(o->tf, lc_tf_preset_name(i));
+    int is_file = o->tf && !preset && (strchr(o->tf, '.') || strchr(o->tf, '/') || access(o->tf, F_OK) == 0);
     lc_tf *file = NULL, *def = NULL;
     lc_status s = LC_OK;
     if (is_file) s = lc_tf_load(dev, o->tf, &file);
