@@ -56,6 +56,9 @@ expect "input is a directory" 1 "dir: is a directory" -- dir $R
 expect "input is a device" 1 "null: is a device" -- /dev/null $R --dims 2,2,2 --type uint8
 printf 'ObjectType = Image\nNDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\nElementDataFile = dir\n' >dir.mhd
 expect "MetaImage data file is a directory" 1 "its data file dir: is a directory" -- dir.mhd $R
+# a load option at its bound, compared in float like the flag itself
+printf '1\none atom\nH 0 0 0\n' >one.xyz
+expect "control: --radius at its lower bound" 0 "" -- one.xyz --radius 1e-30 $R
 # a TF argument naming a directory is a path, not an unknown colour map; a
 # preset name stays a preset even when a directory of that name exists
 expect "TF is a directory" 1 "dir: is a directory" -- good.nhdr --tf dir $R

@@ -45,13 +45,13 @@ lc_status lci_option_float(lc_device *dev, const char *file, const lc_option *o,
 {
     char *end;
     errno = 0;
-    double v = strtod(o->value, &end);
-    if (end == o->value || *end || errno || !isfinite(v) || v < (double)lo || v > (double)hi) {
+    float v = strtof(o->value, &end); /* compared in float, as the bounds: 1e-30 is within [1e-30, ...] */
+    if (end == o->value || *end || errno || !isfinite(v) || v < lo || v > hi) {
         char what[96];
         snprintf(what, sizeof what, "a number from %g to %g", (double)lo, (double)hi);
         return bad(dev, file, o, what);
     }
-    *out = (float)v;
+    *out = v;
     return LC_OK;
 }
 
