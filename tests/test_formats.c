@@ -9,26 +9,11 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "check.h"
+#include "tmpfiles.h"
 #include "gzip_stored.h"
 #include "host/internal.h"
 
 static lc_device *dev;
-static const char *tmp;
-
-static const char *tpath(const char *name)
-{
-    static char buf[8][1024];
-    static int k;
-    char *p = buf[k++ % 8];
-    snprintf(p, sizeof buf[0], "%s/%s", tmp, name);
-    return p;
-}
-
-static void put(const char *name, const void *data, size_t n)
-{
-    FILE *f = fopen(tpath(name), "wb");
-    if (f) fwrite(data, 1, n, f), fclose(f);
-}
 
 static const char pdb[] =
     "HEADER    TEST\n"

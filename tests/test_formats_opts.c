@@ -14,13 +14,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "tmpfiles.h"
 #include "host/formats/format.h"
 #if LC_HAVE_HDF5
 #include <hdf5.h>
 #endif
 
 static lc_device *dev;
-static const char *tmp;
 static int nwarn;
 static char warned[2048];
 
@@ -31,22 +31,6 @@ static void on_log(void *user, lc_log_level level, const char *msg)
     nwarn++;
     snprintf(warned, sizeof warned, "%s", msg);
 }
-
-static const char *tpath(const char *name)
-{
-    static char buf[8][1024];
-    static int k;
-    char *p = buf[k++ % 8];
-    snprintf(p, sizeof buf[0], "%s/%s", tmp, name);
-    return p;
-}
-
-static void put(const char *name, const void *data, size_t n)
-{
-    FILE *f = fopen(tpath(name), "wb");
-    if (f) fwrite(data, 1, n, f), fclose(f);
-}
-static void puts_(const char *name, const char *text) { put(name, text, strlen(text)); }
 
 /* Reads path through fmt's reader (the format named, as the registry does):
  * the descriptor or NULL; nwarn counts this read's warnings. */

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "tmpfiles.h"
 #include "gzip_stored.h"
 #include "host/formats/format.h"
 #if LC_HAVE_HDF5
@@ -21,7 +22,6 @@
 #endif
 
 static lc_device *dev;
-static const char *tmp;
 static char warned[2048];
 
 static void on_log(void *user, lc_log_level level, const char *msg)
@@ -29,22 +29,6 @@ static void on_log(void *user, lc_log_level level, const char *msg)
     (void)user;
     if (level == LC_LOG_WARNING) snprintf(warned, sizeof warned, "%s", msg);
 }
-
-static const char *tpath(const char *name)
-{
-    static char buf[8][1024];
-    static int k;
-    char *p = buf[k++ % 8];
-    snprintf(p, sizeof buf[0], "%s/%s", tmp, name);
-    return p;
-}
-
-static void put(const char *name, const void *data, size_t n)
-{
-    FILE *f = fopen(tpath(name), "wb");
-    if (f) fwrite(data, 1, n, f), fclose(f);
-}
-static void puts_(const char *name, const char *text) { put(name, text, strlen(text)); }
 
 static const void *read_with(const lci_format *fmt, const char *path, int64_t frame, const lc_option *o, int n,
                              lci_loaded *l)
