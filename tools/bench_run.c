@@ -66,7 +66,7 @@ static void check_targets(const bench_group *g, lc_render_desc d, target_result 
            in LANECAST_BENCH_BREAK gets 3/255 added to one pixel, which must fail */
         const char *brk = getenv("LANECAST_BENCH_BREAK");
         if (brk && !strcmp(brk, lc_target_name(g->targets[i]))) img[4 * (cw * (ch / 2) + cw / 2)] += 3.0f / 255.0f;
-        imgcmp_stats(img, ref, cw, ch, IMGCMP_MAX_DIFF_255, &res[i].cmp);
+        imgcmp_stats(img, ref, cw, ch, IMGCMP_MAX_DIFF_255, &res[i].cmp); /* ndiff: pixels over 2/255 */
         res[i].check_done = 1;
         res[i].check_pass = res[i].cmp.nonfinite == 0 && res[i].cmp.max_diff_255 <= IMGCMP_MAX_DIFF_255 &&
                             res[i].cmp.psnr_db >= IMGCMP_MIN_PSNR_DB;
@@ -169,7 +169,8 @@ static void print_record(const bench_group *g, int i, const target_result *res, 
                 g->width < g->check_size ? g->width : g->check_size, r->check_pass ? "true" : "false", r->cmp.nonfinite);
         jnum(f, "max_diff_255", r->cmp.max_diff_255);
         jnum(f, "psnr_db", r->cmp.psnr_db);
-        fputc('}', f);
+        fprintf(f, ", \"worst_pixel\": [%d, %d, %d], \"pixels_over_2\": %ld}", r->cmp.worst_x, r->cmp.worst_y,
+                r->cmp.worst_channel, r->cmp.ndiff);
     } else fprintf(f, "null");
     if (r->error[0]) {
         fprintf(f, ", \"error\": ");
