@@ -7,7 +7,8 @@ usage: peers_splash.py LANECAST DATA_DIR OUT_DIR RECORDS.jsonl
 The shared GADGET initial conditions (particles/gadget_lcdm_gas.dat: 32,768
 gas particles) carry no densities or smoothing lengths, which SPLASH needs,
 so this writes a GADGET format-1 snapshot of the gas that has them:
-HSML = distance to the 32nd nearest neighbour (periodic box; GADGET-2's
+HSML = distance to the 32nd nearest neighbour (periodic when the header
+has a BoxSize; the shared file has 0: then an open box; GADGET-2's
 convention: the kernel's support is HSML), RHO = the SPH density
 sum_j m_j W(r_ij, HSML_i) with GADGET-2's cubic spline. SPLASH renders RHO
 with opacity rendering (--kappa: opacity per unit column density, projected
@@ -116,8 +117,12 @@ def main():
     os.makedirs(work, exist_ok=True)
     hdr, npart, massarr, box, pos, vel, mass, u = read_gas(src)
     ng = npart[0]
-    pos = np.mod(pos, box)
-    tree = cKDTree(pos, boxsize=box)
+    if box > 0:  # periodic
+        pos = np.mod(pos, box)
+        tree = cKDTree(pos, boxsize=box)
+    else:  # these initial conditions leave BoxSize 0: an open box over the positions
+        box = float(np.max(pos) - np.min(pos))
+        tree = cKDTree(pos)
     dist, idx = tree.query(pos, k=K + 1)
     hsml = dist[:, K]
     rho = np.sum(mass[idx] * w_gadget(dist, hsml[:, None]), axis=1)
@@ -134,10 +139,11 @@ def main():
     tf = os.path.join(work, "tf.json")
     with open(tf, "w") as f:
         json.dump({"range": [0.0, rmax], "color": [[0, 0, 0, 0], [1, 1, 1, 1]], "opacity": [[0, 0], [1, kappa * rmax]]}, f)
-    c = box / 2
+    c0 = np.min(pos, axis=0)
+    c = c0 + box / 2
     lc_png = os.path.join(work, "lanecast.png")
     args = [exe, "render", csv, "-o", lc_png, "--size", "%dx%d" % (SIZE, SIZE), "--tf", tf, "--ortho", "%g" % box,
-            "--eye", "%g,%g,%g" % (c, c, 3 * box), "--at", "%g,%g,%g" % (c, c, c), "--threads", "2", "--stats",
+            "--eye", "%g,%g,%g" % (c[0], c[1], c[2] + 3 * box), "--at", "%g,%g,%g" % tuple(c), "--threads", "2", "--stats",
             "--quiet"]
     walls, renders = [], []
     for _ in range(3):
@@ -148,17 +154,13 @@ def main():
             sys.exit("peers_splash.py: lanecast failed: " + p.stderr.strip())
         m = re.search(r"^render\s+([0-9.]+) s", p.stdout + p.stderr, re.M)
         renders.append(float(m.group(1)) if m else float("nan"))
-    # SPLASH: column 1, 2 = x, y; find the density column from its listing
-    listing = subprocess.run(["splash", "-f", "gadget", snap, "--help"], capture_output=True, text=True, cwd=work)
-    col = None
-    probe = subprocess.run(["splash", "calc", "lastonly", "-f", "gadget", snap], capture_output=True, text=True,
-                           cwd=work)
-    for line in (probe.stdout + listing.stdout).splitlines():
-        m = re.match(r"\s*(\d+)\)\s*density", line, re.I)
-        if m:
-            col = int(m.group(1))
-            break
-    col = col or 10
+    # SPLASH: columns 1, 2 = x, y; the density column from its menu (answered "q")
+    menu = subprocess.run(["splash", "-f", "gadget", snap], input="q\n", capture_output=True, text=True, cwd=work,
+                          timeout=120)
+    m = re.search(r"(\d+)\)\s*density", menu.stdout, re.I)
+    if not m:
+        sys.exit("peers_splash.py: no density column in SPLASH's menu:\n" + menu.stdout[-1500:])
+    col = int(m.group(1))
     sp_walls = []
     for _ in range(3):
         for f in os.listdir(work):
@@ -183,13 +185,14 @@ def main():
     fig.tight_layout()
     fig.savefig(comp, dpi=90)
     plt.close(fig)
-    rec = {"record": "peer", "peer": "splash", "peer_version": "Debian splash", "peer_mapper": "opacity rendering",
-           "scene": "lcdm gas %d" % ng, "size": SIZE, "threads": 2, "dt": float("nan"), "kappa": kappa,
+    rec = {"record": "peer", "peer": "splash", "peer_version": subprocess.run(["dpkg-query", "-W", "-f", "${Version}", "splash"], capture_output=True,
+                                                        text=True).stdout or "?", "peer_mapper": "opacity rendering",
+           "scene": "lcdm gas %d" % ng, "size": SIZE, "threads": 2, "dt": None, "kappa": kappa,
            "density_column": col, "lanecast_first_s": statistics.median(walls),
            "lanecast_frame_s": statistics.median(renders), "peer_first_s": statistics.median(sp_walls),
            "peer_frame_s": statistics.median(sp_walls),
            "frame_ratio_peer_over_lanecast": statistics.median(sp_walls) / statistics.median(walls),
-           "psnr_db_between": float("nan"), "composite": os.path.basename(comp), "loadavg": os.getloadavg()[0],
+           "psnr_db_between": None, "composite": os.path.basename(comp), "loadavg": os.getloadavg()[0],
            "note": "ratio of whole runs (SPLASH has no per-frame time); images compared by eye only"}
     with open(recs_path, "a") as f:
         f.write(json.dumps(rec) + "\n")
