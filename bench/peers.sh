@@ -1,14 +1,17 @@
 #!/bin/sh
 # lanecast against its peers, side by side in the same run: VTK 9
 # (vtkFixedPointVolumeRayCastMapper, under Xvfb) on the same volume, TF,
-# camera, sample distance and image size (bench/peers_vtk.py). Records go to
+# camera, sample distance and image size (bench/peers_vtk.py); for particles
+# the proxy path VTK users take (Gaussian interpolation onto a grid, then the
+# ray caster). Records go to
 # bench/results/bench_peers.jsonl, composite PNGs (lanecast | VTK | diff) to
 # docs/bench/; bench/report.py puts both into REPORT.md.
 # And SPLASH (Debian `splash`, opacity rendering) on the LCDM gas particles,
 # from a GADGET snapshot with SPH densities and smoothing lengths that
 # bench/peers_splash.py writes first (the shared initial conditions lack
 # them), against lanecast on the same particles (bench/peers_splash.py).
-# usage: bench/peers.sh [--install] BUILD_DIR [volume ...]   (from the source root)
+# usage: bench/peers.sh [--install] BUILD_DIR [name ...]   (from the source root; names: .nhdr volumes
+#        and .pdb particle files under ../shared/data, default engine neghip 1tii)
 #   --install   apt-get install python3-vtk9 xvfb xauth splash python3-matplotlib
 #               python3-scipy first (root)
 set -eu

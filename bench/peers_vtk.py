@@ -3,8 +3,11 @@
 structured volume, transfer function, camera, sample distance and image size
 (run by bench/peers.sh under xvfb-run; it installs python3-vtk9 when asked).
 
-usage: peers_vtk.py LANECAST DATA_DIR OUT_DIR RECORDS.jsonl [volume ...]
+usage: peers_vtk.py LANECAST DATA_DIR OUT_DIR RECORDS.jsonl [name ...]
+  (default engine neghip 1tii: .nhdr volumes under DATA_DIR/volumes, .pdb files under DATA_DIR/particles)
 
+Particles (a .pdb): VTK's proxy path, interpolation onto a grid with a
+Gaussian kernel and ray casting of the grid (particles() below).
 Per volume (an .nhdr under DATA_DIR/volumes): the TF is written as SPEC.md
 JSON for lanecast (colour points, tau per world unit over the value range)
 and given to VTK as a colour TF and a scalar opacity at unit distance 1,
@@ -81,10 +84,10 @@ def composite(a, b, path, title):
     plt.close(fig)
 
 
-def run_lanecast(exe, path, tf_path, eye, at, dt, out_png):
+def run_lanecast(exe, path, tf_path, eye, at, dt, out_png, extra=()):
     args = [exe, "render", path, "-o", out_png, "--size", "%dx%d" % (SIZE, SIZE), "--tf", tf_path,
             "--eye", ",".join("%.6g" % x for x in eye), "--at", ",".join("%.6g" % x for x in at), "--fov", "40",
-            "--dt", "%.6g" % dt, "--threads", str(THREADS), "--stats", "--quiet"]
+            "--dt", "%.6g" % dt, "--threads", str(THREADS), "--stats", "--quiet"] + list(extra)
     walls, renders = [], []
     for _ in range(6):
         t0 = time.perf_counter()
@@ -97,14 +100,57 @@ def run_lanecast(exe, path, tf_path, eye, at, dt, out_png):
     return walls[0], statistics.median(renders[1:]), " ".join(args)
 
 
-def run_vtk(path, lo, hi, tf_color, tf_opacity, eye, at, dt, out_png):
-    vtk.vtkMultiThreader.SetGlobalMaximumNumberOfThreads(THREADS)
-    t0 = time.perf_counter()
+def nhdr_image(path):
     sizes, spacing, arr = read_nhdr(path)
     img = vtk.vtkImageData()
     img.SetDimensions(*sizes)
     img.SetSpacing(*spacing)
     img.GetPointData().SetScalars(numpy_support.numpy_to_vtk(np.ascontiguousarray(arr), deep=1))
+    return img
+
+
+def read_pdb(path):
+    xyz = [[float(l[30:38]), float(l[38:46]), float(l[46:54])] for l in open(path)
+           if l.startswith("ATOM") or l.startswith("HETATM")]
+    return np.array(xyz)
+
+
+def particle_image(xyz, radius, lo, spacing, dims):
+    """VTK's proxy path for particles: vtkPointInterpolator with a Gaussian kernel of radius 2r and
+    sharpness sqrt(2), weights not normalised, every point's scalar 1: the grid holds the sum of
+    truncated Gaussians exp(-d^2 / 2r^2) over d < 2r, lanecast's particle field with sigma 2."""
+    pts = vtk.vtkPoints()
+    pts.SetData(numpy_support.numpy_to_vtk(np.ascontiguousarray(xyz, dtype=np.float32), deep=1))
+    poly = vtk.vtkPolyData()
+    poly.SetPoints(pts)
+    ones = numpy_support.numpy_to_vtk(np.ones(len(xyz), dtype=np.float32), deep=1)
+    ones.SetName("one")
+    poly.GetPointData().SetScalars(ones)
+    grid = vtk.vtkImageData()
+    grid.SetDimensions(*dims)
+    grid.SetOrigin(*lo)
+    grid.SetSpacing(spacing, spacing, spacing)
+    kern = vtk.vtkGaussianKernel()
+    kern.SetRadius(2 * radius)
+    kern.SetSharpness(math.sqrt(2))  # VTK: exp(-(sharpness d / R)^2) = exp(-d^2 / 2r^2) with R = 2r
+    kern.NormalizeWeightsOff()
+    loc = vtk.vtkStaticPointLocator()
+    loc.SetDataSet(poly)
+    interp = vtk.vtkPointInterpolator()
+    interp.SetInputData(grid)
+    interp.SetSourceData(poly)
+    interp.SetKernel(kern)
+    interp.SetLocator(loc)
+    interp.Update()
+    out = interp.GetOutput()
+    out.GetPointData().SetActiveScalars("one")
+    return out
+
+
+def run_vtk(make_image, lo, hi, tf_color, tf_opacity, eye, at, dt, out_png):
+    vtk.vtkMultiThreader.SetGlobalMaximumNumberOfThreads(THREADS)
+    t0 = time.perf_counter()
+    img = make_image()
     ctf, otf = vtk.vtkColorTransferFunction(), vtk.vtkPiecewiseFunction()
     for v, r, g, b in tf_color:
         ctf.AddRGBPoint(lo + v * (hi - lo), r, g, b)
@@ -157,11 +203,66 @@ def run_vtk(path, lo, hi, tf_color, tf_opacity, eye, at, dt, out_png):
     return first, statistics.median(frames), vtk.vtkVersion.GetVTKVersion()
 
 
+def finish(name, kind, lc_png, vtk_png, lc_first, lc_frame, lc_cmd, vtk_first, vtk_frame, vtk_ver, extra, out_dir,
+           records, title, mapper):
+    a = plt.imread(lc_png)[..., :3]
+    b = plt.imread(vtk_png)[..., :3]
+    mse = float(np.mean((a - b) ** 2))
+    psnr = 10 * math.log10(1 / mse) if mse > 0 else None
+    comp = os.path.join(out_dir, "peer_vtk_%s.png" % name)
+    composite(a, b, comp, title + ": lanecast %.3f s/frame, VTK %.3f s/frame" % (lc_frame, vtk_frame))
+    rec = {"record": "peer", "peer": "vtk", "peer_version": vtk_ver, "peer_mapper": mapper, "scene": name,
+           "kind": kind, "size": SIZE, "threads": THREADS, "lanecast_first_s": lc_first, "lanecast_frame_s": lc_frame,
+           "peer_first_s": vtk_first, "peer_frame_s": vtk_frame, "frame_ratio_peer_over_lanecast": vtk_frame / lc_frame,
+           "psnr_db_between": psnr, "max_diff_255_between": float(np.max(np.abs(a - b))) * 255,
+           "composite": os.path.basename(comp), "lanecast_command": lc_cmd, "loadavg": os.getloadavg()[0]}
+    rec.update(extra)
+    with open(records, "a") as f:
+        f.write(json.dumps(rec) + "\n")
+    print("peers_vtk.py: %s lanecast %.4f s/frame (first %.3f s), VTK %.4f s/frame (first %.3f s), PSNR between %s dB "
+          "-> %s" % (name, lc_frame, lc_first, vtk_frame, vtk_first, "%.1f" % psnr if psnr else "inf", comp))
+
+
+def particles(exe, path, name, out_dir, records, radius=1.0):
+    """The proxy path VTK users take for particles: interpolate onto a grid (spacing r/2) with a
+    Gaussian kernel, then ray cast the grid; lanecast renders the particles themselves, all with
+    radius r (--radius), sigma 2, kappa 1."""
+    xyz = read_pdb(path)
+    lo = xyz.min(axis=0) - 2 * radius
+    hi = xyz.max(axis=0) + 2 * radius
+    spacing = radius / 2
+    dims = [int(math.ceil((h - l) / spacing)) + 1 for l, h in zip(lo, hi)]
+    ext = [(n - 1) * spacing for n in dims]
+    at = [l + e / 2 for l, e in zip(lo, ext)]
+    rad = 0.5 * math.sqrt(sum(e * e for e in ext))
+    dist = rad / math.sin(math.radians(20.0))
+    az, el = math.radians(35.0), math.radians(25.0)
+    eye = [a + dist * x for a, x in zip(at, [math.cos(el) * math.sin(az), math.sin(el), math.cos(el) * math.cos(az)])]
+    vmax, tau = 2.0, 1.0 / radius
+    opacity = [[0.0, 0.0], [0.1, 0.0], [1.0, tau]]
+    tf_path = os.path.join(out_dir, "peer_%s_tf.json" % name)
+    with open(tf_path, "w") as f:
+        json.dump({"range": [0.0, vmax], "color": VIRIDIS, "opacity": opacity}, f)
+    dt = 0.25 * radius
+    lc_png, vtk_png = (os.path.join("/tmp", "peer_%s_%s.png" % (name, k)) for k in ("lanecast", "vtk"))
+    lc_first, lc_frame, lc_cmd = run_lanecast(exe, path, tf_path, eye, at, dt, lc_png, ["--radius", "%g" % radius])
+    vtk_first, vtk_frame, vtk_ver = run_vtk(lambda: particle_image(read_pdb(path), radius, lo, spacing, dims), 0.0,
+                                            vmax, VIRIDIS, opacity, eye, at, dt, vtk_png)
+    finish(name, "particles", lc_png, vtk_png, lc_first, lc_frame, lc_cmd, vtk_first, vtk_frame, vtk_ver,
+           {"count": len(xyz), "radius": radius, "dt": dt, "proxy_grid": dims}, out_dir, records,
+           "%s, %d atoms, r %g, VTK: Gaussian interpolation onto %dx%dx%d, then ray casting" % (name, len(xyz), radius,
+                                                                                                 *dims),
+           "vtkPointInterpolator (Gaussian) + vtkFixedPointVolumeRayCastMapper")
+
+
 def main():
     exe, data, out_dir, records = sys.argv[1:5]
-    names = sys.argv[5:] or ["engine", "neghip"]
+    names = sys.argv[5:] or ["engine", "neghip", "1tii"]
     os.makedirs(out_dir, exist_ok=True)
     for name in names:
+        if os.path.exists(os.path.join(data, "particles", name + ".pdb")):
+            particles(exe, os.path.join(data, "particles", name + ".pdb"), name, out_dir, records)
+            continue
         path = os.path.join(data, "volumes", name + ".nhdr")
         if not os.path.exists(path):
             print("peers_vtk.py: %s absent, skipped" % path)
@@ -178,25 +279,12 @@ def main():
         dt = 0.5 * min(spacing)
         lc_png, vtk_png = (os.path.join("/tmp", "peer_%s_%s.png" % (name, k)) for k in ("lanecast", "vtk"))
         lc_first, lc_frame, lc_cmd = run_lanecast(exe, path, tf_path, eye, at, dt, lc_png)
-        vtk_first, vtk_frame, vtk_ver = run_vtk(path, lo, hi, VIRIDIS, opacity, eye, at, dt, vtk_png)
-        a = plt.imread(lc_png)[..., :3]
-        b = plt.imread(vtk_png)[..., :3]
-        mse = float(np.mean((a - b) ** 2))
-        psnr = 10 * math.log10(1 / mse) if mse > 0 else float("inf")
-        comp = os.path.join(out_dir, "peer_vtk_%s.png" % name)
-        composite(a, b, comp, "%s %dx%dx%d, %dx%d, dt %.3g, 2 threads: lanecast %.3f s/frame, VTK %.3f s/frame"
-                  % (name, *sizes, SIZE, SIZE, dt, lc_frame, vtk_frame))
-        rec = {"record": "peer", "peer": "vtk", "peer_version": vtk_ver,
-               "peer_mapper": "vtkFixedPointVolumeRayCastMapper", "scene": name, "size": SIZE, "threads": THREADS,
-               "dt": dt, "range": [lo, hi], "tau_max": tau, "lanecast_first_s": lc_first,
-               "lanecast_frame_s": lc_frame, "peer_first_s": vtk_first, "peer_frame_s": vtk_frame,
-               "frame_ratio_peer_over_lanecast": vtk_frame / lc_frame, "psnr_db_between": psnr,
-               "max_diff_255_between": float(np.max(np.abs(a - b))) * 255, "composite": os.path.basename(comp),
-               "lanecast_command": lc_cmd, "loadavg": os.getloadavg()[0]}
-        with open(records, "a") as f:
-            f.write(json.dumps(rec) + "\n")
-        print("peers_vtk.py: %s lanecast %.4f s/frame, VTK %.4f s/frame (x%.2f), PSNR between %.1f dB -> %s"
-              % (name, lc_frame, vtk_frame, vtk_frame / lc_frame, psnr, comp))
+        vtk_first, vtk_frame, vtk_ver = run_vtk(lambda: nhdr_image(path), lo, hi, VIRIDIS, opacity, eye, at, dt,
+                                                vtk_png)
+        finish(name, "grid", lc_png, vtk_png, lc_first, lc_frame, lc_cmd, vtk_first, vtk_frame, vtk_ver,
+               {"dt": dt, "range": [lo, hi], "tau_max": tau}, out_dir, records,
+               "%s %dx%dx%d, %dx%d, dt %.3g, 2 threads" % (name, *sizes, SIZE, SIZE, dt),
+               "vtkFixedPointVolumeRayCastMapper")
 
 
 if __name__ == "__main__":

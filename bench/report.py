@@ -236,6 +236,37 @@ def width_section(cases):
                   "width (avx512 / avx512_8)", "both (avx512 / avx2)"], rows)
 
 
+def views_section(cases):
+    """Every case of the bench_views file: view x mode x method, targets side by side."""
+    rows = []
+    for key, g in groups([r for r in cases if r["file"].startswith("bench_views")]).items():
+        r0 = next(iter(g.values()))
+        ts = [t for t in TARGETS if t in g and "fps" in g[t]]
+        fails = [t for t, r in g.items() if r.get("check") and not r["check"]["pass"]]
+        rows.append([r0["scene"], r0["view"], r0["mode"], r0["method"]] +
+                    [" / ".join("%s %s" % (t, fmt(g[t]["fps"])) for t in ts)] +
+                    [fmt(g[ts[-1]].get("speedup_vs_scalar"), 3) if ts else "-",
+                     fmt(g[ts[-1]]["samples"] / 1e6) if ts else "-", "FAIL " + ",".join(fails) if fails else "pass"])
+    if not rows:
+        return None
+    return table(["scene", "view", "mode", "method", "fps", "widest / scalar", "M samples", "check"], rows)
+
+
+def large_section(cases):
+    rows = []
+    for r in cases:
+        if not r["file"].startswith("bench_large") or "fps" not in r:
+            continue
+        rows.append([r["scene"], "%d" % r["count"], r["target"], r["threads"], fmt(r["build_s"]),
+                     fmt(r["bvh_bytes"] / 1e6), fmt(r["data_bytes"] / 1e6), fmt(r["fps"]),
+                     "%s..%s" % (fmt(1 / r["max_s"]), fmt(1 / r["min_s"])), fmt(r["rss_peak_kb"] / 1024),
+                     "pass" if r["check"] and r["check"]["pass"] else "FAIL"])
+    if not rows:
+        return None
+    return table(["scene", "count", "target", "threads", "build s", "BVH MB", "data MB", "fps", "fps min..max",
+                  "peak RSS MB (process)", "check"], rows)
+
+
 def roof_section(roofs):
     last = {}
     for r in roofs:
@@ -290,15 +321,15 @@ def checks_section(cases):
 
 def peers_section(peers):
     rows = [[r["scene"], "%s %s" % (r["peer"], r["peer_version"]), r["peer_mapper"], "%dx%d" % (r["size"], r["size"]),
-             r["threads"], fmt(r["dt"]), fmt(r["lanecast_first_s"]), fmt(r["peer_first_s"]), fmt(r["lanecast_frame_s"]),
+             r["threads"], fmt(r.get("dt")), fmt(r["lanecast_first_s"]), fmt(r["peer_first_s"]), fmt(r["lanecast_frame_s"]),
              fmt(r["peer_frame_s"]), fmt(r["frame_ratio_peer_over_lanecast"], 3), fmt(r["psnr_db_between"], 3),
              fmt(r.get("loadavg"))] for r in peers]
     out = ["\n## Peers, same run (`bench/peers.sh`)\n\n",
-           "Same volume, TF (colour points; tau per world unit given to VTK as alpha = 1 - exp(-tau) at unit "
+           "Same data, TF (colour points; tau per world unit given to VTK as alpha = 1 - exp(-tau) at unit "
            "distance 1), camera, sample distance and image size; 2 threads each; black background, no shading. "
            "First image: lanecast's whole process (start, read, build, render, write) against VTK's read, "
            "upload and first render inside Python; per frame: medians of 5.\n\n",
-           table(["volume", "peer", "mapper", "image", "threads", "dt", "lanecast first s", "peer first s",
+           table(["scene", "peer", "mapper", "image", "threads", "dt", "lanecast first s", "peer first s",
                   "lanecast s/frame", "peer s/frame", "peer / lanecast", "PSNR between dB", "load"], rows)]
     if any(r["peer"] == "vtk" for r in peers):
         out.append("\nVTK: what differs between the pipelines. VTK's fixed-point mapper classifies through 15-bit "
@@ -306,7 +337,12 @@ def peers_section(peers):
                    "samples from the ray's entry into the volume's box, while lanecast samples on a lattice of "
                    "planes (SPEC.md) and reconstructs in float; VTK skips empty space with a min-max grid of blocks, "
                    "lanecast with its implicit BVH. Small differences in colour and in the sampling pattern are "
-                   "expected; the PSNR between the two images says how far apart they are.\n")
+                   "expected; the PSNR between the two images says how far apart they are. For particles VTK has no "
+                   "direct path: users interpolate onto a grid first (`vtkPointInterpolator` with a `vtkGaussianKernel` "
+                   "of radius 2r and sharpness sqrt 2, weights not normalised, i.e. exactly lanecast's truncated "
+                   "Gaussian sum with sigma 2, on a grid of spacing r/2) and ray cast the grid; its first image "
+                   "includes the interpolation, and the grid's trilinear reconstruction blurs the field (the lower "
+                   "PSNR).\n")
     if any(r["peer"] == "splash" for r in peers):
         out.append("\nSPLASH: the shared GADGET initial conditions have no densities or smoothing lengths, so "
                    "`bench/peers_splash.py` writes a snapshot of the 32,768 gas particles with HSML = distance to "
@@ -387,6 +423,15 @@ def main():
                    "Ratios of median frame times within one interleaved case: avx512_8 / avx2 isolates the AVX-512 "
                    "instruction set at 8 lanes; avx512 / avx512_8 isolates the width at the same instruction set.\n\n")
         doc.append(w)
+    t = views_section(cases)
+    if t:
+        doc.append("\n## Views, modes and methods (Knoll 2011 Figure 5 style)\n\nfar frames the data, medium is "
+                   "0.55 of that distance, close 0.3 (inside the particle cube); iso at the middle of the value "
+                   "range; `direct` applies to particles and `brute` to grids, each skipped for the other kind.\n\n" + t)
+    t = large_section(cases)
+    if t:
+        doc.append("\n## Large sets\n\nPeak RSS is the process's peak so far (getrusage), so it includes the "
+                   "sets built before in the same run.\n\n" + t)
     t = sweep(cases, "alpha_stop", P("alpha_sweep.png"), "Early termination sweep")
     if t:
         doc.append("\n## Early-termination sweep (alpha_stop)\n\n![alpha_stop sweep](alpha_sweep.png)\n\n" + t)

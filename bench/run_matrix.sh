@@ -21,4 +21,9 @@ run $common --scenes uniform:1e5 --targets avx512 --sigma 1,1.5,2,2.5,3 -o $out/
 run $common --scenes uniform:1e5,grid:256,rbf:1e4 --targets scalar,avx512 --threads 1,2 -o $out/bench_threads.jsonl
 # width study: instruction set vs width
 run $common --width-study --scenes uniform:1e5,heavy:1e5,grid:256,engine,rbf:1e4 -o $out/bench_width.jsonl
+# views, modes and methods on two scenes (scalar as the check's reference and for speedups)
+run $common --scenes uniform:1e5,engine --targets scalar,avx512 --views far,medium,close --modes dvr,mip,iso \
+    --methods default,direct,brute -o $out/bench_views.jsonl
+# the large sets, widest target only, 2 threads (memory: rss_peak_kb)
+run $common --scenes uniform:1e7,grid:512 --targets avx512 --threads 2 --repeats 3 -o $out/bench_large.jsonl
 /usr/bin/python3 bench/report.py $out/bench_*.jsonl -o docs/bench
