@@ -60,6 +60,8 @@ fi
 
 "$exe" bench --scenes nosuch:3 2>"$tmp/err"; rc=$?
 check "unknown scene: exit 2 naming it" sh -c "[ $rc -eq 2 ] && grep -q \"unknown scene 'nosuch:3'\" '$tmp/err'"
+"$exe" bench --scenes uniform:2e8,grid:2000 --targets scalar --sizes 8 --data "$data" -o "$tmp/l.jsonl" 2>"$tmp/err"; rc=$?
+check "too large procedural sets: exit 1 naming the limits, nothing allocated" sh -c "[ $rc -eq 1 ] && grep -q 'at most 1e8' '$tmp/err' && grep -q 'from 2 to 1290' '$tmp/err'"
 "$exe" bench --views sideways 2>"$tmp/err"; rc=$?
 check "bad view: exit 2 naming it" sh -c "[ $rc -eq 2 ] && grep -q \"'sideways'\" '$tmp/err'"
 "$exe" bench --threads 0 2>"$tmp/err"; rc=$?

@@ -19,11 +19,12 @@ typedef struct bench_scene {
     size_t bvh_bytes, data_bytes;
     lc_volume_info info;
     float max_radius;    /* particles and RBF sets: largest radius or width */
+    int absent;          /* set with a failure: a real data set's file is missing (a skip, not an error) */
 } bench_scene;
 
-/* Builds a scene by name on dev. Returns LC_OK, LC_ERROR_IO for a real data
- * set whose file is missing (*note says so: the caller skips it), or another
- * error with a message in *note. */
+/* Builds a scene by name on dev. Returns LC_OK, or an error with a message in
+ * *note; sc->absent is set when a real data set's file is missing (the caller
+ * skips it with the note). */
 lc_status bench_scene_make(lc_device *dev, const char *name, const char *data_dir, bench_scene *sc, char *note,
                            size_t note_size);
 void bench_scene_free(bench_scene *sc);

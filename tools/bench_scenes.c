@@ -8,11 +8,11 @@
 #include "bench_common.h"
 
 const char bench_scene_help[] =
-    "  procedural particles (fixed seed, 1 particle per 8 cubic units):\n"
+    "  procedural particles (fixed seed, 1 particle per 8 cubic units; N up to 1e8):\n"
     "    uniform:N   radii uniform in [0.6, 1.2]\n"
     "    heavy:N     heavy-tailed radii: Pareto (alpha 2.5) from 0.4, capped at 12\n"
     "    cluster:N   dense: 16 Gaussian clusters (sd = side / 24), radii [0.3, 0.6]\n"
-    "  procedural grids:  grid:N   uint8 gyroid lattice in a sphere, N^3 nodes (256, 512, 1024)\n"
+    "  procedural grids:  grid:N   uint8 gyroid lattice in a sphere, N^3 nodes (256, 512, 1024; N <= 1290)\n"
     "  procedural RBF sets (as bench/bench_rbf.c): rbf:N uniform, rbfc:N in 8 clusters\n"
     "  real data (DATA = --data; skipped with a note when absent):\n"
     "    1tii 1tw7 bigbox adk galaxy lcdm   (particles/)\n"
@@ -57,7 +57,7 @@ static int parse_proc(const char *name, double *n)
         if (strncmp(name, prefixes[p], l)) continue;
         char *end;
         *n = strtod(name + l, &end);
-        if (*end || !(*n >= 1) || *n > 1e9) return -1;
+        if (*end || !(*n >= 1) || !isfinite(*n)) return -1;
         return p;
     }
     return -1;
@@ -194,6 +194,10 @@ lc_status bench_scene_make(lc_device *dev, const char *name, const char *data_di
     int p = parse_proc(name, &n);
     const real_set *rs = find_real(name);
     lc_status s;
+    if (p >= 0 && p != P_GRID && n > 1e8) { /* checked before allocating: 1e8 particles take ~5 GB with the BVH */
+        snprintf(note, note_size, "scene %s: at most 1e8 particles or RBFs", name);
+        return LC_ERROR_INVALID_ARGUMENT;
+    }
     if (p == P_UNIFORM || p == P_HEAVY || p == P_CLUSTER) s = make_particles(dev, p, (size_t)n, sc);
     else if (p == P_GRID) {
         if (n < 2 || n > 1290) { /* 1290^3 < 2^31 values */
@@ -211,6 +215,7 @@ lc_status bench_scene_make(lc_device *dev, const char *name, const char *data_di
         FILE *f = fopen(path, "rb");
         if (!f) {
             snprintf(note, note_size, "scene %s skipped: %s is absent", name, path);
+            sc->absent = 1;
             return LC_ERROR_IO;
         }
         fclose(f);
@@ -222,7 +227,10 @@ lc_status bench_scene_make(lc_device *dev, const char *name, const char *data_di
         return LC_ERROR_INVALID_ARGUMENT;
     }
     if (s != LC_OK) {
-        snprintf(note, note_size, "scene %s: %s", name, lc_last_error());
+        /* the generators fail before any lanecast call only for lack of memory */
+        if (!sc->vol && s == LC_ERROR_OUT_OF_MEMORY && p >= 0)
+            snprintf(note, note_size, "scene %s: out of memory generating %.0f %s", name, n, p == P_GRID ? "^3 voxels" : "items");
+        else snprintf(note, note_size, "scene %s: %s", name, lc_last_error());
         return s;
     }
     sc->gen_seconds = bench_now() - t0;

@@ -321,13 +321,13 @@ static void run_scene(run *R, lc_device *build_dev, const char *name)
     fprintf(stderr, CMD ": building %s ...\n", name);
     lc_status s = bench_scene_make(build_dev, name, R->o->data, &sc, note, sizeof note);
     if (s != LC_OK) {
-        fprintf(stderr, CMD ": %s%s\n", s == LC_ERROR_IO ? "note: " : "", note);
+        fprintf(stderr, CMD ": %s%s\n", sc.absent ? "note: " : "", note);
         fprintf(R->out, "{\"record\": \"skip\", \"scene\": ");
         bench_json_str(R->out, name);
         fprintf(R->out, ", \"note\": ");
         bench_json_str(R->out, note);
         fprintf(R->out, ", %s}\n", bench_machine_json());
-        if (s != LC_ERROR_IO) R->bad++;
+        if (!sc.absent) R->bad++;
         return;
     }
     if (lc_tf_auto(build_dev, sc.vol, NULL, 0, &R->tf) != LC_OK) {
