@@ -8,16 +8,16 @@
 #include "bench_common.h"
 
 const char bench_scene_help[] =
-    "  procedural particles (fixed seed, 1 particle per 8 cubic units; N up to 1e8):\n"
-    "    uniform:N   radii uniform in [0.6, 1.2]\n"
-    "    heavy:N     heavy-tailed radii: Pareto (alpha 2.5) from 0.4, capped at 12\n"
-    "    cluster:N   dense: 16 Gaussian clusters (sd = side / 24), radii [0.3, 0.6]\n"
-    "  procedural grids:  grid:N   uint8 gyroid lattice in a sphere, N^3 nodes (256, 512, 1024; N <= 1290)\n"
-    "  procedural RBF sets (as bench/bench_rbf.c): rbf:N uniform, rbfc:N in 8 clusters\n"
-    "  real data (DATA = --data; skipped with a note when absent):\n"
-    "    1tii 1tw7 bigbox adk galaxy lcdm   (particles/)\n"
-    "    engine neghip headsq hydrogen embryo headmr   (volumes/)\n"
-    "  any file lanecast reads:  file:PATH\n";
+    "      procedural particles (fixed seed, 1 particle per 8 cubic units; N up to 1e8):\n"
+    "        uniform:N   radii uniform in [0.6, 1.2]\n"
+    "        heavy:N     heavy-tailed radii: Pareto (alpha 2.5) from 0.4, capped at 12\n"
+    "        cluster:N   dense: 16 Gaussian clusters (sd = side / 24), radii [0.3, 0.6]\n"
+    "      procedural grids:  grid:N   uint8 gyroid lattice in a sphere, N^3 nodes (256, 512, 1024; N <= 1290)\n"
+    "      procedural RBF sets (as bench/bench_rbf.c): rbf:N uniform, rbfc:N in 8 clusters\n"
+    "      real data (DATA = --data; skipped with a note when absent):\n"
+    "        1tii 1tw7 bigbox adk galaxy lcdm   (particles/)\n"
+    "        engine neghip headsq hydrogen embryo headmr   (volumes/)\n"
+    "      any file lanecast reads:  file:PATH\n";
 
 typedef struct real_set {
     const char *name, *path, *companion;
