@@ -12,5 +12,6 @@ int cli_render(int argc, char **argv);
 int cli_demo(int argc, char **argv);
 int cli_info(int argc, char **argv);
 int cli_encode(int argc, char **argv);
+int cli_bench(int argc, char **argv);
 
 #endif

@@ -18,6 +18,8 @@ static const char usage[] =
     "  targets               list SIMD targets: compiled, supported by this CPU, active\n"
     "  formats               list the file formats (kind, extensions, options) and the\n"
     "                        optional features of this build (gzip input, JSON TFs)\n"
+    "  bench                 check every SIMD target against scalar and time it over a case\n"
+    "                        matrix, one JSON line per case (lanecast bench --help)\n"
     "  info FILE             what lanecast reads from FILE: format, kind, frames, count,\n"
     "                        bounds, fields, value range, spacing (lanecast info --help)\n"
     "\n"
@@ -54,6 +56,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "demo")) return cli_demo(argc - 1, argv + 1);
     if (!strcmp(cmd, "info")) return cli_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "encode")) return cli_encode(argc - 1, argv + 1);
+    if (!strcmp(cmd, "bench")) return cli_bench(argc - 1, argv + 1);
     fprintf(stderr, "lanecast: unknown command '%s' (try lanecast --help)\n", cmd);
     return 2;
 }

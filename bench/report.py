@@ -1,0 +1,454 @@
+#!/usr/bin/python3
+"""Turns `lanecast bench` JSON-lines records into one page with tables and
+PNG plots (docs/bench/REPORT.md by default).
+
+usage: /usr/bin/python3 bench/report.py RECORDS.jsonl... [-o DIR] [--command CMD]
+
+Needs matplotlib (Debian: apt-get install python3-matplotlib; use the system
+python3, /usr/bin/python3, where a pyenv python3 lacks it). Tables follow the
+papers' layout: Knoll 2014 Tables 1-2 (data sets with counts, build time,
+BVH size and frame rates per target) and Figures 6-7 (speedups per SIMD
+width, frame rate against count); Knoll 2011 Figures 5-6 (frame rate per
+volume and view, thread scaling). Records are grouped by file and case; a
+case's targets were timed in interleaved rounds, so ratios inside a group are
+the trustworthy numbers on a loaded machine.
+"""
+import argparse
+import collections
+import json
+import os
+import statistics
+import sys
+
+try:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError:
+    sys.exit("report.py: matplotlib is missing: apt-get install python3-matplotlib (and run /usr/bin/python3)")
+
+TARGETS = ["scalar", "sse4", "avx2", "avx512_8", "avx512"]
+GROUP_KEYS = ["file", "scene", "view", "width", "height", "mode", "method", "packet", "shading", "threads",
+              "alpha_stop", "sigma"]
+
+
+def load(paths):
+    cases, roofs, skips, peers = [], [], [], []
+    for p in paths:
+        with open(p) as f:
+            for n, line in enumerate(f, 1):
+                line = line.strip()
+                if not line:
+                    continue
+                try:
+                    r = json.loads(line)
+                except json.JSONDecodeError as e:
+                    sys.exit("report.py: %s line %d: not JSON (%s)" % (p, n, e))
+                r["file"] = os.path.basename(p)
+                {"case": cases, "roofline": roofs, "skip": skips, "peer": peers}.get(r.get("record"), []).append(r)
+    return cases, roofs, skips, peers
+
+
+def groups(cases):
+    g = collections.OrderedDict()
+    for r in cases:
+        g.setdefault(tuple(r.get(k) for k in GROUP_KEYS), {})[r["target"]] = r
+    return g
+
+
+def is_default(r):
+    return abs(r.get("alpha_stop", 0.97) - 0.97) < 1e-6 and abs(r.get("sigma", 2.0) - 2.0) < 1e-6
+
+
+def target_groups(cases, kinds, threads=1):
+    """One group per scene (the one with the most targets): threads 1, default parameters."""
+    best = collections.OrderedDict()
+    for key, g in groups(cases).items():
+        r = next(iter(g.values()))
+        if r["kind"] not in kinds or r["threads"] != threads or not is_default(r) or "median_s" not in r:
+            continue
+        if r["scene"] not in best or len(g) > len(best[r["scene"]]):
+            best[r["scene"]] = g
+    # procedural families by count, then the real data sets
+    order = lambda s: (0, s.split(":")[0], float(s.split(":")[1])) if ":" in s else (1, s, 0)
+    return collections.OrderedDict(sorted(best.items(), key=lambda kv: order(kv[0])))
+
+
+def fmt(v, d=3):
+    if v is None:
+        return "-"
+    if abs(v) >= 1000 or (abs(v) < 0.01 and v != 0):
+        return "%.3g" % v
+    return ("%." + str(d) + "g") % v
+
+
+def table(header, rows):
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(out) + "\n"
+
+
+def targets_table(best, kind_word):
+    present = [t for t in TARGETS if any(t in g for g in best.values())]
+    header = ["scene", "count", "build s", "BVH MB", "rays"] + ["%s fps (x)" % t for t in present] + [
+        "best %s/s" % kind_word, "check"]
+    rows = []
+    for scene, g in best.items():
+        r0 = next(iter(g.values()))
+        cells = [scene, "%d" % r0["count"], fmt(r0["build_s"]), fmt(r0["bvh_bytes"] / 1e6), "%d" % r0.get("rays", 0)]
+        for t in present:
+            r = g.get(t)
+            if not r or "fps" not in r:
+                cells.append("-")
+                continue
+            sp = r.get("speedup_vs_scalar")
+            cells.append("%s (%s)" % (fmt(r["fps"]), fmt(sp, 2) if sp else "-"))
+        key = "voxel_evals_per_s" if r0["kind"] == "grid" else "gauss_per_s"
+        cells.append(fmt(max(r.get(key, 0) for r in g.values())))
+        fails = [t for t, r in g.items() if r.get("check") and not r["check"]["pass"]]
+        cells.append("FAIL " + ",".join(fails) if fails else "pass")
+        rows.append(cells)
+    return table(header, rows)
+
+
+def plot_speedup(best, path):
+    scenes = list(best)
+    present = [t for t in TARGETS if any(t in g for g in best.values())]
+    fig, ax = plt.subplots(figsize=(max(6, 1.1 * len(scenes)), 4))
+    w = 0.8 / max(1, len(present))
+    for i, t in enumerate(present):
+        ys = [best[s][t].get("speedup_vs_scalar", 0) if t in best[s] else 0 for s in scenes]
+        ax.bar([k + i * w for k in range(len(scenes))], ys, w, label="%s (%d lanes)" % (t, {"scalar": 1, "sse4": 4,
+               "avx2": 8, "avx512_8": 8, "avx512": 16}[t]))
+    ax.set_xticks([k + 0.4 - w / 2 for k in range(len(scenes))], scenes, rotation=30, ha="right", fontsize=8)
+    ax.set_ylabel("speedup over scalar (median frame time)")
+    ax.set_title("Speedup per SIMD target, 1 thread")
+    ax.legend(fontsize=7)
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_fps_count(best, path):
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for t in TARGETS:
+        pts = sorted((g[t]["count"], g[t]["fps"], g[t]["min_s"], g[t]["max_s"]) for s, g in best.items()
+                     if s.startswith("uniform:") and t in g and "fps" in g[t])
+        if len(pts) < 2:
+            continue
+        xs = [p[0] for p in pts]
+        ys = [p[1] for p in pts]
+        lo = [y - 1 / p[3] for y, p in zip(ys, pts)]
+        hi = [1 / p[2] - y for y, p in zip(ys, pts)]
+        ax.errorbar(xs, ys, yerr=[lo, hi], marker="o", capsize=3, label=t)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("particles (uniform radii)")
+    ax.set_ylabel("frames per second (min..max bars)")
+    ax.set_title("Frame rate against particle count, 1 thread")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def sweep(cases, param, path, title):
+    series = collections.defaultdict(list)
+    for r in cases:
+        if "median_s" not in r or r["threads"] != 1:
+            continue
+        other = "sigma" if param == "alpha_stop" else "alpha_stop"
+        default = 2.0 if other == "sigma" else 0.97
+        if abs(r.get(other, default) - default) > 1e-6:
+            continue
+        series[(r["scene"], r["target"], r["file"])].append(r)
+    series = {k: sorted(v, key=lambda r: r[param]) for k, v in series.items()
+              if len({r[param] for r in v}) >= 3}
+    if not series:
+        return None
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    rows = []
+    for (scene, t, _), rs in series.items():
+        xs = [r[param] for r in rs]
+        a1.plot(xs, [r["fps"] for r in rs], marker="o", label="%s %s" % (scene, t))
+        a2.plot(xs, [r["samples"] / rs[-1]["samples"] if rs[-1]["samples"] else 0 for r in rs], marker="o",
+                label="%s %s" % (scene, t))
+        for r in rs:
+            rows.append([scene, t, fmt(r[param]), fmt(r["fps"]), "%d" % r["samples"], "%d" % r["kernel_evals"],
+                         fmt(r.get("fraction_of_peak"))])
+    a1.set_xlabel(param)
+    a1.set_ylabel("frames per second")
+    a2.set_xlabel(param)
+    a2.set_ylabel("samples, relative to the last point")
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return table(["scene", "target", param, "fps", "samples", "kernel evals", "of peak"], rows)
+
+
+def threads_section(cases, path):
+    series = collections.defaultdict(dict)
+    for r in cases:
+        if "median_s" in r and is_default(r) and r["file"].startswith("bench_threads"):
+            series[(r["scene"], r["target"])][r["threads"]] = r
+    series = {k: v for k, v in series.items() if len(v) >= 2}
+    if not series:
+        return None
+    fig, ax = plt.subplots(figsize=(6, 4))
+    rows = []
+    for (scene, t), v in series.items():
+        ths = sorted(v)
+        ax.plot(ths, [v[n]["fps"] / v[ths[0]]["fps"] for n in ths], marker="o", label="%s %s" % (scene, t))
+        rows.append([scene, t] + ["%s" % fmt(v[n]["fps"]) for n in ths] +
+                    [fmt(v[ths[-1]]["fps"] / v[ths[0]]["fps"], 3)])
+    ax.plot([1, max(max(v) for v in series.values())], [1, max(max(v) for v in series.values())], "k--", lw=0.8,
+            label="linear")
+    ax.set_xlabel("threads")
+    ax.set_ylabel("speedup over 1 thread")
+    ax.set_title("Thread scaling (2 shared cores)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    nth = sorted({n for v in series.values() for n in v})
+    return table(["scene", "target"] + ["fps %d thr" % n for n in nth] + ["scaling"], rows)
+
+
+def width_section(cases):
+    rows = []
+    for key, g in groups(cases).items():
+        r0 = next(iter(g.values()))
+        if r0.get("study") != "width" or not all(t in g and "fps" in g[t] for t in ("avx2", "avx512_8", "avx512")):
+            continue
+        a, b, c = (g[t]["median_s"] for t in ("avx2", "avx512_8", "avx512"))
+        rows.append([r0["scene"], r0["kind"], fmt(g["avx2"]["fps"]), fmt(g["avx512_8"]["fps"]), fmt(g["avx512"]["fps"]),
+                     fmt(a / b, 3), fmt(b / c, 3), fmt(a / c, 3)])
+    if not rows:
+        return None
+    return table(["scene", "kind", "avx2 fps", "avx512_8 fps", "avx512 fps", "ISA (avx512_8 / avx2)",
+                  "width (avx512 / avx512_8)", "both (avx512 / avx2)"], rows)
+
+
+def views_section(cases):
+    """Every case of the bench_views file: view x mode x method, targets side by side."""
+    rows = []
+    for key, g in groups([r for r in cases if r["file"].startswith("bench_views")]).items():
+        r0 = next(iter(g.values()))
+        ts = [t for t in TARGETS if t in g and "fps" in g[t]]
+        fails = [t for t, r in g.items() if r.get("check") and not r["check"]["pass"]]
+        rows.append([r0["scene"], r0["view"], r0["mode"], r0["method"]] +
+                    [" / ".join("%s %s" % (t, fmt(g[t]["fps"])) for t in ts)] +
+                    [fmt(g[ts[-1]].get("speedup_vs_scalar"), 3) if ts else "-",
+                     fmt(g[ts[-1]]["samples"] / 1e6) if ts else "-", "FAIL " + ",".join(fails) if fails else "pass"])
+    if not rows:
+        return None
+    return table(["scene", "view", "mode", "method", "fps", "widest / scalar", "M samples", "check"], rows)
+
+
+def large_section(cases):
+    rows = []
+    for r in cases:
+        if not r["file"].startswith("bench_large") or "fps" not in r:
+            continue
+        rows.append([r["scene"], "%d" % r["count"], r["target"], r["threads"], fmt(r["build_s"]),
+                     fmt(r["bvh_bytes"] / 1e6), fmt(r["data_bytes"] / 1e6), fmt(r["fps"]),
+                     "%s..%s" % (fmt(1 / r["max_s"]), fmt(1 / r["min_s"])), fmt(r["rss_peak_kb"] / 1024),
+                     "pass" if r["check"] and r["check"]["pass"] else "FAIL"])
+    if not rows:
+        return None
+    return table(["scene", "count", "target", "threads", "build s", "BVH MB", "data MB", "fps", "fps min..max",
+                  "peak RSS MB (process)", "check"], rows)
+
+
+def roof_section(roofs):
+    last = {}
+    for r in roofs:
+        last[r["target"]] = r
+    rows = [[t, last[t]["lanes"], fmt(last[t]["fma_gflops"]), fmt(last[t]["gauss_per_s"] / 1e9),
+             fmt(last[t]["gather_l1_per_s"] / 1e9), fmt(last[t]["gather_mem_per_s"] / 1e9),
+             fmt(last[t]["gather_over_scalar_l1"]), fmt(last[t]["gather_over_scalar_mem"])]
+            for t in TARGETS if t in last]
+    return table(["target", "lanes", "FMA GFLOP/s", "Gaussians G/s", "gather L1 G floats/s",
+                  "gather 16 MiB G floats/s", "gather/scalar L1", "gather/scalar 16 MiB"], rows)
+
+
+def plot_fraction(best, path):
+    labels, vals, colors = [], [], []
+    cmap = {t: c for t, c in zip(TARGETS, ["C0", "C1", "C2", "C3", "C4"])}
+    for scene, g in best.items():
+        for t in TARGETS:
+            if t in g and g[t].get("fraction_of_peak") is not None:
+                labels.append("%s %s" % (scene, t))
+                vals.append(100 * g[t]["fraction_of_peak"])
+                colors.append(cmap[t])
+    if not vals:
+        return
+    fig, ax = plt.subplots(figsize=(7, max(3, 0.18 * len(vals))))
+    ax.barh(range(len(vals)), vals, color=colors)
+    ax.set_yticks(range(len(vals)), labels, fontsize=6)
+    ax.invert_yaxis()
+    ax.set_xlabel("% of this machine's ceiling per core (see the text)")
+    ax.set_title("Fraction of peak, 1 thread")
+    ax.grid(axis="x", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def checks_section(cases):
+    worst = {}
+    for r in cases:
+        c = r.get("check")
+        if not c:
+            continue
+        w = worst.setdefault(r["target"], [0.0, float("inf"), 0, 0])
+        w[0] = max(w[0], c["max_diff_255"] or 0)
+        if c.get("psnr_db") is not None:
+            w[1] = min(w[1], c["psnr_db"])
+        w[2] += 1
+        w[3] += 0 if c["pass"] else 1
+    rows = [[t, "%.3g" % worst[t][0], "identical" if worst[t][1] == float("inf") else "%.1f" % worst[t][1],
+             worst[t][2], worst[t][3]] for t in TARGETS if t in worst]
+    return table(["target", "worst max diff (/255)", "worst PSNR dB", "cases", "failed"], rows)
+
+
+def peers_section(peers):
+    rows = [[r["scene"], "%s %s" % (r["peer"], r["peer_version"]), r["peer_mapper"], "%dx%d" % (r["size"], r["size"]),
+             r["threads"], fmt(r.get("dt")), fmt(r["lanecast_first_s"]), fmt(r["peer_first_s"]), fmt(r["lanecast_frame_s"]),
+             fmt(r["peer_frame_s"]), fmt(r["frame_ratio_peer_over_lanecast"], 3), fmt(r["psnr_db_between"], 3),
+             fmt(r.get("loadavg"))] for r in peers]
+    out = ["\n## Peers, same run (`bench/peers.sh`)\n\n",
+           "Same data, TF (colour points; tau per world unit given to VTK as alpha = 1 - exp(-tau) at unit "
+           "distance 1), camera, sample distance and image size; 2 threads each; black background, no shading. "
+           "First image: lanecast's whole process (start, read, build, render, write) against VTK's read, "
+           "upload and first render inside Python; per frame: medians of 5.\n\n",
+           table(["scene", "peer", "mapper", "image", "threads", "dt", "lanecast first s", "peer first s",
+                  "lanecast s/frame", "peer s/frame", "peer / lanecast", "PSNR between dB", "load"], rows)]
+    if any(r["peer"] == "vtk" for r in peers):
+        out.append("\nVTK: what differs between the pipelines. VTK's fixed-point mapper classifies through 15-bit "
+                   "fixed-point lookup tables built over the scalar range and composites in fixed point; it places "
+                   "samples from the ray's entry into the volume's box, while lanecast samples on a lattice of "
+                   "planes (SPEC.md) and reconstructs in float; VTK skips empty space with a min-max grid of blocks, "
+                   "lanecast with its implicit BVH. Small differences in colour and in the sampling pattern are "
+                   "expected; the PSNR between the two images says how far apart they are. For particles VTK has no "
+                   "direct path: users interpolate onto a grid first (`vtkPointInterpolator` with a `vtkGaussianKernel` "
+                   "of radius 2r and sharpness sqrt 2, weights not normalised, i.e. exactly lanecast's truncated "
+                   "Gaussian sum with sigma 2, on a grid of spacing r/2) and ray cast the grid; its first image "
+                   "includes the interpolation, and the grid's trilinear reconstruction blurs the field (the lower "
+                   "PSNR).\n")
+    if any(r["peer"] == "splash" for r in peers):
+        out.append("\nSPLASH: the shared GADGET initial conditions have no densities or smoothing lengths, so "
+                   "`bench/peers_splash.py` writes a snapshot of the 32,768 gas particles with HSML = distance to "
+                   "the 32nd neighbour and SPH densities (GADGET-2 cubic spline); SPLASH renders its density column "
+                   "with opacity rendering (`--kappa`, orthographic along z, its own colour table over the density's "
+                   "min..max, one image per run). lanecast renders the same particles from a CSV: one Gaussian per "
+                   "particle with the spline's standard deviation and weight m / ((2 pi)^1.5 r^3), so the field is "
+                   "the same density to first order, tau = kappa rho, grey colours over [0, 99.5th percentile]. The "
+                   "pictures differ in colour mapping, and lanecast's narrower Gaussians let the initial conditions' "
+                   "lattice show through; the structures (over- and under-dense regions) agree. SPLASH has no "
+                   "per-frame time, so the ratio compares whole runs (start, read, render, write PNG), with "
+                   "lanecast's render alone beside it. These particles are initial conditions (nearly uniform): a "
+                   "timing and pipeline check, not a showcase.\n")
+    for r in peers:
+        what = "lanecast | VTK | difference" if r["peer"] == "vtk" else "lanecast | SPLASH"
+        out.append("\n![%s: %s](%s)\n" % (r["scene"], what, r["composite"]))
+    return "".join(out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("records", nargs="+")
+    ap.add_argument("-o", "--out", default="docs/bench")
+    ap.add_argument("--command", default="", help="the command(s) that made the records, for the page's top")
+    a = ap.parse_args()
+    cases, roofs, skips, peers = load(a.records)
+    if not cases and not roofs:
+        sys.exit("report.py: no records in %s" % " ".join(a.records))
+    os.makedirs(a.out, exist_ok=True)
+    P = lambda name: os.path.join(a.out, name)
+    m = (cases or roofs)[0]
+    loads = [r["loadavg"] for r in cases + roofs if r.get("loadavg", -1) >= 0]
+    commits = sorted({r["commit"] for r in cases + roofs})
+    doc = ["# lanecast bench report\n"]
+    if a.command:
+        doc.append("Made with:\n\n```sh\n%s\n```\n" % a.command.strip())
+    doc.append("Machine: %s (%s), %d CPUs online, host `%s`; commit %s; %s. Load average during the run: %s to %s "
+               "(median %s): **the machine was shared with other engineers' builds and tests**, so absolute frame "
+               "rates are low and noisy; targets inside one case were timed in interleaved rounds, so the ratios "
+               "between targets are the numbers to trust. Image %s, default TF (`lc_tf_auto`), default step, "
+               "alpha_stop 0.97 unless swept. Every target's image was checked against the scalar target's "
+               "(alpha_stop 1, SPEC.md tolerances) before timing.\n"
+               % (m["cpu"], m["cpu_flags"], m["cpus_online"], m["host"], ", ".join(commits), m["compiler"],
+                  fmt(min(loads)) if loads else "?", fmt(max(loads)) if loads else "?",
+                  fmt(statistics.median(loads)) if loads else "?",
+                  "%dx%d" % (cases[0]["width"], cases[0]["height"]) if cases else "-"))
+    if roofs:
+        doc.append("## This machine's ceilings (`lanecast bench --roofline`, 1 thread, best pass)\n")
+        doc.append(roof_section(roofs))
+    doc.append("\n## Checks against the scalar target\n")
+    doc.append(checks_section(cases))
+    pbest = target_groups(cases, {"particles"})
+    vbest = target_groups(cases, {"grid", "rbf"})
+    if pbest:
+        doc.append("\n## Particles per target (Knoll 2014 Table 1 / Figure 6 style)\n")
+        doc.append("Frames per second (median) and, in brackets, speedup over scalar in the same interleaved case; "
+                   "1 thread, far view.\n\n")
+        doc.append(targets_table(pbest, "Gaussians"))
+        plot_speedup(pbest, P("speedup_particles.png"))
+        doc.append("\n![speedup per SIMD width, particles](speedup_particles.png)\n")
+        plot_fps_count(pbest, P("fps_vs_count.png"))
+        doc.append("\n![fps against particle count](fps_vs_count.png)\n")
+    if vbest:
+        doc.append("\n## Grids and RBF sets per target (Knoll 2011 Figures 5-6 style)\n")
+        doc.append(targets_table(vbest, "evals"))
+        plot_speedup(vbest, P("speedup_volumes.png"))
+        doc.append("\n![speedup per SIMD width, grids and RBF sets](speedup_volumes.png)\n")
+    allbest = collections.OrderedDict(list(pbest.items()) + list(vbest.items()))
+    if allbest:
+        plot_fraction(allbest, P("fraction_of_peak.png"))
+        doc.append("\n## Fraction of peak\n\nAchieved Gaussians/s (particles, RBF sets) over the Gaussian micro-kernel's "
+                   "rate, or samples/s over a random-load ceiling (grids: the faster of gathers and scalar loads from a "
+                   "16 MiB table, 8 voxels per trilinear sample), per core used.\n\n"
+                   "![fraction of peak](fraction_of_peak.png)\n")
+    w = width_section(cases)
+    if w:
+        doc.append("\n## Width study: instruction set vs lane width (`--width-study`)\n\n"
+                   "Ratios of median frame times within one interleaved case: avx512_8 / avx2 isolates the AVX-512 "
+                   "instruction set at 8 lanes; avx512 / avx512_8 isolates the width at the same instruction set.\n\n")
+        doc.append(w)
+    t = views_section(cases)
+    if t:
+        doc.append("\n## Views, modes and methods (Knoll 2011 Figure 5 style)\n\nfar frames the data, medium is "
+                   "0.55 of that distance, close 0.3 (inside the particle cube); iso at the middle of the value "
+                   "range; `direct` applies to particles and `brute` to grids, each skipped for the other kind.\n\n" + t)
+    t = large_section(cases)
+    if t:
+        doc.append("\n## Large sets\n\nPeak RSS is the process's peak so far (getrusage), so it includes the "
+                   "sets built before in the same run.\n\n" + t)
+    t = sweep(cases, "alpha_stop", P("alpha_sweep.png"), "Early termination sweep")
+    if t:
+        doc.append("\n## Early-termination sweep (alpha_stop)\n\n![alpha_stop sweep](alpha_sweep.png)\n\n" + t)
+    t = sweep([r for r in cases if r["kind"] == "particles"], "sigma", P("sigma_sweep.png"), "Truncation radius sweep")
+    if t:
+        doc.append("\n## Sigma sweep (particle truncation radius)\n\n![sigma sweep](sigma_sweep.png)\n\n" + t)
+    t = threads_section(cases, P("threads.png"))
+    if t:
+        doc.append("\n## Thread scaling\n\n![thread scaling](threads.png)\n\n" + t)
+    if peers:
+        doc.append(peers_section(peers))
+    if skips:
+        doc.append("\n## Skipped\n\n" + "".join("- %s: %s\n" % (s["scene"], s["note"]) for s in skips))
+    with open(P("REPORT.md"), "w") as f:
+        f.write("\n".join(doc))
+    print("report.py: wrote %s (%d case records, %d roofline)" % (P("REPORT.md"), len(cases), len(roofs)))
+
+
+if __name__ == "__main__":
+    main()

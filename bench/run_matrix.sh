@@ -1,0 +1,29 @@
+#!/bin/sh
+# The modest matrix behind docs/bench/REPORT.md: lanecast bench records into
+# bench/results/bench_*.jsonl (appended), then bench/report.py. Sized for a
+# shared 2-core machine: 256x256 images, few rounds, interleaved targets.
+# usage: bench/run_matrix.sh BUILD_DIR   (from the source root)
+set -u
+exe=${1:-build}/tools/lanecast
+out=bench/results
+# a check failure makes lanecast bench exit 1 after writing every record: go on
+run() { "$exe" bench "$@" || echo "run_matrix.sh: lanecast bench $* exited $? (see the records)" >&2; }
+common="--sizes 256 --repeats 5 --min-repeats 3 --seconds 6 --roof-seconds 0.3"
+run --roofline --roof-seconds 0.5 -o $out/bench_roofline.jsonl
+# every target, particle count and radius distribution (speedup per width, fps vs count)
+run $common --scenes uniform:1e4,uniform:1e5,uniform:1e6,heavy:1e5,cluster:1e5,1tii,1tw7 -o $out/bench_particles.jsonl
+# every target on grids and RBF sets
+run $common --scenes grid:256,engine,neghip,headsq,rbf:1e4,rbfc:1e4 -o $out/bench_volumes.jsonl
+# early termination and sigma sweeps on the widest target
+run $common --scenes uniform:1e5,engine --targets avx512 --alpha-stop 0.9,0.95,0.97,0.99,1 -o $out/bench_alpha.jsonl
+run $common --scenes uniform:1e5 --targets avx512 --sigma 1,1.5,2,2.5,3 -o $out/bench_sigma.jsonl
+# thread scaling (2 cores, shared)
+run $common --scenes uniform:1e5,grid:256,rbf:1e4 --targets scalar,avx512 --threads 1,2 -o $out/bench_threads.jsonl
+# width study: instruction set vs width
+run $common --width-study --scenes uniform:1e5,heavy:1e5,grid:256,engine,rbf:1e4 -o $out/bench_width.jsonl
+# views, modes and methods on two scenes (scalar as the check's reference and for speedups)
+run $common --scenes uniform:1e5,engine --targets scalar,avx512 --views far,medium,close --modes dvr,mip,iso \
+    --methods default,direct,brute -o $out/bench_views.jsonl
+# the large sets, widest target only, 2 threads (memory: rss_peak_kb)
+run $common --scenes uniform:1e7,grid:512 --targets avx512 --threads 2 --repeats 3 -o $out/bench_large.jsonl
+/usr/bin/python3 bench/report.py $out/bench_*.jsonl -o docs/bench

@@ -1,0 +1,75 @@
+#!/bin/sh
+# lanecast bench: the --quick smoke run (so the benchmark never goes stale;
+# not a timing), its JSON records, the check failing when an image is broken
+# (LANECAST_BENCH_BREAK), and bad usage.
+# usage: test_bench_cli.sh LANECAST_EXE DATA_DIR
+set -u
+exe=$1
+data=$2
+fail=0
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+check() { # check DESCRIPTION COMMAND...
+    desc=$1; shift
+    if "$@"; then echo "ok   $desc"; else echo "FAIL $desc"; fail=1; fi
+}
+py=$(command -v python3 || true)
+
+"$exe" bench --quick --data "$data" -o "$tmp/q.jsonl" 2>"$tmp/err"
+rc=$?
+cat "$tmp/err"
+check "bench --quick exits 0" [ $rc -eq 0 ]
+check "bench --quick wrote case records" sh -c "grep -c '\"record\": \"case\"' '$tmp/q.jsonl' | grep -qv '^0$'"
+if [ -n "$py" ]; then
+    cat >"$tmp/v.py" <<'PY'
+import json, sys
+need = ["scene", "kind", "target", "threads", "median_s", "min_s", "max_s", "fps", "ns_per_ray", "samples_per_s",
+        "build_s", "bvh_bytes", "rss_peak_kb", "check", "cpu", "commit", "compiler", "fraction_of_peak"]
+kinds, targets, n = set(), set(), 0
+for line in open(sys.argv[1]):
+    r = json.loads(line)
+    if r["record"] != "case":
+        continue
+    n += 1
+    miss = [k for k in need if k not in r]
+    if miss: sys.exit("record %d lacks %s" % (n, miss))
+    if not r["check"]["pass"]: sys.exit("record %d: check failed: %s" % (n, r["check"]))
+    if not (r["min_s"] <= r["median_s"] <= r["max_s"]): sys.exit("record %d: min <= median <= max broken" % n)
+    if r["fps"] <= 0 or r["samples_per_s"] <= 0: sys.exit("record %d: no work measured" % n)
+    kinds.add(r["kind"]); targets.add(r["target"])
+if kinds != {"particles", "grid", "rbf"}: sys.exit("kinds covered: %s" % sorted(kinds))
+if "scalar" not in targets: sys.exit("no scalar records")
+print("%d case records, kinds %s, targets %s" % (n, sorted(kinds), sorted(targets)))
+PY
+    check "every record parses, has its fields, passed the check; every kind ran" "$py" "$tmp/v.py" "$tmp/q.jsonl"
+else
+    echo "note: python3 absent, the JSON check is skipped"
+fi
+
+# the check must catch a broken image (the widest target's, or sse4's)
+brk=$("$exe" targets | awk '$3 == "yes" && $4 == "yes" && $1 != "scalar" {t = $1} END {print t}')
+if [ -n "$brk" ]; then
+    LANECAST_BENCH_BREAK=$brk "$exe" bench --quick --scenes uniform:500 --data "$data" -o "$tmp/b.jsonl" 2>"$tmp/err"
+    rc=$?
+    check "a broken $brk image fails the check (exit 1)" [ $rc -eq 1 ]
+    check "the failure names the target" grep -q "target=$brk: image differs" "$tmp/err"
+    check "its record says pass false" sh -c "grep '\"target\": \"$brk\"' '$tmp/b.jsonl' | grep -q '\"pass\": false'"
+else
+    echo "note: only scalar runs here, the broken-image check is skipped"
+fi
+
+"$exe" bench --scenes nosuch:3 2>"$tmp/err"; rc=$?
+check "unknown scene: exit 2 naming it" sh -c "[ $rc -eq 2 ] && grep -q \"unknown scene 'nosuch:3'\" '$tmp/err'"
+"$exe" bench --scenes uniform:2e8,grid:2000 --targets scalar --sizes 8 --data "$data" -o "$tmp/l.jsonl" 2>"$tmp/err"; rc=$?
+check "too large procedural sets: exit 1 naming the limits, nothing allocated" sh -c "[ $rc -eq 1 ] && grep -q 'at most 1e8' '$tmp/err' && grep -q 'from 2 to 1290' '$tmp/err'"
+"$exe" bench --views sideways 2>"$tmp/err"; rc=$?
+check "bad view: exit 2 naming it" sh -c "[ $rc -eq 2 ] && grep -q \"'sideways'\" '$tmp/err'"
+"$exe" bench --threads 0 2>"$tmp/err"; rc=$?
+check "threads 0: exit 2" sh -c "[ $rc -eq 2 ] && grep -q -- '--threads' '$tmp/err'"
+"$exe" bench --alpha-stop 1.5 2>"$tmp/err"; rc=$?
+check "alpha_stop 1.5: exit 2" [ $rc -eq 2 ]
+"$exe" bench --help >"$tmp/out"; rc=$?
+check "--help exits 0 with examples" sh -c "[ $rc -eq 0 ] && grep -q 'lanecast bench --quick' '$tmp/out'"
+"$exe" bench --quick --scenes 1tii --data "$tmp/none" -o "$tmp/s.jsonl" 2>"$tmp/err"; rc=$?
+check "absent data: skipped with a note, exit 0" sh -c "[ $rc -eq 0 ] && grep -q 'is absent' '$tmp/err' && grep -q '\"record\": \"skip\"' '$tmp/s.jsonl'"
+exit $fail

@@ -1,0 +1,30 @@
+/* lanecast bench: one case group over several targets (bench_run.c). */
+#ifndef LC_BENCH_RUN_H
+#define LC_BENCH_RUN_H
+
+#include "bench_common.h"
+
+#define BENCH_MAX_ROUNDS 256
+
+typedef struct bench_group {
+    const bench_scene *scene;
+    const char *view, *mode_name, *method_name, *shading_name, *study;
+    int width, height, packet, threads, cpus;
+    float alpha_stop, sigma;   /* 0 = the library's default */
+    int ntargets;
+    lc_target targets[LC_TARGET_COUNT];
+    lc_device *devs[LC_TARGET_COUNT];
+    lc_device *scalar_dev;     /* the check's reference (same thread count) */
+    int check_size;            /* 0 = no check */
+    int warmup, min_rounds, max_rounds;
+    double seconds;            /* time bound of the timed rounds */
+    const bench_roof *roof;
+    const char *machine;
+    FILE *out;
+} bench_group;
+
+/* Checks and times the group, writes one record per target. Returns the
+ * number of targets whose check failed or whose render failed. */
+int bench_run_group(const bench_group *g, const lc_render_desc *d);
+
+#endif
