@@ -3,7 +3,7 @@
  * its spread. Cases are the cross product of the lists given (see --help).
  * Volumes: the real ones under DATA/volumes and procedural uint8 cubes
  * ("proc512", "proc1024": a gyroid-like lattice inside a sphere, air outside;
- * deterministic, no seed needed). */
+ * deterministic, no seed needed; "blob256": a sum of Gaussian blobs). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,6 +29,15 @@ static double now(void)
 {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* CPU time of the whole process (every render thread): on a shared machine
+ * it moves much less with the load than wall time. */
+static double cpu_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
@@ -73,6 +82,39 @@ static lc_status procedural(lc_device *dev, int n, lc_volume **out)
             }
         }
     free(s);
+    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout};
+    lc_status st = lc_grid_create(dev, &d, out);
+    free(v);
+    return st;
+}
+
+/* "blob256" etc.: a uint8 cube holding a sum of 24 Gaussian blobs (centres,
+ * radii and weights from a fixed LCG, so no seed is needed) scaled to
+ * 0..255, clamped; most of the cube is air (value 0 far from every blob). */
+static lc_status blobs(lc_device *dev, int n, lc_volume **out)
+{
+    enum { NB = 24 };
+    float c[NB][3], r[NB], w[NB];
+    uint32_t s = 12345u;
+#define LCG() ((s = s * 1664525u + 1013904223u) >> 8) / 16777216.0f
+    for (int b = 0; b < NB; b++) {
+        for (int a = 0; a < 3; a++) c[b][a] = 0.2f + 0.6f * LCG();
+        r[b] = 0.05f + 0.10f * LCG();
+        w[b] = 0.5f + 0.5f * LCG();
+    }
+#undef LCG
+    uint8_t *v = malloc((size_t)n * n * n);
+    if (!v) return LC_ERROR_OUT_OF_MEMORY;
+    for (int k = 0; k < n; k++)
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                float x = (float)i / (float)(n - 1), y = (float)j / (float)(n - 1), z = (float)k / (float)(n - 1), sum = 0.0f;
+                for (int b = 0; b < NB; b++) {
+                    float dx = x - c[b][0], dy = y - c[b][1], dz = z - c[b][2], q = (dx * dx + dy * dy + dz * dz) / (r[b] * r[b]);
+                    if (q < 9.0f) sum += w[b] * expf(-q);
+                }
+                v[((size_t)k * n + j) * n + i] = (uint8_t)(255.0f * fminf(sum, 1.0f) + 0.5f);
+            }
     lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout};
     lc_status st = lc_grid_create(dev, &d, out);
     free(v);
@@ -144,7 +186,8 @@ static void run_profile(lc_device *dev, const lc_render_desc *d0, const char *vn
 static const char help[] =
     "usage: bench_grid [options]\n"
     "  --data DIR          shared data folder (default ../shared/data)\n"
-    "  --volumes a,b,...   engine, neghip, headsq, hydrogen, embryo, HeadMRVolume, proc512, proc1024 (default engine)\n"
+    "  --volumes a,b,...   engine, neghip, headsq, hydrogen, embryo, HeadMRVolume, proc512, proc1024,\n"
+    "                      blob256 (any procN / blobN; default engine)\n"
     "  --sizes 512,1024    image sides (default 512)\n"
     "  --views far,medium,close (default medium)\n"
     "  --shades none,diffuse,phong (default none)\n"
@@ -211,6 +254,7 @@ int main(int argc, char **argv)
         double t0 = now();
         lc_status s;
         if (!strncmp(vn, "proc", 4)) s = procedural(dev0, atoi(vn + 4), &g);
+        else if (!strncmp(vn, "blob", 4)) s = blobs(dev0, atoi(vn + 4), &g);
         else {
             char p[1024];
             snprintf(p, sizeof p, "%s/volumes/%s.%s", data, vn, strcmp(vn, "HeadMRVolume") ? "nhdr" : "mhd");
@@ -278,23 +322,26 @@ int main(int argc, char **argv)
                                         free(rgba);
                                         continue;
                                     }
-                                    double ts[64];
+                                    double ts[64], cs[64];
                                     int n = 0;
                                     double start = now();
                                     while (n < repeats && n < 64) {
-                                        double a = now();
+                                        double a = now(), ca = cpu_now();
                                         lc_render(dev, &d, rgba, &st);
+                                        cs[n] = cpu_now() - ca;
                                         ts[n++] = now() - a;
                                         if (now() - start > max_s) break;
                                     }
                                     qsort(ts, (size_t)n, sizeof *ts, cmpd);
+                                    qsort(cs, (size_t)n, sizeof *cs, cmpd);
                                     double med = ts[n / 2];
                                     printf("grid volume=%s size=%d view=%s shade=%s method=%s target=%s threads=%d packet=%s "
                                            "heuristics=%s fps=%.3f fps_min=%.3f fps_max=%.3f ms=%.1f reps=%d "
-                                           "msamples=%.2f nodes=%llu leaves=%llu\n",
+                                           "msamples=%.2f nodes=%llu leaves=%llu cpu_ms=%.1f cpu_ms_min=%.1f cpu_ms_max=%.1f\n",
                                            vn, W, view, shades.v[shi], meths.v[mi], lc_target_name(at), nth, pks.v[pi],
                                            heur ? "on" : "off", 1.0 / med, 1.0 / ts[n - 1], 1.0 / ts[0], 1e3 * med, n,
-                                           (double)st.samples / 1e6, (unsigned long long)st.nodes, (unsigned long long)st.leaves);
+                                           (double)st.samples / 1e6, (unsigned long long)st.nodes, (unsigned long long)st.leaves,
+                                           1e3 * cs[n / 2], 1e3 * cs[0], 1e3 * cs[n - 1]);
                                     fflush(stdout);
                                     free(rgba);
                                 }

@@ -63,8 +63,20 @@ typedef struct lc_kgrid {
     float rda;          /* differential sampling: step k -> k+1 is dt (1 + rda k) */
     float diag_volume;  /* |D_volume| of eq. 6 */
     int32_t run_max;    /* BVH: longest run of lattice samples deferred before integrating */
+    /* y-pair-packed copy of uint8 voxels (NULL: none), built when the grid owns
+     * its voxels: pairs[i + j ystride + k zstride of the linear layout]
+     * = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8, so one 32-bit load at
+     * element e (byte 2e) holds v(i, j), v(i, j+1), v(i+1, j), v(i+1, j+1)
+     * of plane k: two loads per trilinear sample instead of eight. */
+    const uint16_t *pairs;
+    /* per-frame classification for one step dt of field 0 (NULL: none):
+     * cls[4 e ..] = (a r, a g, a b, a) at TF entry e, a = 1 - exp(-tau dt),
+     * LC_TF_TABLE_SIZE + 1 entries (the last repeats the one before, so a
+     * lookup can read two entries from any index) */
+    const float *cls;
+    int32_t pair_ystride, pair_zstride;
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 
