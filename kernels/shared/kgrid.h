@@ -75,8 +75,13 @@ typedef struct lc_kgrid {
      * lookup can read two entries from any index) */
     const float *cls;
     int32_t pair_ystride, pair_zstride;
+    /* per frame, LC_PREINT_N^2 bytes: 1 where the value range [a, b] is
+     * skipped as transparent (mean extinction exactly 0, or with culling on
+     * an opacity over one step <= delta_c; eq. 5): 64 KiB that stay in L2,
+     * where the traversal's probes of the 1 MiB pre-integrated table missed */
+    const uint8_t *transparent;
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 
