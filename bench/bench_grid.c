@@ -60,6 +60,7 @@ static void split(list *l, char *s)
 }
 
 static lc_grid_layout layout = LC_LAYOUT_DEFAULT;
+static int brick; /* BVH leaf side (0: the library default) */
 
 static lc_status procedural(lc_device *dev, int n, lc_volume **out)
 {
@@ -82,7 +83,7 @@ static lc_status procedural(lc_device *dev, int n, lc_volume **out)
             }
         }
     free(s);
-    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout};
+    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout, .brick = brick};
     lc_status st = lc_grid_create(dev, &d, out);
     free(v);
     return st;
@@ -115,7 +116,7 @@ static lc_status blobs(lc_device *dev, int n, lc_volume **out)
                 }
                 v[((size_t)k * n + j) * n + i] = (uint8_t)(255.0f * fminf(sum, 1.0f) + 0.5f);
             }
-    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout};
+    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout, .brick = brick};
     lc_status st = lc_grid_create(dev, &d, out);
     free(v);
     return st;
@@ -197,6 +198,7 @@ static const char help[] =
     "  --packets 8,1       packet side (8 = 8x8, 1 = lane width; default 8)\n"
     "  --heuristics on|off (default on)\n"
     "  --layout linear|bricked  voxel layout (default bricked, 4^3)\n"
+    "  --brick L           BVH leaf side 1, 2, 4, 8 or 16 (default: the library's choice by size)\n"
     "  --repeats N         renders per case after one warm-up (default 5)\n"
     "  --max-seconds S     stop repeating a case after S seconds (default 10)\n"
     "  --profile           stage profile instead of fps: the kernel variants of bench/grid_prof.c\n"
@@ -236,6 +238,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--targets")) split(&tgts, v);
         else if (!strcmp(a, "--threads")) split(&thrs, v);
         else if (!strcmp(a, "--packets")) split(&pks, v);
+        else if (!strcmp(a, "--brick")) brick = atoi(v);
         else if (!strcmp(a, "--heuristics")) heur = !strcmp(v, "on");
         else if (!strcmp(a, "--repeats")) repeats = atoi(v);
         else if (!strcmp(a, "--layout")) layout = !strcmp(v, "linear") ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED;
@@ -258,8 +261,12 @@ int main(int argc, char **argv)
         else {
             char p[1024];
             snprintf(p, sizeof p, "%s/volumes/%s.%s", data, vn, strcmp(vn, "HeadMRVolume") ? "nhdr" : "mhd");
-            lc_option lo_ = {"layout", layout == LC_LAYOUT_LINEAR ? "linear" : "bricked"};
-            s = lc_volume_load(dev0, p, &(lc_load_desc){.options = &lo_, .noptions = layout != LC_LAYOUT_DEFAULT}, &g);
+            char bs[16];
+            snprintf(bs, sizeof bs, "%d", brick);
+            lc_option lo_[2] = {{"brick", bs}, {"layout", layout == LC_LAYOUT_LINEAR ? "linear" : "bricked"}};
+            int no = brick ? 1 : 0;
+            if (layout != LC_LAYOUT_DEFAULT) lo_[no++] = lo_[1];
+            s = lc_volume_load(dev0, p, &(lc_load_desc){.options = lo_, .noptions = no}, &g);
         }
         if (s != LC_OK) {
             printf("# skip volume=%s: %s\n", vn, lc_last_error());

@@ -355,6 +355,9 @@ static inline __attribute__((always_inline)) void grid_dvr_step(const lc_kgrid *
 {
     const lc_ktf *tf = &f->tf[0];
     vfloat pr, pg, pb, a;
+    /* every lane at a value where the TF is exactly transparent: nothing to
+     * add (a = 0), skip the table */
+    if (!(GRID_PROF & GP_CLASS) && vm_none(vm_and(m, vf_gt(dvr_normalise(tf, phi), vf_set1(g->cls_vzero))))) return;
     if (GRID_PROF & GP_CLASS) {
         pr = pg = pb = phi;
         a = vf_mul(phi, vf_set1(1e-3f));

@@ -386,6 +386,11 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
         cls[4 * e] = a * q[0], cls[4 * e + 1] = a * q[1], cls[4 * e + 2] = a * q[2], cls[4 * e + 3] = a;
     }
     k->cls = cls;
+    /* tau is 0 on [0, cls_vzero]: entries 0..e-1 are 0, and the linear
+     * interpolation between entries e-1 and e is 0 only at entry e-1 */
+    int e0 = 0;
+    while (e0 < LC_TF_TABLE_SIZE && tf[4 * e0 + 3] == 0.0f) e0++;
+    k->cls_vzero = e0 == 0 ? -1.0f : e0 == LC_TF_TABLE_SIZE ? 2.0f : (float)(e0 - 1) / (float)(LC_TF_TABLE_SIZE - 1);
     k->run_max = 48;
     /* nodes narrower than two packet footprints are leaves (exact; measured
      * best of 0, 0.5, 1, 2, 4 on engine and embryo: 1.2-1.9x fewer-node wins) */

@@ -80,8 +80,13 @@ typedef struct lc_kgrid {
      * an opacity over one step <= delta_c; eq. 5): 64 KiB that stay in L2,
      * where the traversal's probes of the 1 MiB pre-integrated table missed */
     const uint8_t *transparent;
+    /* per frame: the TF of field 0 is exactly transparent at every
+     * normalised value v <= cls_vzero (-1: nowhere); the sample loop skips
+     * classification when no lane is above it */
+    float cls_vzero;
+    int32_t pad2;
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8 + 8, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 
