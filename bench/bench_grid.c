@@ -14,13 +14,31 @@
 
 /* Stage-profile kernel variants (bench/grid_prof.c, meson prof_masks): each
  * replaces one more stage than the one before. Each variant library defines
- * the grid kind's kernel sub-table lc_kkind_grid_prof<i> (BVH and brute). */
-#define PROF_DECL(i) extern const lc_kkind lc_kkind_grid_prof##i;
-PROF_DECL(0) PROF_DECL(1) PROF_DECL(2) PROF_DECL(3) PROF_DECL(4) PROF_DECL(5) PROF_DECL(6)
+ * the grid kind's kernel sub-table lc_kkind_grid_prof_<target>_<i> (BVH and
+ * brute), for up to two targets LC_PROF_T0/T1 (avx2 and avx512 when built). */
 #define NPROF 7
-static const lc_kkind *const prof_kind[NPROF] = {&lc_kkind_grid_prof0, &lc_kkind_grid_prof1, &lc_kkind_grid_prof2,
-                                                 &lc_kkind_grid_prof3, &lc_kkind_grid_prof4, &lc_kkind_grid_prof5,
-                                                 &lc_kkind_grid_prof6};
+#define PROF_NAME2(t, i) lc_kkind_grid_prof_##t##_##i
+#define PROF_NAME(t, i) PROF_NAME2(t, i)
+#define PROF_DECLS(t)                                                                                                   \
+    extern const lc_kkind PROF_NAME(t, 0), PROF_NAME(t, 1), PROF_NAME(t, 2), PROF_NAME(t, 3), PROF_NAME(t, 4),         \
+        PROF_NAME(t, 5), PROF_NAME(t, 6);
+#define PROF_TABLE(t)                                                                                                   \
+    {&PROF_NAME(t, 0), &PROF_NAME(t, 1), &PROF_NAME(t, 2), &PROF_NAME(t, 3), &PROF_NAME(t, 4), &PROF_NAME(t, 5),       \
+     &PROF_NAME(t, 6)}
+PROF_DECLS(LC_PROF_T0)
+#ifdef LC_PROF_T1
+PROF_DECLS(LC_PROF_T1)
+#endif
+static const struct {
+    const char *target;
+    const lc_kkind *kind[NPROF];
+} prof_sets[] = {
+    {LC_PROF_T0_NAME, PROF_TABLE(LC_PROF_T0)},
+#ifdef LC_PROF_T1
+    {LC_PROF_T1_NAME, PROF_TABLE(LC_PROF_T1)},
+#endif
+};
+#define NPROF_SETS (int)(sizeof prof_sets / sizeof prof_sets[0])
 /* stage removed between variant i-1 and i (variant 0: all stages, no early termination) */
 static const char *const prof_stage[NPROF] = {"total", "fetch", "interpolation", "classification", "shading", "blending",
                                               "sample_loop"};
@@ -131,9 +149,15 @@ static int prof_bad; /* a variant took other samples than the full one: the prof
 static void run_profile(lc_device *dev, const lc_render_desc *d0, const char *vn, int W, const char *view, const char *shade,
                         const char *meth, int nth, int repeats)
 {
-    lc_target pt;
-    if (lc_target_from_name(LC_PROF_TARGET, &pt) != LC_OK || dev->target != pt) {
-        printf("# profile: variants are built for %s, device runs %s: skipped\n", LC_PROF_TARGET, lc_target_name(dev->target));
+    const lc_kkind *const *prof_kind = NULL;
+    for (int i = 0; i < NPROF_SETS; i++) {
+        lc_target pt;
+        if (lc_target_from_name(prof_sets[i].target, &pt) == LC_OK && dev->target == pt) prof_kind = prof_sets[i].kind;
+    }
+    if (!prof_kind) {
+        printf("# profile: variants are built for %s%s%s, device runs %s: skipped\n", prof_sets[0].target,
+               NPROF_SETS > 1 ? " and " : "", NPROF_SETS > 1 ? prof_sets[NPROF_SETS - 1].target : "",
+               lc_target_name(dev->target));
         return;
     }
     float *rgba = malloc(sizeof(float) * 4 * (size_t)W * W);
@@ -202,7 +226,7 @@ static const char help[] =
     "  --repeats N         renders per case after one warm-up (default 5)\n"
     "  --max-seconds S     stop repeating a case after S seconds (default 10)\n"
     "  --profile           stage profile instead of fps: the kernel variants of bench/grid_prof.c\n"
-    "                      (widest compiled target), repeats interleaved; see docs/BENCHMARKS-grid.md\n";
+    "                      (avx2 and avx512 when compiled), repeats interleaved; see docs/BENCHMARKS-grid.md\n";
 
 int main(int argc, char **argv)
 {
