@@ -92,24 +92,19 @@ static inline int first_hit(const gpk *pk, int fa, int npk, const frustum *fr, c
     return npk;
 }
 
-/* A node's value range [vmin, vmax] as indices into the pre-integrated
- * table: quantised bounds, widened by one level so the table covers every
- * value the trilinear interpolant can take. */
+/* A node's value range as indices into the pre-integrated table
+ * (lc_kgrid_node_quant). */
 typedef struct node_tf {
     int qlo, qhi;
 } node_tf;
 
 static inline node_tf node_quant(const lc_ktf *tf, const lc_kgrid_node *n)
 {
-    float s = (float)(LC_PREINT_N - 1);
-    float a = (n->vmin - tf->lo) * tf->inv_range * s, b = (n->vmax - tf->lo) * tf->inv_range * s;
-    a = minf(maxf(floorf(a - 1e-3f), 0.0f), s);
-    b = minf(maxf(ceilf(b + 1e-3f), 0.0f), s);
-    node_tf q = {(int)a, (int)b};
+    node_tf q;
+    lc_kgrid_node_quant(n->vmin, n->vmax, tf->lo, tf->inv_range, &q.qlo, &q.qhi);
     return q;
 }
 
-static inline float preint_tau(const lc_kgrid *g, int a, int b) { return g->preint[((size_t)a * LC_PREINT_N + (size_t)b) * 4 + 3]; }
 /* Opacity of one step over the quantised range [a, b]: the host tabulates
  * 1 - exp(-tau_mean dt) per frame (preint_alpha). */
 static inline float rho(int a, int b, const lc_kgrid *g) { return g->preint_alpha[(size_t)a * LC_PREINT_N + (size_t)b]; }
@@ -117,18 +112,22 @@ static inline float rho(int a, int b, const lc_kgrid *g) { return g->preint_alph
 /* eq. 5: a node is empty when the pre-integrated opacity over its range is at
  * most delta_c. The mean extinction being exactly zero is always used: it
  * means zero opacity at every sample, so skipping is exact. */
-static inline int node_transparent(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n)
+static inline int node_transparent(const lc_kgrid *g, const lc_kgrid_node *n)
 {
-    node_tf q = node_quant(&f->tf[0], n);
-    /* the host's per-frame byte table of the test above (kgrid.h) */
-    return g->transparent[(size_t)q.qlo * LC_PREINT_N + (size_t)q.qhi];
+    /* the host's per-frame byte per node (kgrid.h), the test above */
+    return g->node_transparent[n - g->nodes];
 }
+
 /* A node is skipped when the mode says it cannot matter; the grid tells it
  * the node's value range (which bounds the field) and its TF test above. */
 static inline int node_empty(const lc_kgrid *g, const lc_kframe *f, const lc_kgrid_node *n, float mfloor)
 {
+    /* dvr: mode_node_matters(f, mn) is !mn.transparent; answered here
+     * without loading the node (the traversal tests both children of every
+     * node it descends, and their 40-byte nodes missed the cache) */
+    if (f->mode == LC_KMODE_DVR) return node_transparent(g, n);
     mnode mn = {n->vmin, n->vmax, 1, 0, mfloor};
-    mn.transparent = f->mode == LC_KMODE_DVR && node_transparent(g, f, n);
+    mn.transparent = f->mode == LC_KMODE_DVR && node_transparent(g, n);
     return !mode_node_matters(f, &mn);
 }
 

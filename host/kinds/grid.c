@@ -365,7 +365,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     lc_status s = check_params(dev, "lc_render", p);
     if (s != LC_OK) return s;
     size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * (LC_PREINT_N * LC_PREINT_N * 5 + (LC_TF_TABLE_SIZE + 1) * 4) +
-                   LC_PREINT_N * LC_PREINT_N;
+                   (size_t)g->kg.nnodes;
     unsigned char *mem = malloc(bytes);
     if (!mem) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the pre-integrated table");
     lc_kgrid *k = (lc_kgrid *)mem;
@@ -402,10 +402,15 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     k->delta_sv = param(p->delta_sv, 1e-4f);
     k->bvh_flags = (k->delta_c >= 0.0f ? LC_KGRID_CULL : 0) | (k->delta_p >= 0.0f ? LC_KGRID_PRUNE : 0) |
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
+    /* eq. 5 per node for this frame (kgrid.h node_transparent) */
     uint8_t *tr = (uint8_t *)(cls + 4 * (LC_TF_TABLE_SIZE + 1));
-    for (size_t i = 0; i < (size_t)LC_PREINT_N * LC_PREINT_N; i++)
-        tr[i] = table[4 * i + 3] == 0.0f || ((k->bvh_flags & LC_KGRID_CULL) && alpha[i] <= k->delta_c);
-    k->transparent = tr;
+    for (int32_t i = 0; i < k->nnodes; i++) {
+        int qa, qb;
+        lc_kgrid_node_quant(k->nodes[i].vmin, k->nodes[i].vmax, frame->tf[0].lo, frame->tf[0].inv_range, &qa, &qb);
+        size_t q = (size_t)qa * LC_PREINT_N + (size_t)qb;
+        tr[i] = table[4 * q + 3] == 0.0f || ((k->bvh_flags & LC_KGRID_CULL) && alpha[q] <= k->delta_c);
+    }
+    k->node_transparent = tr;
     int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_GRID];
     out->tile = kk->render[km];
