@@ -404,7 +404,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
     /* eq. 5 per node for this frame (kgrid.h node_transparent) */
     uint8_t *tr = (uint8_t *)(cls + 4 * (LC_TF_TABLE_SIZE + 1));
-    for (int32_t i = 0; i < k->nnodes; i++) {
+    for (int32_t i = 0; m != LC_METHOD_BRUTE && i < k->nnodes; i++) { /* brute force: unused */
         int qa, qb;
         lc_kgrid_node_quant(k->nodes[i].vmin, k->nodes[i].vmax, frame->tf[0].lo, frame->tf[0].inv_range, &qa, &qb);
         size_t q = (size_t)qa * LC_PREINT_N + (size_t)qb;
