@@ -468,12 +468,35 @@ static inline void grid_prof_consume(const lc_kgrid *g, const lc_kframe *f, gpk 
     }
 }
 
+/* One lattice sample k at t, position (x, y, z), handed to the mode: the
+ * general path (mip, iso, pre-integrated dvr, rda, profile stand-ins). */
+static inline __attribute__((always_inline)) void grid_sample_consume(const lc_kgrid *g, const lc_kframe *f, int mode,
+                                                                      int shade, gpk *p, vmask m, vint k, vfloat t,
+                                                                      vfloat x, vfloat y, vfloat z, lc_kstats *st)
+{
+    const lc_ktf *tf = &f->tf[0];
+    vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
+    vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
+    if (GRID_PROF & (GP_CLASS | GP_SHADE | GP_BLEND)) {
+        grid_prof_consume(g, f, p, m, k, phi, gx, gy, gz);
+    } else if (g->use_preint && mode == LC_KMODE_DVR) {
+        vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
+        vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
+        vfloat rgbt[4];
+        grid_classify_preint(g, va, v, &rgbt[0], &rgbt[1], &rgbt[2], &rgbt[3]);
+        p->prev = vf_select(m, v, p->prev);
+        p->kprev = vi_select(m, k, p->kprev);
+        grid_consume(g, f, mode, p, m, k, t, phi, rgbt, gx, gy, gz, st);
+    } else {
+        grid_consume(g, f, mode, p, m, k, t, phi, NULL, gx, gy, gz, st);
+    }
+}
+
 /* Integrates lattice samples ka..kb (per lane) of the live lanes of p, front
  * to back, stopping lanes at alpha_stop. Both methods go through here. */
 static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgrid *g, const lc_kframe *f, int mode,
                                                                     gpk *p, vint ka, vint kb, lc_kstats *st)
 {
-    const lc_ktf *tf = &f->tf[0];
     const float dt = f->dt;
     const int shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
     vfloat astop = vf_set1(f->alpha_stop);
@@ -489,28 +512,13 @@ static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgr
         vfloat x = vf_fma(t, p->ray.dx, p->ray.ox);
         vfloat y = vf_fma(t, p->ray.dy, p->ray.oy);
         vfloat z = vf_fma(t, p->ray.dz, p->ray.oz);
-        vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
         if (fast) {
             gcell cell;
             grid_cell(g, x, y, z, &cell);
             grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
-            goto next;
-        }
-        vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
-        if (GRID_PROF & (GP_CLASS | GP_SHADE | GP_BLEND)) {
-            grid_prof_consume(g, f, p, m, k, phi, gx, gy, gz);
-        } else if (g->use_preint && mode == LC_KMODE_DVR) {
-            vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
-            vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
-            vfloat rgbt[4];
-            grid_classify_preint(g, va, v, &rgbt[0], &rgbt[1], &rgbt[2], &rgbt[3]);
-            p->prev = vf_select(m, v, p->prev);
-            p->kprev = vi_select(m, k, p->kprev);
-            grid_consume(g, f, mode, p, m, k, t, phi, rgbt, gx, gy, gz, st);
         } else {
-            grid_consume(g, f, mode, p, m, k, t, phi, NULL, gx, gy, gz, st);
+            grid_sample_consume(g, f, mode, shade, p, m, k, t, x, y, z, st);
         }
-    next:
         n += (uint64_t)vm_popcnt(m);
         k = vi_add(k, vi_set1(1));
         m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
