@@ -3,7 +3,7 @@
  * its spread. Cases are the cross product of the lists given (see --help).
  * Volumes: the real ones under DATA/volumes and procedural uint8 cubes
  * ("proc512", "proc1024": a gyroid-like lattice inside a sphere, air outside;
- * deterministic, no seed needed). */
+ * deterministic, no seed needed; "blob256": a sum of Gaussian blobs). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,13 +14,31 @@
 
 /* Stage-profile kernel variants (bench/grid_prof.c, meson prof_masks): each
  * replaces one more stage than the one before. Each variant library defines
- * the grid kind's kernel sub-table lc_kkind_grid_prof<i> (BVH and brute). */
-#define PROF_DECL(i) extern const lc_kkind lc_kkind_grid_prof##i;
-PROF_DECL(0) PROF_DECL(1) PROF_DECL(2) PROF_DECL(3) PROF_DECL(4) PROF_DECL(5) PROF_DECL(6)
+ * the grid kind's kernel sub-table lc_kkind_grid_prof_<target>_<i> (BVH and
+ * brute), for up to two targets LC_PROF_T0/T1 (avx2 and avx512 when built). */
 #define NPROF 7
-static const lc_kkind *const prof_kind[NPROF] = {&lc_kkind_grid_prof0, &lc_kkind_grid_prof1, &lc_kkind_grid_prof2,
-                                                 &lc_kkind_grid_prof3, &lc_kkind_grid_prof4, &lc_kkind_grid_prof5,
-                                                 &lc_kkind_grid_prof6};
+#define PROF_NAME2(t, i) lc_kkind_grid_prof_##t##_##i
+#define PROF_NAME(t, i) PROF_NAME2(t, i)
+#define PROF_DECLS(t)                                                                                                   \
+    extern const lc_kkind PROF_NAME(t, 0), PROF_NAME(t, 1), PROF_NAME(t, 2), PROF_NAME(t, 3), PROF_NAME(t, 4),         \
+        PROF_NAME(t, 5), PROF_NAME(t, 6);
+#define PROF_TABLE(t)                                                                                                   \
+    {&PROF_NAME(t, 0), &PROF_NAME(t, 1), &PROF_NAME(t, 2), &PROF_NAME(t, 3), &PROF_NAME(t, 4), &PROF_NAME(t, 5),       \
+     &PROF_NAME(t, 6)}
+PROF_DECLS(LC_PROF_T0)
+#ifdef LC_PROF_T1
+PROF_DECLS(LC_PROF_T1)
+#endif
+static const struct {
+    const char *target;
+    const lc_kkind *kind[NPROF];
+} prof_sets[] = {
+    {LC_PROF_T0_NAME, PROF_TABLE(LC_PROF_T0)},
+#ifdef LC_PROF_T1
+    {LC_PROF_T1_NAME, PROF_TABLE(LC_PROF_T1)},
+#endif
+};
+#define NPROF_SETS (int)(sizeof prof_sets / sizeof prof_sets[0])
 /* stage removed between variant i-1 and i (variant 0: all stages, no early termination) */
 static const char *const prof_stage[NPROF] = {"total", "fetch", "interpolation", "classification", "shading", "blending",
                                               "sample_loop"};
@@ -29,6 +47,15 @@ static double now(void)
 {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* CPU time of the whole process (every render thread): on a shared machine
+ * it moves much less with the load than wall time. */
+static double cpu_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
@@ -51,6 +78,7 @@ static void split(list *l, char *s)
 }
 
 static lc_grid_layout layout = LC_LAYOUT_DEFAULT;
+static int brick; /* BVH leaf side (0: the library default) */
 
 static lc_status procedural(lc_device *dev, int n, lc_volume **out)
 {
@@ -73,7 +101,40 @@ static lc_status procedural(lc_device *dev, int n, lc_volume **out)
             }
         }
     free(s);
-    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout};
+    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout, .brick = brick};
+    lc_status st = lc_grid_create(dev, &d, out);
+    free(v);
+    return st;
+}
+
+/* "blob256" etc.: a uint8 cube holding a sum of 24 Gaussian blobs (centres,
+ * radii and weights from a fixed LCG, so no seed is needed) scaled to
+ * 0..255, clamped; most of the cube is air (value 0 far from every blob). */
+static lc_status blobs(lc_device *dev, int n, lc_volume **out)
+{
+    enum { NB = 24 };
+    float c[NB][3], r[NB], w[NB];
+    uint32_t s = 12345u;
+#define LCG() ((s = s * 1664525u + 1013904223u) >> 8) / 16777216.0f
+    for (int b = 0; b < NB; b++) {
+        for (int a = 0; a < 3; a++) c[b][a] = 0.2f + 0.6f * LCG();
+        r[b] = 0.05f + 0.10f * LCG();
+        w[b] = 0.5f + 0.5f * LCG();
+    }
+#undef LCG
+    uint8_t *v = malloc((size_t)n * n * n);
+    if (!v) return LC_ERROR_OUT_OF_MEMORY;
+    for (int k = 0; k < n; k++)
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                float x = (float)i / (float)(n - 1), y = (float)j / (float)(n - 1), z = (float)k / (float)(n - 1), sum = 0.0f;
+                for (int b = 0; b < NB; b++) {
+                    float dx = x - c[b][0], dy = y - c[b][1], dz = z - c[b][2], q = (dx * dx + dy * dy + dz * dz) / (r[b] * r[b]);
+                    if (q < 9.0f) sum += w[b] * expf(-q);
+                }
+                v[((size_t)k * n + j) * n + i] = (uint8_t)(255.0f * fminf(sum, 1.0f) + 0.5f);
+            }
+    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout, .brick = brick};
     lc_status st = lc_grid_create(dev, &d, out);
     free(v);
     return st;
@@ -88,9 +149,15 @@ static int prof_bad; /* a variant took other samples than the full one: the prof
 static void run_profile(lc_device *dev, const lc_render_desc *d0, const char *vn, int W, const char *view, const char *shade,
                         const char *meth, int nth, int repeats)
 {
-    lc_target pt;
-    if (lc_target_from_name(LC_PROF_TARGET, &pt) != LC_OK || dev->target != pt) {
-        printf("# profile: variants are built for %s, device runs %s: skipped\n", LC_PROF_TARGET, lc_target_name(dev->target));
+    const lc_kkind *const *prof_kind = NULL;
+    for (int i = 0; i < NPROF_SETS; i++) {
+        lc_target pt;
+        if (lc_target_from_name(prof_sets[i].target, &pt) == LC_OK && dev->target == pt) prof_kind = prof_sets[i].kind;
+    }
+    if (!prof_kind) {
+        printf("# profile: variants are built for %s%s%s, device runs %s: skipped\n", prof_sets[0].target,
+               NPROF_SETS > 1 ? " and " : "", NPROF_SETS > 1 ? prof_sets[NPROF_SETS - 1].target : "",
+               lc_target_name(dev->target));
         return;
     }
     float *rgba = malloc(sizeof(float) * 4 * (size_t)W * W);
@@ -102,10 +169,12 @@ static void run_profile(lc_device *dev, const lc_render_desc *d0, const char *vn
     const lc_ktable *orig = dev->kt;
     lc_ktable kt = *orig;
     lc_render(dev, &d, rgba, &st); /* warm-up */
+    /* CPU time of the process (all render threads): on the shared machine wall
+     * time moved by up to 3x with the load, which voided the differences */
     for (int r = 0; r < n; r++) {
-        double a = now();
+        double a = cpu_now();
         lc_render(dev, &d, rgba, &st);
-        shipped[r] = now() - a;
+        shipped[r] = cpu_now() - a;
     }
     uint64_t shipped_samples = st.samples;
     d.alpha_stop = 1.0f;
@@ -113,9 +182,9 @@ static void run_profile(lc_device *dev, const lc_render_desc *d0, const char *vn
         for (int v = 0; v < NPROF; v++) {
             kt.kind[LC_KKIND_GRID] = prof_kind[v];
             dev->kt = &kt;
-            double a = now();
+            double a = cpu_now();
             lc_render(dev, &d, rgba, &st);
-            if (r >= 0) ts[v][r] = now() - a;
+            if (r >= 0) ts[v][r] = cpu_now() - a;
             samples[v] = st.samples;
             dev->kt = orig;
         }
@@ -144,7 +213,8 @@ static void run_profile(lc_device *dev, const lc_render_desc *d0, const char *vn
 static const char help[] =
     "usage: bench_grid [options]\n"
     "  --data DIR          shared data folder (default ../shared/data)\n"
-    "  --volumes a,b,...   engine, neghip, headsq, hydrogen, embryo, HeadMRVolume, proc512, proc1024 (default engine)\n"
+    "  --volumes a,b,...   engine, neghip, headsq, hydrogen, embryo, HeadMRVolume, proc512, proc1024,\n"
+    "                      blob256 (any procN / blobN; default engine)\n"
     "  --sizes 512,1024    image sides (default 512)\n"
     "  --views far,medium,close (default medium)\n"
     "  --shades none,diffuse,phong (default none)\n"
@@ -154,10 +224,11 @@ static const char help[] =
     "  --packets 8,1       packet side (8 = 8x8, 1 = lane width; default 8)\n"
     "  --heuristics on|off (default on)\n"
     "  --layout linear|bricked  voxel layout (default bricked, 4^3)\n"
+    "  --brick L           BVH leaf side 1, 2, 4, 8 or 16 (default: the library's choice by size)\n"
     "  --repeats N         renders per case after one warm-up (default 5)\n"
     "  --max-seconds S     stop repeating a case after S seconds (default 10)\n"
-    "  --profile           stage profile instead of fps: the kernel variants of bench/grid_prof.c\n"
-    "                      (widest compiled target), repeats interleaved; see docs/BENCHMARKS-grid.md\n";
+    "  --profile           stage profile (CPU ms) instead of fps: the kernel variants of bench/grid_prof.c\n"
+    "                      (avx2 and avx512 when compiled), repeats interleaved; see docs/BENCHMARKS-grid.md\n";
 
 int main(int argc, char **argv)
 {
@@ -193,6 +264,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--targets")) split(&tgts, v);
         else if (!strcmp(a, "--threads")) split(&thrs, v);
         else if (!strcmp(a, "--packets")) split(&pks, v);
+        else if (!strcmp(a, "--brick")) brick = atoi(v);
         else if (!strcmp(a, "--heuristics")) heur = !strcmp(v, "on");
         else if (!strcmp(a, "--repeats")) repeats = atoi(v);
         else if (!strcmp(a, "--layout")) layout = !strcmp(v, "linear") ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED;
@@ -211,11 +283,16 @@ int main(int argc, char **argv)
         double t0 = now();
         lc_status s;
         if (!strncmp(vn, "proc", 4)) s = procedural(dev0, atoi(vn + 4), &g);
+        else if (!strncmp(vn, "blob", 4)) s = blobs(dev0, atoi(vn + 4), &g);
         else {
             char p[1024];
             snprintf(p, sizeof p, "%s/volumes/%s.%s", data, vn, strcmp(vn, "HeadMRVolume") ? "nhdr" : "mhd");
-            lc_option lo_ = {"layout", layout == LC_LAYOUT_LINEAR ? "linear" : "bricked"};
-            s = lc_volume_load(dev0, p, &(lc_load_desc){.options = &lo_, .noptions = layout != LC_LAYOUT_DEFAULT}, &g);
+            char bs[16];
+            snprintf(bs, sizeof bs, "%d", brick);
+            lc_option lo_[2] = {{"brick", bs}, {"layout", layout == LC_LAYOUT_LINEAR ? "linear" : "bricked"}};
+            int no = brick ? 1 : 0;
+            if (layout != LC_LAYOUT_DEFAULT) lo_[no++] = lo_[1];
+            s = lc_volume_load(dev0, p, &(lc_load_desc){.options = lo_, .noptions = no}, &g);
         }
         if (s != LC_OK) {
             printf("# skip volume=%s: %s\n", vn, lc_last_error());
@@ -278,23 +355,26 @@ int main(int argc, char **argv)
                                         free(rgba);
                                         continue;
                                     }
-                                    double ts[64];
+                                    double ts[64], cs[64];
                                     int n = 0;
                                     double start = now();
                                     while (n < repeats && n < 64) {
-                                        double a = now();
+                                        double a = now(), ca = cpu_now();
                                         lc_render(dev, &d, rgba, &st);
+                                        cs[n] = cpu_now() - ca;
                                         ts[n++] = now() - a;
                                         if (now() - start > max_s) break;
                                     }
                                     qsort(ts, (size_t)n, sizeof *ts, cmpd);
+                                    qsort(cs, (size_t)n, sizeof *cs, cmpd);
                                     double med = ts[n / 2];
                                     printf("grid volume=%s size=%d view=%s shade=%s method=%s target=%s threads=%d packet=%s "
                                            "heuristics=%s fps=%.3f fps_min=%.3f fps_max=%.3f ms=%.1f reps=%d "
-                                           "msamples=%.2f nodes=%llu leaves=%llu\n",
+                                           "msamples=%.2f nodes=%llu leaves=%llu cpu_ms=%.1f cpu_ms_min=%.1f cpu_ms_max=%.1f\n",
                                            vn, W, view, shades.v[shi], meths.v[mi], lc_target_name(at), nth, pks.v[pi],
                                            heur ? "on" : "off", 1.0 / med, 1.0 / ts[n - 1], 1.0 / ts[0], 1e3 * med, n,
-                                           (double)st.samples / 1e6, (unsigned long long)st.nodes, (unsigned long long)st.leaves);
+                                           (double)st.samples / 1e6, (unsigned long long)st.nodes, (unsigned long long)st.leaves,
+                                           1e3 * cs[n / 2], 1e3 * cs[0], 1e3 * cs[n - 1]);
                                     fflush(stdout);
                                     free(rgba);
                                 }

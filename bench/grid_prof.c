@@ -1,8 +1,8 @@
 /* Stage-profile variants of the grid kernels (docs/BENCHMARKS-grid.md
  * "Stage profile"): kernels/grid_bvh.c and grid_brute.c compiled again for
- * the widest target with GRID_PROF = PROF_MASK (stages replaced by stand-ins,
+ * a target (avx2, avx512) with GRID_PROF = PROF_MASK (stages replaced by stand-ins,
  * kernels/grid_common.h) and entry points renamed grid_bvh_prof<PROF_ID> /
- * grid_brute_prof<PROF_ID>. Built for the benchmark only, never shipped. */
+ * grid_brute_prof<PROF_ID> (PROF_ID = _<target>_<i>). Built for the benchmark only, never shipped. */
 #include "lane/lane.h"
 #undef LC_KFN
 #define PROF_CAT2(a, b) a##_prof##b

@@ -10,6 +10,7 @@
 #include "mode.h"
 #include "shared/kgrid.h"
 #include "shared/ktable.h"
+#include "grid_rows.h"
 
 /* Stage profile (bench only, docs/BENCHMARKS-grid.md "Stage profile"): the
  * benchmark compiles these kernels again with GRID_PROF set to a cumulative
@@ -180,27 +181,50 @@ static inline void grid_fetch_pair(const lc_kgrid *g, vint idx, vfloat *a, vfloa
     *b = vi_to_vf(hi);
 }
 
-/* Trilinear value (eq. 8) at world positions, and if want_grad the analytic
- * gradient of the same interpolant (eq. 9) in world units. Always inlined:
- * with iso's loop and probe as further callers GCC stopped inlining it into
- * the dvr sample loop, which made avx512 frames 2-3% slower. */
-static inline __attribute__((always_inline)) vfloat grid_sample(const lc_kgrid *g, vfloat x, vfloat y, vfloat z, int want_grad, vfloat *gx, vfloat *gy,
-                                 vfloat *gz)
+/* A sample's trilinear stencil: the 8 voxel values of its cell
+ * (v[0..7] = v000, v100, v010, v110, v001, v101, v011, v111) and the weights
+ * (eq. 8). Profile variants with GP_INTERP keep u = (ux, uy, uz) in w*. */
+typedef struct gcell {
+    vfloat v[8];
+    vfloat wx, wy, wz;
+} gcell;
+
+/* The stencil at world positions (x, y, z). Always inlined (see grid_sample). */
+static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, vfloat x, vfloat y, vfloat z, gcell *c)
 {
     vfloat ux = vf_mul(vf_sub(x, vf_set1(g->origin[0])), vf_set1(g->inv_spacing[0]));
     vfloat uy = vf_mul(vf_sub(y, vf_set1(g->origin[1])), vf_set1(g->inv_spacing[1]));
     vfloat uz = vf_mul(vf_sub(z, vf_set1(g->origin[2])), vf_set1(g->inv_spacing[2]));
     if (GRID_PROF & GP_INTERP) {
-        if (want_grad) *gx = ux, *gy = uy, *gz = uz;
-        return vf_add(ux, vf_add(uy, uz));
+        c->wx = ux, c->wy = uy, c->wz = uz;
+        return;
     }
     vfloat fx0 = vf_clamp(vf_floor(ux), vf_zero(), vf_set1((float)(g->size[0] - 2)));
     vfloat fy0 = vf_clamp(vf_floor(uy), vf_zero(), vf_set1((float)(g->size[1] - 2)));
     vfloat fz0 = vf_clamp(vf_floor(uz), vf_zero(), vf_set1((float)(g->size[2] - 2)));
-    vfloat wx = vf_clamp(vf_sub(ux, fx0), vf_zero(), vf_set1(1.0f));
-    vfloat wy = vf_clamp(vf_sub(uy, fy0), vf_zero(), vf_set1(1.0f));
-    vfloat wz = vf_clamp(vf_sub(uz, fz0), vf_zero(), vf_set1(1.0f));
+    c->wx = vf_clamp(vf_sub(ux, fx0), vf_zero(), vf_set1(1.0f));
+    c->wy = vf_clamp(vf_sub(uy, fy0), vf_zero(), vf_set1(1.0f));
+    c->wz = vf_clamp(vf_sub(uz, fz0), vf_zero(), vf_set1(1.0f));
     vint i = vf_to_vi(fx0), j = vf_to_vi(fy0), k = vf_to_vi(fz0);
+    if (g->pairs) {
+        /* y-pair-packed uint8 (kgrid.h): one 32-bit load per z plane holds the
+         * plane's 2x2 voxels, bytes (i, j), (i, j+1), (i+1, j), (i+1, j+1) */
+        vint e = vi_add(i, vi_add(vi_mul(j, vi_set1(g->pair_ystride)), vi_mul(k, vi_set1(g->pair_zstride))));
+        vint w0, w1;
+        if (GRID_PROF & GP_FETCH) {
+            w0 = vi_and(e, vi_set1(0x7f7f7f7f));
+            w1 = vi_and(vi_add(e, vi_set1(1)), vi_set1(0x7f7f7f7f));
+        } else {
+            w0 = vi_gather_u16pair(g->pairs, e);
+            w1 = vi_gather_u16pair(g->pairs, vi_add(e, vi_set1(g->pair_zstride)));
+        }
+        vint ff = vi_set1(0xff);
+        c->v[0] = vi_to_vf(vi_and(w0, ff)), c->v[2] = vi_to_vf(vi_and(vi_srl(w0, 8), ff));
+        c->v[1] = vi_to_vf(vi_and(vi_srl(w0, 16), ff)), c->v[3] = vi_to_vf(vi_srl(w0, 24));
+        c->v[4] = vi_to_vf(vi_and(w1, ff)), c->v[6] = vi_to_vf(vi_and(vi_srl(w1, 8), ff));
+        c->v[5] = vi_to_vf(vi_and(vi_srl(w1, 16), ff)), c->v[7] = vi_to_vf(vi_srl(w1, 24));
+        return;
+    }
     /* voxel offsets (§6.1's tables, computed: cheaper than six gathers) */
     vint x0, x1, y0, y1, z0, z1;
     if (g->bricked) {
@@ -221,34 +245,143 @@ static inline __attribute__((always_inline)) vfloat grid_sample(const lc_kgrid *
         z1 = vi_add(z0, vi_set1(g->zstride));
     }
     vint yz00 = vi_add(y0, z0), yz10 = vi_add(y1, z0), yz01 = vi_add(y0, z1), yz11 = vi_add(y1, z1);
-    vfloat v000, v100, v010, v110, v001, v101, v011, v111;
+    vfloat *v = c->v;
     if (!g->bricked && g->type != LC_KVAL_F32 && g->wide_safe > INT32_MAX) {
         /* linear narrow voxels: x neighbours are adjacent, one gather per pair */
-        grid_fetch_pair(g, vi_add(x0, yz00), &v000, &v100);
-        grid_fetch_pair(g, vi_add(x0, yz10), &v010, &v110);
-        grid_fetch_pair(g, vi_add(x0, yz01), &v001, &v101);
-        grid_fetch_pair(g, vi_add(x0, yz11), &v011, &v111);
+        grid_fetch_pair(g, vi_add(x0, yz00), &v[0], &v[1]);
+        grid_fetch_pair(g, vi_add(x0, yz10), &v[2], &v[3]);
+        grid_fetch_pair(g, vi_add(x0, yz01), &v[4], &v[5]);
+        grid_fetch_pair(g, vi_add(x0, yz11), &v[6], &v[7]);
     } else {
-        v000 = grid_fetch(g, vi_add(x0, yz00)), v100 = grid_fetch(g, vi_add(x1, yz00));
-        v010 = grid_fetch(g, vi_add(x0, yz10)), v110 = grid_fetch(g, vi_add(x1, yz10));
-        v001 = grid_fetch(g, vi_add(x0, yz01)), v101 = grid_fetch(g, vi_add(x1, yz01));
-        v011 = grid_fetch(g, vi_add(x0, yz11)), v111 = grid_fetch(g, vi_add(x1, yz11));
+        v[0] = grid_fetch(g, vi_add(x0, yz00)), v[1] = grid_fetch(g, vi_add(x1, yz00));
+        v[2] = grid_fetch(g, vi_add(x0, yz10)), v[3] = grid_fetch(g, vi_add(x1, yz10));
+        v[4] = grid_fetch(g, vi_add(x0, yz01)), v[5] = grid_fetch(g, vi_add(x1, yz01));
+        v[6] = grid_fetch(g, vi_add(x0, yz11)), v[7] = grid_fetch(g, vi_add(x1, yz11));
     }
-    vfloat c00 = vf_lerp(v000, v100, wx), c10 = vf_lerp(v010, v110, wx);
-    vfloat c01 = vf_lerp(v001, v101, wx), c11 = vf_lerp(v011, v111, wx);
-    vfloat c0 = vf_lerp(c00, c10, wy), c1 = vf_lerp(c01, c11, wy);
-    if (want_grad) {
-        /* eq. 9: each partial derivative is the bilinear interpolant of the
-         * differences along its axis, with the other two weights */
-        vfloat dx00 = vf_sub(v100, v000), dx10 = vf_sub(v110, v010), dx01 = vf_sub(v101, v001), dx11 = vf_sub(v111, v011);
-        vfloat ddx = vf_lerp(vf_lerp(dx00, dx10, wy), vf_lerp(dx01, dx11, wy), wz);
-        vfloat ddy = vf_lerp(vf_sub(c10, c00), vf_sub(c11, c01), wz);
-        vfloat ddz = vf_sub(c1, c0);
-        *gx = vf_mul(ddx, vf_set1(g->inv_spacing[0]));
-        *gy = vf_mul(ddy, vf_set1(g->inv_spacing[1]));
-        *gz = vf_mul(ddz, vf_set1(g->inv_spacing[2]));
+}
+
+/* Trilinear value (eq. 8) of a stencil. */
+static inline __attribute__((always_inline)) vfloat grid_cell_value(const gcell *c)
+{
+    if (GRID_PROF & GP_INTERP) return vf_add(c->wx, vf_add(c->wy, c->wz));
+    const vfloat *v = c->v;
+    vfloat c00 = vf_lerp(v[0], v[1], c->wx), c10 = vf_lerp(v[2], v[3], c->wx);
+    vfloat c01 = vf_lerp(v[4], v[5], c->wx), c11 = vf_lerp(v[6], v[7], c->wx);
+    vfloat c0 = vf_lerp(c00, c10, c->wy), c1 = vf_lerp(c01, c11, c->wy);
+    return vf_lerp(c0, c1, c->wz);
+}
+
+/* The analytic gradient (eq. 9) of the same interpolant, world units: each
+ * partial derivative is the bilinear interpolant of the differences along
+ * its axis, with the other two weights. */
+static inline __attribute__((always_inline)) void grid_cell_grad(const lc_kgrid *g, const gcell *c, vfloat *gx, vfloat *gy,
+                                                                 vfloat *gz)
+{
+    if (GRID_PROF & GP_INTERP) {
+        *gx = c->wx, *gy = c->wy, *gz = c->wz;
+        return;
     }
-    return vf_lerp(c0, c1, wz);
+    const vfloat *v = c->v;
+    vfloat c00 = vf_lerp(v[0], v[1], c->wx), c10 = vf_lerp(v[2], v[3], c->wx);
+    vfloat c01 = vf_lerp(v[4], v[5], c->wx), c11 = vf_lerp(v[6], v[7], c->wx);
+    vfloat c0 = vf_lerp(c00, c10, c->wy), c1 = vf_lerp(c01, c11, c->wy);
+    vfloat dx00 = vf_sub(v[1], v[0]), dx10 = vf_sub(v[3], v[2]), dx01 = vf_sub(v[5], v[4]), dx11 = vf_sub(v[7], v[6]);
+    vfloat ddx = vf_lerp(vf_lerp(dx00, dx10, c->wy), vf_lerp(dx01, dx11, c->wy), c->wz);
+    vfloat ddy = vf_lerp(vf_sub(c10, c00), vf_sub(c11, c01), c->wz);
+    vfloat ddz = vf_sub(c1, c0);
+    *gx = vf_mul(ddx, vf_set1(g->inv_spacing[0]));
+    *gy = vf_mul(ddy, vf_set1(g->inv_spacing[1]));
+    *gz = vf_mul(ddz, vf_set1(g->inv_spacing[2]));
+}
+
+/* Trilinear value (eq. 8) at world positions, and if want_grad the analytic
+ * gradient of the same interpolant (eq. 9) in world units. Always inlined:
+ * with iso's loop and probe as further callers GCC stopped inlining it into
+ * the dvr sample loop, which made avx512 frames 2-3% slower. */
+static inline __attribute__((always_inline)) vfloat grid_sample(const lc_kgrid *g, vfloat x, vfloat y, vfloat z, int want_grad, vfloat *gx, vfloat *gy,
+                                 vfloat *gz)
+{
+    gcell c;
+    grid_cell(g, x, y, z, &c);
+    if (want_grad) grid_cell_grad(g, &c, gx, gy, gz);
+    return grid_cell_value(&c);
+}
+
+/* Post-classification through the frame's step table (kgrid.h cls): one
+ * step's opacity a and premultiplied colour (a r, a g, a b), interpolated
+ * linearly between the TF entries like dvr_classify_v, with no exp per
+ * sample; one 32-byte row load per lane (grid_rows.h) instead of 8 gathers. */
+static inline __attribute__((always_inline)) void grid_classify_step(const lc_kgrid *g, const lc_ktf *tf, vfloat phi,
+                                                                     vfloat *pr, vfloat *pg, vfloat *pb, vfloat *a)
+{
+    vfloat v = vf_clamp(dvr_normalise(tf, phi), vf_zero(), vf_set1(1.0f));
+    vfloat x = vf_mul(v, vf_set1((float)(LC_TF_TABLE_SIZE - 1)));
+    vfloat xf = vf_min(vf_floor(x), vf_set1((float)(LC_TF_TABLE_SIZE - 2)));
+    vfloat w = vf_sub(x, xf);
+    vfloat e[8];
+    grid_rows8(g->cls, vi_sll(vf_to_vi(xf), 2), e);
+    *pr = vf_lerp(e[0], e[4], w);
+    *pg = vf_lerp(e[1], e[5], w);
+    *pb = vf_lerp(e[2], e[6], w);
+    *a = vf_lerp(e[3], e[7], w);
+}
+
+/* SPEC.md "Shading" on a premultiplied sample (a r, a g, a b) of opacity a:
+ * rgb k + spec premultiplies to (a rgb) k + a spec. Same formulas as
+ * dvr_shade. */
+static inline __attribute__((always_inline)) void grid_shade_pm(const lc_kframe *f, float grad_eps, const vray *ray,
+                                                                vfloat gx, vfloat gy, vfloat gz, vfloat a, vfloat *r,
+                                                                vfloat *g, vfloat *b)
+{
+    vfloat g2 = vf_fma(gx, gx, vf_fma(gy, gy, vf_mul(gz, gz)));
+    vfloat glen = vf_sqrt(g2);
+    vmask lit = vf_ge(glen, vf_set1(grad_eps));
+    if (vm_none(lit)) return;
+    vfloat ndl = vf_abs(vf_div(vf_fma(gx, ray->dx, vf_fma(gy, ray->dy, vf_mul(gz, ray->dz))), vf_max(glen, vf_set1(1e-30f))));
+    vfloat k = vf_fma(vf_set1(f->kd), ndl, vf_set1(f->ka));
+    vfloat as = vf_zero();
+    if (f->shade == LC_KSHADE_PHONG) as = vf_mul(a, vf_mul(vf_set1(f->ks), vf_powi(ndl, f->phong_exp)));
+    *r = vf_select(lit, vf_fma(*r, k, as), *r);
+    *g = vf_select(lit, vf_fma(*g, k, as), *g);
+    *b = vf_select(lit, vf_fma(*b, k, as), *b);
+}
+
+/* The post-classified dvr sample (rda off): classify through the step
+ * table, take the gradient and shade only where some lane is visible
+ * (a > 0), blend premultiplied: C += (1 - A) (a rgb), A += (1 - A) a.
+ * GRID_PROF stand-ins as in grid_prof_consume. */
+static inline __attribute__((always_inline)) void grid_dvr_step(const lc_kgrid *g, const lc_kframe *f, int shade, gpk *p,
+                                                                vmask m, const gcell *cell, vfloat phi)
+{
+    const lc_ktf *tf = &f->tf[0];
+    vfloat pr, pg, pb, a;
+    /* every lane at a value where the TF is exactly transparent: nothing to
+     * add (a = 0), skip the table */
+    if (!(GRID_PROF & GP_CLASS) && vm_none(vm_and(m, vf_gt(dvr_normalise(tf, phi), vf_set1(g->cls_vzero))))) return;
+    if (GRID_PROF & GP_CLASS) {
+        pr = pg = pb = phi;
+        a = vf_mul(phi, vf_set1(1e-3f));
+    } else {
+        grid_classify_step(g, tf, phi, &pr, &pg, &pb, &a);
+    }
+    if (shade && vm_any(vm_and(m, vf_gt(a, vf_zero())))) {
+        vfloat gx, gy, gz;
+        grid_cell_grad(g, cell, &gx, &gy, &gz);
+        if (GRID_PROF & GP_SHADE) pr = vf_add(pr, gx), pg = vf_add(pg, gy), pb = vf_add(pb, gz);
+        else grid_shade_pm(f, tf->grad_eps, &p->ray, gx, gy, gz, a, &pr, &pg, &pb);
+    }
+    if (GRID_PROF & GP_BLEND) {
+        p->c.r = vf_add(p->c.r, vf_select(m, pr, vf_zero()));
+        p->c.g = vf_add(p->c.g, vf_select(m, pg, vf_zero()));
+        p->c.b = vf_add(p->c.b, vf_select(m, pb, vf_zero()));
+        p->c.a = vf_add(p->c.a, vf_select(m, a, vf_zero()));
+        return;
+    }
+    vfloat w = vf_select(m, vf_sub(vf_set1(1.0f), p->c.a), vf_zero());
+    p->c.r = vf_fma(w, pr, p->c.r);
+    p->c.g = vf_fma(w, pg, p->c.g);
+    p->c.b = vf_fma(w, pb, p->c.b);
+    p->c.a = vf_fma(w, a, p->c.a);
 }
 
 /* Pre-integrated classification (eq. 4) of the segment from the previous
@@ -335,15 +468,40 @@ static inline void grid_prof_consume(const lc_kgrid *g, const lc_kframe *f, gpk 
     }
 }
 
+/* One lattice sample k at t, position (x, y, z), handed to the mode: the
+ * general path (mip, iso, pre-integrated dvr, rda, profile stand-ins). */
+static inline __attribute__((always_inline)) void grid_sample_consume(const lc_kgrid *g, const lc_kframe *f, int mode,
+                                                                      int shade, gpk *p, vmask m, vint k, vfloat t,
+                                                                      vfloat x, vfloat y, vfloat z, lc_kstats *st)
+{
+    const lc_ktf *tf = &f->tf[0];
+    vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
+    vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
+    if (GRID_PROF & (GP_CLASS | GP_SHADE | GP_BLEND)) {
+        grid_prof_consume(g, f, p, m, k, phi, gx, gy, gz);
+    } else if (g->use_preint && mode == LC_KMODE_DVR) {
+        vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
+        vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
+        vfloat rgbt[4];
+        grid_classify_preint(g, va, v, &rgbt[0], &rgbt[1], &rgbt[2], &rgbt[3]);
+        p->prev = vf_select(m, v, p->prev);
+        p->kprev = vi_select(m, k, p->kprev);
+        grid_consume(g, f, mode, p, m, k, t, phi, rgbt, gx, gy, gz, st);
+    } else {
+        grid_consume(g, f, mode, p, m, k, t, phi, NULL, gx, gy, gz, st);
+    }
+}
+
 /* Integrates lattice samples ka..kb (per lane) of the live lanes of p, front
  * to back, stopping lanes at alpha_stop. Both methods go through here. */
 static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgrid *g, const lc_kframe *f, int mode,
                                                                     gpk *p, vint ka, vint kb, lc_kstats *st)
 {
-    const lc_ktf *tf = &f->tf[0];
     const float dt = f->dt;
     const int shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
     vfloat astop = vf_set1(f->alpha_stop);
+    /* post-classified dvr without differential sampling: the step table */
+    const int fast = mode == LC_KMODE_DVR && !g->use_preint && g->rda == 0.0f && g->cls;
     vmask start = vm_and(p->live, vm_not(vi_gt(ka, kb)));
     vmask m = start;
     vint k = ka;
@@ -354,20 +512,12 @@ static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgr
         vfloat x = vf_fma(t, p->ray.dx, p->ray.ox);
         vfloat y = vf_fma(t, p->ray.dy, p->ray.oy);
         vfloat z = vf_fma(t, p->ray.dz, p->ray.oz);
-        vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
-        vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
-        if (GRID_PROF & (GP_CLASS | GP_SHADE | GP_BLEND)) {
-            grid_prof_consume(g, f, p, m, k, phi, gx, gy, gz);
-        } else if (g->use_preint && mode == LC_KMODE_DVR) {
-            vfloat v = vf_mul(vf_sub(phi, vf_set1(tf->lo)), vf_set1(tf->inv_range));
-            vfloat va = vf_select(vi_eq(p->kprev, vi_sub(k, vi_set1(1))), p->prev, v);
-            vfloat rgbt[4];
-            grid_classify_preint(g, va, v, &rgbt[0], &rgbt[1], &rgbt[2], &rgbt[3]);
-            p->prev = vf_select(m, v, p->prev);
-            p->kprev = vi_select(m, k, p->kprev);
-            grid_consume(g, f, mode, p, m, k, t, phi, rgbt, gx, gy, gz, st);
+        if (fast) {
+            gcell cell;
+            grid_cell(g, x, y, z, &cell);
+            grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
         } else {
-            grid_consume(g, f, mode, p, m, k, t, phi, NULL, gx, gy, gz, st);
+            grid_sample_consume(g, f, mode, shade, p, m, k, t, x, y, z, st);
         }
         n += (uint64_t)vm_popcnt(m);
         k = vi_add(k, vi_set1(1));

@@ -20,17 +20,22 @@
 
 typedef void (*probe_fn)(const lc_kgrid *, const float *, int, float *, float *);
 void lc_test_grid_sample_scalar(const lc_kgrid *, const float *, int, float *, float *);
+void lc_test_grid_classify_scalar(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
 #ifdef LC_HAVE_SSE4
 void lc_test_grid_sample_sse4(const lc_kgrid *, const float *, int, float *, float *);
+void lc_test_grid_classify_sse4(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
 #endif
 #ifdef LC_HAVE_AVX2
 void lc_test_grid_sample_avx2(const lc_kgrid *, const float *, int, float *, float *);
+void lc_test_grid_classify_avx2(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
 #endif
 #ifdef LC_HAVE_AVX512
 void lc_test_grid_sample_avx512(const lc_kgrid *, const float *, int, float *, float *);
+void lc_test_grid_classify_avx512(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
 #endif
 #ifdef LC_HAVE_AVX512_8
 void lc_test_grid_sample_avx512_8(const lc_kgrid *, const float *, int, float *, float *);
+void lc_test_grid_classify_avx512_8(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
 #endif
 
 static probe_fn probe_of(lc_target t)
@@ -48,6 +53,27 @@ static probe_fn probe_of(lc_target t)
 #endif
 #ifdef LC_HAVE_AVX512_8
     case LC_TARGET_AVX512_8: return lc_test_grid_sample_avx512_8;
+#endif
+    default: return NULL;
+    }
+}
+
+typedef void (*classify_fn)(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
+static classify_fn classify_of(lc_target t)
+{
+    switch (t) {
+    case LC_TARGET_SCALAR: return lc_test_grid_classify_scalar;
+#ifdef LC_HAVE_SSE4
+    case LC_TARGET_SSE4: return lc_test_grid_classify_sse4;
+#endif
+#ifdef LC_HAVE_AVX2
+    case LC_TARGET_AVX2: return lc_test_grid_classify_avx2;
+#endif
+#ifdef LC_HAVE_AVX512
+    case LC_TARGET_AVX512: return lc_test_grid_classify_avx512;
+#endif
+#ifdef LC_HAVE_AVX512_8
+    case LC_TARGET_AVX512_8: return lc_test_grid_classify_avx512_8;
 #endif
     default: return NULL;
     }
@@ -175,6 +201,123 @@ static void test_linear(lc_device *dev, lc_target t)
         lc_volume_destroy(g);
     }
     free(data);
+}
+
+/* The step table (kgrid.h cls, built as host/kinds/grid.c prepare does)
+ * against direct classification, SPEC.md's a = 1 - exp(-tau dt) of the
+ * interpolated TF entry times its interpolated colour: (1) the lookup is
+ * exactly the interpolation of the table rows (1e-6: proves every lane read
+ * its own row), (2) the table's interpolation of alpha and premultiplied
+ * colour stays within 2e-4 of direct classification on a smooth TF. A table
+ * built for another dt must fail (2). */
+static void test_classify(lc_target t)
+{
+    classify_fn fn = classify_of(t);
+    CHECK_QUIET(fn, "%s: no classify probe", lc_target_name(t));
+    if (!fn) return;
+    enum { NT = LC_TF_TABLE_SIZE, NS = 997 };
+    static float rgbt[4 * NT], cls[4 * (NT + 1)], bad[4 * (NT + 1)], phi[NS], out[4 * NS], outb[4 * NS];
+    const float dt = 0.37f, lo = -3.0f, hi = 5.0f;
+    for (int e = 0; e < NT; e++) {
+        double x = (double)e / (NT - 1);
+        rgbt[4 * e] = (float)(0.5 + 0.5 * sin(6 * x)), rgbt[4 * e + 1] = (float)x, rgbt[4 * e + 2] = (float)(1 - x);
+        rgbt[4 * e + 3] = x < 0.3 ? 0.0f : (float)(12 * (x - 0.3) * (1.2 + sin(9 * x)));
+    }
+    for (int e = 0; e <= NT; e++) {
+        const float *q = rgbt + 4 * (e < NT ? e : NT - 1);
+        float a = 1.0f - expf(-q[3] * dt), ab = 1.0f - expf(-q[3] * 2 * dt);
+        for (int c = 0; c < 3; c++) cls[4 * e + c] = a * q[c], bad[4 * e + c] = ab * q[c];
+        cls[4 * e + 3] = a, bad[4 * e + 3] = ab;
+    }
+    for (int i = 0; i < NS; i++) phi[i] = lo - 0.5f + (float)(urand() * (hi - lo + 1.0));
+    lc_ktf tf = {rgbt, lo, 1.0f / (hi - lo), 0, 0};
+    lc_kgrid g;
+    memset(&g, 0, sizeof g);
+    g.cls = cls;
+    fn(&g, &tf, phi, NS, out);
+    g.cls = bad;
+    fn(&g, &tf, phi, NS, outb);
+    double e_rows = 0, e_direct = 0, e_bad = 0;
+    for (int i = 0; i < NS; i++) {
+        double v = fmin(fmax((phi[i] - lo) / (hi - lo), 0.0), 1.0), x = v * (NT - 1);
+        int e = (int)fmin(floor(x), NT - 2);
+        double w = x - e, tau = rgbt[4 * e + 3] + w * (rgbt[4 * e + 7] - rgbt[4 * e + 3]);
+        double a = 1 - exp(-tau * dt);
+        for (int c = 0; c < 4; c++) {
+            double rows = cls[4 * e + c] + w * (cls[4 * e + 4 + c] - cls[4 * e + c]);
+            double direct = c == 3 ? a : a * (rgbt[4 * e + c] + w * (rgbt[4 * e + 4 + c] - rgbt[4 * e + c]));
+            e_rows = fmax(e_rows, fabs(out[4 * i + c] - rows));
+            e_direct = fmax(e_direct, fabs(out[4 * i + c] - direct));
+            e_bad = fmax(e_bad, fabs(outb[4 * i + c] - direct));
+        }
+    }
+    CHECK_QUIET(e_rows < 1e-6 && e_direct < 2e-4 && e_bad > 2e-4,
+                "%s step table: row error %g, vs direct classification %g, wrong-dt table %g (must exceed 2e-4)",
+                lc_target_name(t), e_rows, e_direct, e_bad);
+    printf("%s step table: row error %.2g, vs direct classification %.2g\n", lc_target_name(t), e_rows, e_direct);
+}
+
+/* The y-pair-packed uint8 copy (kgrid.h pairs): an owned uint8 grid has one,
+ * a borrowed one none, and both sample exactly the trilinear interpolant of
+ * the voxels (value and eq. 9 gradient, double-precision check) on odd
+ * sizes, a size-2 axis and both layouts. */
+static void test_pairs(lc_device *dev, lc_target t)
+{
+    probe_fn probe = probe_of(t);
+    if (!probe) return;
+    int sizes[2][3] = {{13, 7, 5}, {6, 2, 9}};
+    for (int si = 0; si < 2; si++)
+        for (int mode = 0; mode < 3; mode++) { /* linear owned, bricked owned, borrowed */
+            int *n = sizes[si];
+            size_t cnt = (size_t)n[0] * n[1] * n[2];
+            uint8_t *v = malloc(cnt);
+            for (size_t q = 0; q < cnt; q++) v[q] = (uint8_t)(urand() * 256);
+            lc_volume *gv = NULL;
+            lc_grid_desc d = {.size = {n[0], n[1], n[2]}, .type = LC_VALUE_UINT8, .data = v, .spacing = {1, 0.5f, 2},
+                              .layout = mode == 1 ? LC_LAYOUT_BRICKED : LC_LAYOUT_LINEAR, .borrow = mode == 2};
+            CHECK_QUIET(lc_grid_create(dev, &d, &gv) == LC_OK, "create: %s", lc_last_error());
+            if (!gv) {
+                free(v);
+                continue;
+            }
+            const lc_kgrid *kg = &((const grid *)gv)->kg;
+            CHECK_QUIET((kg->pairs != NULL) == (mode != 2), "pairs copy %s for mode %d", kg->pairs ? "present" : "absent", mode);
+            float xyz[600], val[200], grad[600];
+            for (int i = 0; i < 200; i++)
+                for (int a = 0; a < 3; a++) xyz[3 * i + a] = (float)(urand() * (n[a] - 1)) * (a == 0 ? 1.0f : a == 1 ? 0.5f : 2.0f);
+            probe(kg, xyz, 200, val, grad);
+            double maxe = 0, maxg = 0;
+            for (int i = 0; i < 200; i++) {
+                double u[3] = {xyz[3 * i], xyz[3 * i + 1] / 0.5, xyz[3 * i + 2] / 2.0}, w[3];
+                int c0[3];
+                for (int a = 0; a < 3; a++) {
+                    c0[a] = (int)fmin(floor(u[a]), n[a] - 2);
+                    w[a] = u[a] - c0[a];
+                }
+                double vv[2][2][2];
+                for (int dz = 0; dz < 2; dz++)
+                    for (int dy = 0; dy < 2; dy++)
+                        for (int dx = 0; dx < 2; dx++)
+                            vv[dz][dy][dx] = v[((size_t)(c0[2] + dz) * n[1] + c0[1] + dy) * n[0] + c0[0] + dx];
+                double val_ref = 0, gx = 0, gy = 0, gz = 0;
+                for (int dz = 0; dz < 2; dz++)
+                    for (int dy = 0; dy < 2; dy++)
+                        for (int dx = 0; dx < 2; dx++) {
+                            double wx = dx ? w[0] : 1 - w[0], wy = dy ? w[1] : 1 - w[1], wz = dz ? w[2] : 1 - w[2];
+                            double q = vv[dz][dy][dx];
+                            val_ref += wx * wy * wz * q;
+                            gx += (dx ? 1 : -1) * wy * wz * q;
+                            gy += wx * (dy ? 1 : -1) * wz * q / 0.5;
+                            gz += wx * wy * (dz ? 1 : -1) * q / 2.0;
+                        }
+                maxe = fmax(maxe, fabs(val[i] - val_ref));
+                maxg = fmax(maxg, fmax(fabs(grad[3 * i] - gx), fmax(fabs(grad[3 * i + 1] - gy), fabs(grad[3 * i + 2] - gz))));
+            }
+            CHECK_QUIET(maxe < 1e-3 && maxg < 2e-3, "%s uint8 %dx%dx%d mode %d: value error %g, gradient error %g",
+                        lc_target_name(t), n[0], n[1], n[2], mode, maxe, maxg);
+            lc_volume_destroy(gv);
+            free(v);
+        }
 }
 
 /* Every node's [vmin, vmax] contains every voxel of the stencil of its box
@@ -495,6 +638,8 @@ int main(int argc, char **argv)
             continue;
         }
         test_linear(dev, (lc_target)t);
+        test_classify((lc_target)t);
+        test_pairs(dev, (lc_target)t);
         test_images((lc_target)t);
     }
     imgcmp_worst_print("bvh vs brute (heuristics off)", &w_bvh_brute);

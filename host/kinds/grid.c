@@ -150,6 +150,19 @@ static lc_status validate(lc_device *dev, const lc_grid_desc *d, const char *nam
     return LC_OK;
 }
 
+/* pairs[e] = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8 at the linear
+ * index e of (i, j, k) (lc_kgrid.pairs); padding zeroed. */
+static void build_pairs(const uint8_t *src, const int32_t n[3], uint16_t *pairs)
+{
+    for (int32_t k = 0; k < n[2]; k++)
+        for (int32_t j = 0; j < n[1]; j++) {
+            size_t e = ((size_t)k * (size_t)n[1] + (size_t)j) * (size_t)n[0];
+            const uint8_t *r0 = src + e, *r1 = j + 1 < n[1] ? r0 + n[0] : r0;
+            for (int32_t i = 0; i < n[0]; i++) pairs[e + (size_t)i] = (uint16_t)(r0[i] | r1[i] << 8);
+        }
+    memset(pairs + (size_t)n[0] * (size_t)n[1] * (size_t)n[2], 0, GATHER_PAD);
+}
+
 static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
 {
     const lc_grid_desc *d = desc;
@@ -202,6 +215,12 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
                 }
         }
         data = g->owned;
+        /* uint8: the y-pair-packed copy the kernels sample (2 bytes a voxel) */
+        if (d->type == LC_VALUE_UINT8 && count <= MAX_ELEMENTS) {
+            g->pairs = lci_aligned_alloc(64, (size_t)count * 2 + GATHER_PAD);
+            if (!g->pairs) goto oom;
+            build_pairs(src, n, g->pairs);
+        }
     }
     float origin[3] = {d->origin.x, d->origin.y, d->origin.z}, spacing[3] = {sp.x, sp.y, sp.z};
     double t0 = lci_now();
@@ -222,6 +241,9 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     k->bricked = layout == LC_LAYOUT_BRICKED;
     k->ystride = k->bricked ? 64 * ((n[0] + 3) / 4) : n[0];
     k->zstride = k->bricked ? 64 * ((n[0] + 3) / 4) * ((n[1] + 3) / 4) : n[0] * n[1];
+    k->pairs = g->pairs;
+    k->pair_ystride = n[0];
+    k->pair_zstride = n[0] * n[1];
     k->wide_safe = borrow ? (d->type == LC_VALUE_UINT8 ? count - 3 : count - 1) : INT64_MAX;
     k->nodes = g->bvh.nodes;
     k->nnodes = g->bvh.nnodes;
@@ -241,7 +263,8 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     in->borrowed = borrow;
     in->data_bytes = (uint64_t)count * (uint64_t)es;
     uint64_t tables = sizeof(int32_t) * ((uint64_t)n[0] + (uint64_t)n[1] + (uint64_t)n[2]);
-    in->layout_bytes = (borrow ? 0 : (uint64_t)elements * (uint64_t)es + GATHER_PAD) + tables;
+    in->layout_bytes = (borrow ? 0 : (uint64_t)elements * (uint64_t)es + GATHER_PAD) + tables +
+                       (g->pairs ? (uint64_t)count * 2 + GATHER_PAD : 0);
     in->layout_overhead_bytes = borrow ? tables : in->layout_bytes - in->data_bytes;
     in->brick = L;
     in->bvh_nodes = (uint64_t)g->bvh.nnodes;
@@ -282,6 +305,7 @@ static void destroy(lc_volume *v)
     if (!g) return;
     lci_grid_bvh_free(&g->bvh);
     lci_aligned_free(g->owned);
+    lci_aligned_free(g->pairs);
     free(g->offsets);
     free(g);
 }
@@ -340,7 +364,8 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grids render with method bvh or brute, not %d", (int)m);
     lc_status s = check_params(dev, "lc_render", p);
     if (s != LC_OK) return s;
-    size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * LC_PREINT_N * LC_PREINT_N * 5;
+    size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * (LC_PREINT_N * LC_PREINT_N * 5 + (LC_TF_TABLE_SIZE + 1) * 4) +
+                   (size_t)g->kg.nnodes;
     unsigned char *mem = malloc(bytes);
     if (!mem) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the pre-integrated table");
     lc_kgrid *k = (lc_kgrid *)mem;
@@ -351,6 +376,21 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     float *alpha = table + (size_t)LC_PREINT_N * LC_PREINT_N * 4;
     for (size_t i = 0; i < (size_t)LC_PREINT_N * LC_PREINT_N; i++) alpha[i] = 1.0f - expf(-table[4 * i + 3] * frame->dt);
     k->preint_alpha = alpha;
+    /* one step's opacity and premultiplied colour per TF entry (the
+     * post-classified dvr loop: no exp per sample) */
+    float *cls = alpha + (size_t)LC_PREINT_N * LC_PREINT_N;
+    const float *tf = frame->tf[0].rgbt;
+    for (int e = 0; e <= LC_TF_TABLE_SIZE; e++) {
+        const float *q = tf + 4 * (e < LC_TF_TABLE_SIZE ? e : LC_TF_TABLE_SIZE - 1);
+        float a = 1.0f - expf(-q[3] * frame->dt);
+        cls[4 * e] = a * q[0], cls[4 * e + 1] = a * q[1], cls[4 * e + 2] = a * q[2], cls[4 * e + 3] = a;
+    }
+    k->cls = cls;
+    /* tau is 0 on [0, cls_vzero]: entries 0..e-1 are 0, and the linear
+     * interpolation between entries e-1 and e is 0 only at entry e-1 */
+    int e0 = 0;
+    while (e0 < LC_TF_TABLE_SIZE && tf[4 * e0 + 3] == 0.0f) e0++;
+    k->cls_vzero = e0 == 0 ? -1.0f : e0 == LC_TF_TABLE_SIZE ? 2.0f : (float)(e0 - 1) / (float)(LC_TF_TABLE_SIZE - 1);
     k->run_max = 48;
     /* nodes narrower than two packet footprints are leaves (exact; measured
      * best of 0, 0.5, 1, 2, 4 on engine and embryo: 1.2-1.9x fewer-node wins) */
@@ -362,6 +402,15 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     k->delta_sv = param(p->delta_sv, 1e-4f);
     k->bvh_flags = (k->delta_c >= 0.0f ? LC_KGRID_CULL : 0) | (k->delta_p >= 0.0f ? LC_KGRID_PRUNE : 0) |
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
+    /* eq. 5 per node for this frame (kgrid.h node_transparent) */
+    uint8_t *tr = (uint8_t *)(cls + 4 * (LC_TF_TABLE_SIZE + 1));
+    for (int32_t i = 0; m != LC_METHOD_BRUTE && i < k->nnodes; i++) { /* brute force: unused */
+        int qa, qb;
+        lc_kgrid_node_quant(k->nodes[i].vmin, k->nodes[i].vmax, frame->tf[0].lo, frame->tf[0].inv_range, &qa, &qb);
+        size_t q = (size_t)qa * LC_PREINT_N + (size_t)qb;
+        tr[i] = table[4 * q + 3] == 0.0f || ((k->bvh_flags & LC_KGRID_CULL) && alpha[q] <= k->delta_c);
+    }
+    k->node_transparent = tr;
     int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_GRID];
     out->tile = kk->render[km];

@@ -1,0 +1,64 @@
+/* Row gathers for the structured-grid kernels: out[c] lane l = base[idx_l + c]
+ * for c = 0..7, i.e. 8 consecutive floats per lane. On Zen 4 a zmm gather
+ * costs about 16 scalar loads (../shared/NOTES.md "This CPU's ceilings"), so
+ * the 8 gathers a lerped RGBA table lookup needs (two entries x four
+ * channels) cost ~150 cycles per 16 lanes; one 32-byte load per lane and an
+ * 8x8 transpose in registers cost ~16 loads and ~32 shuffles. The rows must
+ * be readable (8 floats from every idx). */
+#ifndef LC_GRID_ROWS_H
+#define LC_GRID_ROWS_H
+
+#include "lane/lane.h"
+
+#if defined(LC_TARGET_AVX2) || defined(LC_TARGET_AVX512_8) || defined(LC_TARGET_AVX512)
+#include <immintrin.h>
+/* 8x8 transpose of ymm rows r[0..7] (row l = lane l) into columns. */
+static inline __attribute__((always_inline)) void grid_transpose8(__m256 r[8])
+{
+    __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+    __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+    __m256 t4 = _mm256_unpacklo_ps(r[4], r[5]), t5 = _mm256_unpackhi_ps(r[4], r[5]);
+    __m256 t6 = _mm256_unpacklo_ps(r[6], r[7]), t7 = _mm256_unpackhi_ps(r[6], r[7]);
+    __m256 s0 = _mm256_shuffle_ps(t0, t2, 0x44), s1 = _mm256_shuffle_ps(t0, t2, 0xee);
+    __m256 s2 = _mm256_shuffle_ps(t1, t3, 0x44), s3 = _mm256_shuffle_ps(t1, t3, 0xee);
+    __m256 s4 = _mm256_shuffle_ps(t4, t6, 0x44), s5 = _mm256_shuffle_ps(t4, t6, 0xee);
+    __m256 s6 = _mm256_shuffle_ps(t5, t7, 0x44), s7 = _mm256_shuffle_ps(t5, t7, 0xee);
+    r[0] = _mm256_permute2f128_ps(s0, s4, 0x20);
+    r[1] = _mm256_permute2f128_ps(s1, s5, 0x20);
+    r[2] = _mm256_permute2f128_ps(s2, s6, 0x20);
+    r[3] = _mm256_permute2f128_ps(s3, s7, 0x20);
+    r[4] = _mm256_permute2f128_ps(s0, s4, 0x31);
+    r[5] = _mm256_permute2f128_ps(s1, s5, 0x31);
+    r[6] = _mm256_permute2f128_ps(s2, s6, 0x31);
+    r[7] = _mm256_permute2f128_ps(s3, s7, 0x31);
+}
+#endif
+
+static inline __attribute__((always_inline)) void grid_rows8(const float *base, vint idx, vfloat out[8])
+{
+#if defined(LC_TARGET_AVX2) || defined(LC_TARGET_AVX512_8)
+    int32_t ix[8];
+    vi_store(ix, idx);
+    __m256 r[8];
+    for (int l = 0; l < 8; l++) r[l] = _mm256_loadu_ps(base + ix[l]);
+    grid_transpose8(r);
+    for (int c = 0; c < 8; c++) out[c] = r[c];
+#elif defined(LC_TARGET_AVX512)
+    int32_t ix[16];
+    vi_store(ix, idx);
+    __m256 lo[8], hi[8];
+    for (int l = 0; l < 8; l++) lo[l] = _mm256_loadu_ps(base + ix[l]), hi[l] = _mm256_loadu_ps(base + ix[l + 8]);
+    grid_transpose8(lo);
+    grid_transpose8(hi);
+    for (int c = 0; c < 8; c++) out[c] = _mm512_insertf32x8(_mm512_castps256_ps512(lo[c]), hi[c], 1);
+#else
+    int32_t ix[LC_W];
+    float col[8][LC_W];
+    vi_store(ix, idx);
+    for (int l = 0; l < LC_W; l++)
+        for (int c = 0; c < 8; c++) col[c][l] = base[ix[l] + c];
+    for (int c = 0; c < 8; c++) out[c] = vf_load(col[c]);
+#endif
+}
+
+#endif
