@@ -39,12 +39,22 @@ lc_status lc_rbf_get_info(const lc_volume *v, lc_rbf_info *out)
     return LC_OK;
 }
 
+/* Centres, widths and the domain are bounded, as particles are
+ * (host/kinds/particles.c), so that every extent the BVH builder forms
+ * (max - min, centre +- support, support < 20 widths) stays far from float
+ * overflow: Embree's binning asserts (aborts) on infinite extents (found by
+ * fuzz/fuzz_load.c on rbf-binary files, tests/fuzz_regress/). */
+#define MAX_COORD 1e18f
+
 /* Why RBF i is invalid, or NULL. */
 static const char *invalid(const lc_rbf_desc *d, size_t i)
 {
     const float *c = d->centres + 3 * i;
     if (!isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2])) return "non-finite centre";
+    if (fabsf(c[0]) > MAX_COORD || fabsf(c[1]) > MAX_COORD || fabsf(c[2]) > MAX_COORD)
+        return "a centre coordinate beyond +-1e18";
     if (!(d->widths[i] > 0.0f) || !isfinite(d->widths[i])) return "width not finite and > 0";
+    if (d->widths[i] > MAX_COORD) return "width beyond 1e18";
     if (!isfinite(d->weights[i])) return "non-finite weight";
     return NULL;
 }
@@ -92,10 +102,10 @@ static lc_status check_desc(lc_device *dev, const lc_rbf_desc *d)
     if (!box_is_zero(b)) {
         const float v[6] = {b->lo.x, b->lo.y, b->lo.z, b->hi.x, b->hi.y, b->hi.z};
         int ok = 1;
-        for (int k = 0; k < 6; k++) ok &= isfinite(v[k]) != 0;
+        for (int k = 0; k < 6; k++) ok &= isfinite(v[k]) && fabsf(v[k]) <= MAX_COORD;
         if (!ok || !(v[0] < v[3] && v[1] < v[4] && v[2] < v[5]))
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
-                             "%s: domain (%g,%g,%g)-(%g,%g,%g): expected finite lo < hi on every axis, or all zero", fn,
+                             "%s: domain (%g,%g,%g)-(%g,%g,%g): expected lo < hi within +-1e18 on every axis, or all zero", fn,
                              (double)v[0], (double)v[1], (double)v[2], (double)v[3], (double)v[4], (double)v[5]);
     }
     size_t bad = 0, first = 0;
