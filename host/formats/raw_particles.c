@@ -2,6 +2,7 @@
  * count and the radius come from the options. Plain or gzip. */
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "host/formats/elements.h"
 #include "host/formats/text_reader.h"
 
@@ -12,6 +13,18 @@ static lc_status read_xyz(lci_text *t, size_t n, float radius, lci_atoms *p)
         return lci_error(t->dev, LC_ERROR_INVALID_ARGUMENT, "%s: raw particles need a radius (> 0)", t->path);
     if (n > (size_t)INT32_MAX / 2)
         return lci_error(t->dev, LC_ERROR_INVALID_ARGUMENT, "%s: %zu particles is too many", t->path, n);
+    /* sizes before allocating (fuzz_raw_particles: a count of 888888884 for
+     * 48 bytes reserved 14 GB): a plain file must hold at least 12 n bytes
+     * (a longer one fails below, naming the count),
+     * a gzip one cannot inflate to more than 1032 times its size (deflate's
+     * limit) */
+    long long need = (long long)n * 12;
+    struct stat st;
+    int regular = t->f && fstat(fileno(t->f), &st) == 0 && S_ISREG(st.st_mode);
+    if ((regular && (long long)st.st_size < need) || (t->gz && t->size > 0 && need / 1032 > t->size))
+        return lci_error(t->dev, LC_ERROR_FORMAT, "%s: holds %lld%s bytes, but %zu particles need %lld (12 bytes each)",
+                         t->path, regular ? (long long)st.st_size : t->size * 1032, regular ? "" : " (at most, inflated)",
+                         n, need);
     p->xyz = malloc(n * 3 * sizeof(float));
     p->r = malloc(n * sizeof(float));
     p->field = calloc(n, 1);
