@@ -81,12 +81,18 @@ run_one() {
     [ -f "fuzz/$n.dict" ] && set -- "$@" -dict="fuzz/$n.dict"
     "$b/fuzz/fuzz_$n" "$@" "$b/corpus/$n" "$b/seeds/$n" </dev/null >"$b/logs/$n.log" 2>&1 || true
 }
-export b seconds runs rss
 echo "fuzz.sh: running$names ($jobs at a time, at most ${seconds}s${runs:+ and $runs executions} each)" >&2
-pids=""
-for n in $names; do
-    while [ "$(jobs -p | wc -l)" -ge "$jobs" ]; do sleep 1; done
-    run_one "$n" &
+# $jobs lanes, each running every jobs-th harness in turn
+lane=0
+while [ $lane -lt "$jobs" ]; do
+    (
+        k=0
+        for n in $names; do
+            [ $((k % jobs)) -eq $lane ] && run_one "$n"
+            k=$((k + 1))
+        done
+    ) &
+    lane=$((lane + 1))
 done
 wait
 # the summary: one row per harness

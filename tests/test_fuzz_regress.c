@@ -19,17 +19,29 @@
 #include "check.h"
 #include "lanecast/lanecast.h"
 
-/* fuzz/meson.build's harnesses: name, format, layout (0 plain, 1 options, 2 companion) */
+/* fuzz/meson.build's harnesses: name, format, the input file's extension,
+ * layout (0 plain, 1 options, 2 companion) */
 static const struct {
-    const char *name, *format;
+    const char *name, *format, *ext;
     int layout;
 } harness[] = {
-    {"xyz", "xyz", 0},       {"pdb", "pdb", 0},         {"gro", "gro", 0},
-    {"mmcif", "mmcif", 0},   {"csv", "csv", 0},         {"lammps", "lammps", 0},
-    {"gadget", "gadget", 0}, {"dcd_psf", "dcd", 2},     {"raw_particles", "raw-particles", 1},
-    {"nrrd", "nrrd", 0},     {"metaimage", "metaimage", 0}, {"raw_volume", "raw-volume", 1},
-    {"nifti", "nifti", 0},   {"vtk", "vtk", 0},         {"rbf_text", "rbf", 0},
-    {"rbf_binary", "rbf-binary", 0}, {"hdf5", "hdf5", 1},
+    {"xyz", "xyz", ".xyz", 0},
+    {"pdb", "pdb", ".pdb", 0},
+    {"gro", "gro", ".gro", 0},
+    {"mmcif", "mmcif", ".cif", 0},
+    {"csv", "csv", ".csv", 0},
+    {"lammps", "lammps", ".lammpstrj", 0},
+    {"gadget", "gadget", ".gadget", 0},
+    {"dcd_psf", "dcd", ".dcd", 2},
+    {"raw_particles", "raw-particles", ".f32", 1},
+    {"nrrd", "nrrd", ".nrrd", 0},
+    {"metaimage", "metaimage", ".mha", 0},
+    {"raw_volume", "raw-volume", ".raw", 1},
+    {"nifti", "nifti", ".nii", 0},
+    {"vtk", "vtk", ".vtk", 0},
+    {"rbf_text", "rbf", ".rbf", 0},
+    {"rbf_binary", "rbf-binary", ".rbf", 0},
+    {"hdf5", "hdf5", ".h5", 1},
 };
 
 static unsigned char *slurp(const char *path, size_t *n)
@@ -75,7 +87,7 @@ static int run(lc_device *dev, const char *tmp, const char *name, unsigned char 
         return 0;
     }
     char main_path[4200], comp_path[4200], line[256] = "";
-    snprintf(main_path, sizeof main_path, "%s/fuzz-regress-input", tmp);
+    snprintf(main_path, sizeof main_path, "%s/fuzz-regress-input%s", tmp, harness[h].ext);
     snprintf(comp_path, sizeof comp_path, "%s/fuzz-regress-companion", tmp);
     lc_load_desc desc = {.format = harness[h].format};
     lc_option opts[8];
