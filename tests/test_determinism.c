@@ -56,6 +56,9 @@ int main(int argc, char **argv)
                 if (render((lc_target)t, 2, s, k, 32, img) == 0)
                     printf("%s %s %016llx\n", lc_target_name((lc_target)t), s->name[k],
                            (unsigned long long)fnv(img, sizeof(float) * 4 * W * H));
+        scenes3_destroy(s);
+        lc_device_destroy(owner);
+        free(s), free(ref), free(img);
         return 0;
     }
     static const int threads[] = {1, 2, 4}, tiles[] = {8, 13, 32, 64};
