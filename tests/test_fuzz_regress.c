@@ -168,7 +168,8 @@ int main(int argc, char **argv)
         unsigned char *d = slurp(path, &n);
         int ok = d && run(dev, argv[2], e->d_name, d, n, why, sizeof why);
         const char *want = expected(argv[1], e->d_name);
-        if (ok && want && !strstr(why, want)) ok = 0;
+        /* a format compiled out of this build (NIfTI, HDF5) fails with its package's name instead */
+        if (ok && want && !strstr(why, want) && strncmp(why, "unsupported: ", 13)) ok = 0;
         CHECK(ok, "%s (%zu bytes) fails cleanly%s%s%s: %s", e->d_name, n, want ? " with '" : "", want ? want : "",
               want ? "'" : "", d ? why : "unreadable");
         free(d);
