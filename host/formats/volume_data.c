@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <strings.h>
 #include "host/formats/volume_data.h"
 #if LC_HAVE_ZLIB
@@ -289,6 +290,21 @@ lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, 
     uint64_t count = voxel_count(dev, path, h);
     if (!count) return LC_ERROR_FORMAT;
     uint64_t bytes = count * (uint64_t)es;
+    /* the data file must be able to hold the voxels before they are
+       allocated (fuzz_nrrd, fuzz_metaimage: sizes of 2^31 values in a
+       100-byte file allocated 8 GB): a plain file holds them after the
+       offset (-1 = at the end), a gzip one inflates to at most 1032 times
+       its size */
+    struct stat st;
+    if (stat(data_path, &st) == 0 && S_ISREG(st.st_mode)) {
+        long long avail = (long long)st.st_size - (offset > 0 ? offset : 0);
+        if (h->gzip ? (double)bytes > 1032.0 * (double)avail : avail < (long long)bytes)
+            return lci_error(dev, LC_ERROR_FORMAT,
+                             "%s: %s holds %lld bytes%s from byte %lld, but %lld x %lld x %lld voxels need %llu", path,
+                             strcmp(path, data_path) ? data_path : "the file", avail < 0 ? 0 : avail, h->gzip ? " of gzip data" : "",
+                             offset > 0 ? offset : 0, (long long)h->size[0], (long long)h->size[1],
+                             (long long)h->size[2], (unsigned long long)bytes);
+    }
     void *data = malloc(bytes + 64);
     if (!data)
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu bytes of voxels", path,
