@@ -82,7 +82,9 @@ run_one() {
     [ -f "fuzz/$n.dict" ] && set -- "$@" -dict="fuzz/$n.dict"
     "$b/fuzz/fuzz_$n" "$@" "$b/corpus/$n" "$b/seeds/$n" </dev/null >"$b/logs/$n.log" 2>&1 || true
 }
-echo "fuzz.sh: running$names ($jobs at a time, at most ${seconds}s${runs:+ and $runs executions} each)" >&2
+limit="at most ${seconds}s"
+[ "$runs" -gt 0 ] && limit="$limit and $runs executions"
+echo "fuzz.sh: running$names ($jobs at a time, $limit each)" >&2
 # $jobs lanes, each running every jobs-th harness in turn
 lane=0
 while [ $lane -lt "$jobs" ]; do
