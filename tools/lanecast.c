@@ -1,4 +1,5 @@
 /* lanecast: the command-line tool. Subcommands live in cmd_*.c. */
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,8 +36,40 @@ static const char usage[] =
     "\n"
     "exit status: 0 ok, 1 bad input or failed work, 2 bad usage\n";
 
+/* host/api/image.c: unlinks the temporary images being written
+ * (async-signal-safe). */
+void lci_image_remove_temps(void);
+
+/* Crash safety: an interrupted or terminated run leaves no temporary image
+ * (outputs appear only by rename, so none is ever partial); the signal is
+ * then delivered again with its default action, so the exit status still
+ * says which one (130 for SIGINT, 143 for SIGTERM in a shell). */
+static void on_signal(int sig)
+{
+    lci_image_remove_temps();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+/* Signals that were ignored when we started (nohup, background jobs of a
+ * non-interactive shell) stay ignored. */
+static void install_signal_handlers(void)
+{
+    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+        struct sigaction old;
+        if (sigaction(sigs[i], NULL, &old) != 0 || old.sa_handler == SIG_IGN) continue;
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_signal;
+        sigemptyset(&sa.sa_mask);
+        sigaction(sigs[i], &sa, NULL);
+    }
+}
+
 int main(int argc, char **argv)
 {
+    install_signal_handlers();
     if (argc < 2) {
         fputs(usage, stderr);
         return 2;

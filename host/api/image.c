@@ -5,10 +5,12 @@
  * and fsync, then renamed over the target. */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <time.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -34,20 +36,67 @@ static int is_float_format(const char *ext)
     return 0;
 }
 
+/* Crash safety: the temporary files being written, so that a program's
+ * SIGINT/SIGTERM handler can remove them (lci_image_remove_temps). A slot is
+ * claimed atomically, the name is built in the slot itself (mkstemps fills
+ * it in place), and released after the rename or unlink. A signal between
+ * the claim and mkstemps unlinks a name that does not exist yet: harmless. */
+#define TEMP_SLOTS 16
+#define TEMP_NAME 4096
+static char temp_names[TEMP_SLOTS][TEMP_NAME];
+static volatile sig_atomic_t temp_used[TEMP_SLOTS];
+
+static int temp_claim(void)
+{
+    for (int i = 0; i < TEMP_SLOTS; i++) {
+        sig_atomic_t zero = 0;
+        if (__atomic_compare_exchange_n(&temp_used[i], &zero, 1, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) return i;
+    }
+    return -1;
+}
+
+static void temp_release(int slot)
+{
+    if (slot >= 0) __atomic_store_n(&temp_used[slot], 0, __ATOMIC_SEQ_CST);
+}
+
+/* Async-signal-safe (unlink only): removes every temporary image file this
+ * process is writing. For signal handlers (tools/lanecast.c); the process
+ * must not continue writing images afterwards. */
+void lci_image_remove_temps(void);
+void lci_image_remove_temps(void)
+{
+    for (int i = 0; i < TEMP_SLOTS; i++)
+        if (__atomic_load_n(&temp_used[i], __ATOMIC_SEQ_CST)) unlink(temp_names[i]);
+}
+
 /* Creates a private temporary file next to the target with the same
  * extension (so OpenImageIO picks the same format): its name in out, its fd
- * returned, or -1 with errno set. */
-static int temp_file(const char *path, char *out, size_t n)
+ * returned, or -1 with errno set. *slot is its registration (release it with
+ * temp_release once the file is renamed or removed), -1 when all slots are
+ * busy (more than TEMP_SLOTS concurrent writes: not removed on a signal). */
+static int temp_file(const char *path, char *out, size_t n, int *slot)
 {
     const char *ext = extension(path);
     size_t stem = strlen(path) - strlen(ext);
+    *slot = -1;
     int w = snprintf(out, n, "%.*s.lanecast-XXXXXX%s", (int)stem, path, ext);
-    if (w <= 0 || (size_t)w >= n) {
+    if (w <= 0 || (size_t)w >= n || (size_t)w >= TEMP_NAME) {
         errno = ENAMETOOLONG;
         return -1;
     }
-    int fd = mkstemps(out, (int)strlen(ext));
-    if (fd < 0) return -1;
+    *slot = temp_claim();
+    char *name = *slot >= 0 ? temp_names[*slot] : out;
+    if (*slot >= 0) memcpy(name, out, (size_t)w + 1);
+    int fd = mkstemps(name, (int)strlen(ext));
+    if (name != out) memcpy(out, name, (size_t)w + 1);
+    if (fd < 0) {
+        int e = errno;
+        temp_release(*slot);
+        *slot = -1;
+        errno = e;
+        return -1;
+    }
     mode_t um = umask(0);
     umask(um);
     fchmod(fd, 0666 & ~um); /* the permissions an ordinary new file gets */
@@ -60,6 +109,19 @@ static long long write_limit(void)
 {
     const char *e = getenv("LANECAST_TEST_WRITE_LIMIT");
     return e && *e ? atoll(e) : -1;
+}
+
+/* Test hook: LANECAST_TEST_WRITE_DELAY_MS=N holds the temporary file open
+ * for N ms before writing it, so that a test can interrupt the write
+ * (tests/test_cli_signals.sh). */
+static void write_delay(void)
+{
+    const char *e = getenv("LANECAST_TEST_WRITE_DELAY_MS");
+    long ms = e && *e ? atol(e) : 0;
+    if (ms <= 0) return;
+    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
+    while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
+    }
 }
 
 /* Writes all n bytes or fails with errno set. */
@@ -93,11 +155,13 @@ lc_status lc_image_check(lc_device *device, const char *path)
                          "%s: no file extension to choose an image format (.png, .exr, .tif, ...)", path);
     if (!lci_oiio_can_write(path))
         return lci_error(device, LC_ERROR_UNSUPPORTED, "%s: OpenImageIO cannot write '%s' files", path, ext);
-    char tmp[4096];
-    int fd = temp_file(path, tmp, sizeof tmp);
+    char tmp[TEMP_NAME];
+    int slot;
+    int fd = temp_file(path, tmp, sizeof tmp, &slot);
     if (fd < 0) return lci_error(device, LC_ERROR_IO, "%s: cannot write here: %s", path, strerror(errno));
     close(fd);
     unlink(tmp);
+    temp_release(slot);
     return LC_OK;
 }
 
@@ -139,12 +203,14 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
         else
             for (int c = 0; c < ch; c++) ((unsigned char *)buf)[i * (size_t)ch + (size_t)c] = quantise(o[c]);
     }
-    char tmp[4096], err[512] = "";
-    int fd = temp_file(path, tmp, sizeof tmp);
+    char tmp[TEMP_NAME], err[512] = "";
+    int slot;
+    int fd = temp_file(path, tmp, sizeof tmp, &slot);
     if (fd < 0) {
         free(buf);
         return lci_error(device, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
     }
+    write_delay();
     void *bytes = NULL;
     size_t nbytes = 0;
     int r = lci_oiio_encode(tmp, path, d->width, d->height, ch, fl, buf, &bytes, &nbytes, err, sizeof err);
@@ -161,12 +227,15 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
     if (close(fd) != 0 && r == 0) r = -1, snprintf(err, sizeof err, "closing the image failed: %s", strerror(errno));
     if (r != 0) {
         unlink(tmp);
+        temp_release(slot);
         return lci_error(device, LC_ERROR_IO, "%s: %s (nothing written)", path, err);
     }
     if (rename(tmp, path) != 0) {
         int e = errno;
         remove(tmp);
+        temp_release(slot);
         return lci_error(device, LC_ERROR_IO, "%s: cannot rename the finished image into place: %s", path, strerror(e));
     }
+    temp_release(slot);
     return LC_OK;
 }

@@ -152,19 +152,30 @@ static lc_status read_head(lc_device *dev, const char *path, nhead *h)
     /* the voxels must fit in what the file holds: exactly for a plain .nii,
        within deflate's largest ratio (1032:1) for a gzip one */
     struct stat st;
-    if (h->single && stat(path, &st) == 0) {
+    /* a header/image pair too (fuzz_nifti: an Analyze header in a .nii, read
+       by nifti_clib as one file, allocated 525 MB for 380 bytes): the file
+       nifti_clib will read the voxels from */
+    char *img = h->single ? NULL
+                          : nifti_findimgname(path, h->version == 2   ? NIFTI_FTYPE_NIFTI2_2
+                                                    : h->version == 1 ? NIFTI_FTYPE_NIFTI1_2
+                                                                      : NIFTI_FTYPE_ANALYZE);
+    char data[4096];
+    snprintf(data, sizeof data, "%s", img ? img : path);
+    free(img);
+    if (stat(data, &st) == 0) {
+        if (!h->single && !(h->vox_offset >= 0.0)) h->vox_offset = 0.0;
         uint64_t need = voxels * (uint64_t)h->dim[4] * (uint64_t)t->bytes;
-        FILE *f = fopen(path, "rb");
+        FILE *f = fopen(data, "rb");
         unsigned char m[2] = {0, 0};
         int gz = f && fread(m, 1, 2, f) == 2 && m[0] == 0x1f && m[1] == 0x8b;
         if (f) fclose(f);
         if (!gz && (double)st.st_size < h->vox_offset + (double)need)
             return BAD("%s: byte %lld: the file ends before the %llu bytes of voxels that start at vox_offset %g "
-                       "(dims and datatype %s)", path, (long long)st.st_size, (unsigned long long)need, h->vox_offset,
+                       "(dims and datatype %s)", data, (long long)st.st_size, (unsigned long long)need, h->vox_offset,
                        t->name);
         if (gz && (double)need > 1032.0 * (double)st.st_size)
-            return BAD("%s: byte %d: %llu bytes of voxels cannot come from %lld gzip bytes", path, h->off_dim,
-                       (unsigned long long)need, (long long)st.st_size);
+            return BAD("%s: byte %d: %llu bytes of voxels cannot come from %lld gzip bytes in %s", path, h->off_dim,
+                       (unsigned long long)need, (long long)st.st_size, data);
     }
     return LC_OK;
 }

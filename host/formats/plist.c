@@ -81,10 +81,14 @@ typedef struct grid {
     size_t *idx;
 } grid;
 
+/* Clamped before the conversion: a non-finite position (rejected later, when
+ * the particles are created) or an infinite extent gives NaN or inf here,
+ * whose conversion to int is undefined (UBSan, found by fuzz_gadget). */
 static int cell_coord(const grid *g, const float *x, int a)
 {
-    int c = (int)((x[a] - g->lo[a]) * g->inv);
-    return c < 0 ? 0 : c >= g->dim[a] ? g->dim[a] - 1 : c;
+    float f = (x[a] - g->lo[a]) * g->inv;
+    if (!(f >= 0.0f)) return 0;
+    return f >= (float)g->dim[a] ? g->dim[a] - 1 : (int)f;
 }
 
 static void heap_push(float *h, int *n, int k, float d)

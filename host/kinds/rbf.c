@@ -2,6 +2,7 @@
  * the BVH over the supports (the particle builder, radius = R_i), a
  * conservative value range, and the per-frame kernel scene. Render only: no
  * encoder. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -129,7 +130,10 @@ static float pick_eps(const lc_rbf_desc *d)
     if (d->eps > 0.0f) return d->eps;
     float m = 0.0f;
     for (size_t i = 0; i < d->count; i++) m = fmaxf(m, fabsf(d->weights[i]));
-    return m > 0.0f ? 1e-4f * m : 1.0f; /* all weights zero: nothing has support either way */
+    /* all weights zero: nothing has support either way; a subnormal largest
+       weight would make 1e-4 m underflow to 0 and every support infinite
+       (Embree's binning aborted: fuzz_rbf_binary), so eps stays > 0 */
+    return m > 0.0f ? fmaxf(1e-4f * m, FLT_TRUE_MIN) : 1.0f;
 }
 
 /* Eq. 3 in double, so the support and the box agree with a double reference

@@ -9,9 +9,18 @@
  *   message of the last error is kept per device (lc_device_last_error) and
  *   per thread (lc_last_error), and goes to the device's log callback.
  * - The library never aborts or exits on bad input.
- * - Thread safety: one device may be used from one thread at a time; distinct
- *   devices are independent. Scene objects are read-only while rendering and
- *   may be shared by several renders in sequence. */
+ * - Thread safety (docs/DEVELOPERS.md "Threads"): one device may be used
+ *   from one thread at a time; distinct devices are independent. Volumes and
+ *   TFs are only read after creation (except by lc_particles_set_params and
+ *   lc_grid_set_params), so one volume and one TF may be rendered, sampled
+ *   and queried from several threads at once, each thread with its own
+ *   device; lc_render keeps every per-frame state of its own. Creating,
+ *   loading and destroying objects and writing images are safe on distinct
+ *   devices. lc_last_error is per thread. Not allowed: set_params while the
+ *   volume is rendered or sampled, destroying an object in use, one device
+ *   on two threads at once.
+ * - Determinism: a render's bytes depend on the target, the scene and the
+ *   render descriptor, not on the thread count, the tile size or the run. */
 #ifndef LANECAST_H
 #define LANECAST_H
 
