@@ -71,7 +71,11 @@ uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kf
 }
 
 /* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
- * of the group it overlaps (Listing 2, lines 6-8). */
+ * of the group it overlaps (Listing 2, lines 6-8). Exp-free (SPEC.md
+ * "Fields"): along a ray, d^2 = d_perp^2 + u^2 with u = t - tc, and the
+ * Gaussian at consecutive lattice samples follows the ratio recurrence
+ * g(k+1) = g(k) q(k), q(k+1) = q(k) c, c = exp(-dt^2 / r^2) (pgauss_step),
+ * re-anchored by a direct evaluation every PG_ANCHOR samples. */
 static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
                            int32_t i, lc_kstats *st)
 {
@@ -81,6 +85,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     int K = s->buffer_k;
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
+    pgauss_consts gc = pgauss_consts_make(nir, kk, dt);
     for (int v = 0; v < nv; v++) {
         int o = v * LC_W;
         vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
@@ -106,24 +111,32 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         if (ka > kb) continue;
         c->touched[v] = 1;
         uint64_t evals = 0;
-        /* branch-free: [ka, kb] is the union of the lanes' chords, so almost every
-           step has active lanes and a data-dependent branch would mispredict at
-           both ends of every chord */
-        for (int k = ka; k <= kb; k++) {
-            vfloat t = vf_set1((float)k * dt);
-            vfloat px = vf_fma(dx, t, ox), py = vf_fma(dy, t, oy), pz = vf_fma(dz, t, oz);
-            vmask in;
-            vfloat ex, ey, ez;
-            vfloat pd2 = sample_d2(px, py, pz, cx, cy, cz, r2s, m, &in, &ex, &ey, &ez);
-            evals += (uint64_t)vm_popcnt(in);
-            vfloat phi = gaussian(pd2, nir, kk, in);
-            float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
-            vf_store(row, vf_add(vf_load(row), phi));
-            if (comps == 4) {
-                vfloat gp = vf_mul(phi, vf_set1(gscale));
-                vf_store(row + rays, vf_fma(ex, gp, vf_load(row + rays)));
-                vf_store(row + 2 * rays, vf_fma(ey, gp, vf_load(row + 2 * rays)));
-                vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
+        /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
+        vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
+        vfloat rr = vf_set1(r2s);
+        /* branch-free within a run: [ka, kb] is the union of the lanes' chords,
+           so almost every step has active lanes */
+        for (int k0 = ka; k0 <= kb; k0 += PG_ANCHOR) {
+            int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
+            vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
+            vfloat g, q;
+            pgauss_anchor(&gc, d2, u, m, &g, &q);
+            for (int k = k0; k <= k1; k++) {
+                vfloat a = vf_fma(u, u, d2);
+                vmask in = vm_and(m, vf_lt(a, rr));
+                evals += (uint64_t)vm_popcnt(in);
+                vfloat phi = vf_select(in, g, vf_zero());
+                float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
+                vf_store(row, vf_add(vf_load(row), phi));
+                if (comps == 4) {
+                    vfloat gp = vf_mul(phi, vf_set1(gscale));
+                    vfloat ex = vf_fms(u, dx, qx), ey = vf_fms(u, dy, qy), ez = vf_fms(u, dz, qz);
+                    vf_store(row + rays, vf_fma(ex, gp, vf_load(row + rays)));
+                    vf_store(row + 2 * rays, vf_fma(ey, gp, vf_load(row + 2 * rays)));
+                    vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
+                }
+                pgauss_step(&gc, &g, &q);
+                u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
             }
         }
         st->kernel_evals += evals;
