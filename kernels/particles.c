@@ -46,7 +46,7 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
                     vfloat px = vf_fma(r.dx, tk, r.ox), py = vf_fma(r.dy, tk, r.oy), pz = vf_fma(r.dz, tk, r.oz);
                     vfloat phi[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
                     /* gather: every particle whose support contains a sample */
-                    int found = gather_fields(s, px, py, pz, m, shade, stack, phi, gx, gy, gz, st);
+                    int found = gather_fields(s, px, py, pz, m, shade, mode == LC_KMODE_DVR, stack, phi, gx, gy, gz, st);
                     if (!found && f->zero_transparent) continue; /* blends to exactly nothing */
                     st->samples += (uint64_t)vm_popcnt(m);
                     for (int fi = 0; fi < nf; fi++) {
@@ -94,7 +94,7 @@ static void particles_sample(const void *scene, const float *xyz, int64_t n, flo
         vfloat px = vf_load(tx), py = vf_load(ty), pz = vf_load(tz);
         vmask m = vm_first_n(cnt);
         vfloat acc[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
-        gather_fields(s, px, py, pz, m, 1, stack, acc, gx, gy, gz, NULL);
+        gather_fields(s, px, py, pz, m, 1, 0, stack, acc, gx, gy, gz, NULL);
         for (int fi = 0; fi < nf; fi++) {
             for (int l = 0; l < cnt; l++) {
                 int64_t o = (base + l) * nf + fi;

@@ -158,7 +158,7 @@ static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscr
         st->nodes++;
         /* the mode's test on the node's own contribution (dvr: always) */
         float vb = s->kappa * s->node_ksum[n];
-        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, 0, -INFINITY};
+        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, n), -INFINITY};
         if (!mode_node_matters(f, &mn)) continue;
         int hit = 0;
         for (int v = 0; v < nv && !hit; v++) {

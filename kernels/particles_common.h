@@ -79,11 +79,27 @@ static inline void pgauss_step(const pgauss_consts *gc, vfloat *g, vfloat *q)
  * test never drops a sample that lies within the truncation radius. */
 static inline float grow(float sigma_r) { return sigma_r * 1.0001f + 1e-6f; }
 
+/* Transparent-space skipping (issue 8): can no particle below node n change
+ * a dvr sample? Every field present below it is bounded by |kappa| times its
+ * node bound (host/kinds/particles.c field_bounds) at every sample the
+ * node's particles reach, and this frame's TF is fully transparent up to
+ * that value (clear_below; -inf outside dvr). Samples there are transparent
+ * whatever else is added to them, so skipping the node changes no pixel. */
+static inline int node_clear(const lc_kparticles *s, int32_t n)
+{
+    if (!s->node_fbound) return 0;
+    const float *b = s->node_fbound + (size_t)n * (size_t)s->nfields;
+    float ak = fabsf(s->kappa);
+    for (int f = 0; f < s->nfields; f++)
+        if (b[f] > 0.0f && !(ak * b[f] <= s->clear_below[f])) return 0;
+    return 1;
+}
+
 /* Every field (and, with grad, its gradient) at the points p of the lanes in m,
  * through the BVH: the direct method's per-sample gather. Returns whether any
  * particle contributed. */
 static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
-                                int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
+                                int skip, int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
 {
     for (int fi = 0; fi < s->nfields; fi++) phi[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
     if (s->nnodes == 0) return 0;
@@ -95,6 +111,7 @@ static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vf
         const lc_kpnode *node = &s->nodes[n];
         float g = grow(s->sigma * s->node_rmax[n]);
         nodes++;
+        if (skip && node_clear(s, n)) continue; /* dvr samples only: transparent whatever it adds */
         vmask in = vm_and(m, vm_and(vm_and(vf_ge(px, vf_set1(node->lo[0] - g)), vf_le(px, vf_set1(node->hi[0] + g))),
                                     vm_and(vm_and(vf_ge(py, vf_set1(node->lo[1] - g)), vf_le(py, vf_set1(node->hi[1] + g))),
                                            vm_and(vf_ge(pz, vf_set1(node->lo[2] - g)), vf_le(pz, vf_set1(node->hi[2] + g))))));
@@ -140,7 +157,7 @@ static inline vfloat particles_probe(const void *ctx, int fi, vfloat x, vfloat y
 {
     const pprobe *p = ctx;
     vfloat phi[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
-    gather_fields(p->s, x, y, z, m, g != NULL, p->stack, phi, gx, gy, gz, p->st);
+    gather_fields(p->s, x, y, z, m, g != NULL, 0, p->stack, phi, gx, gy, gz, p->st);
     if (g) g->x = gx[fi], g->y = gy[fi], g->z = gz[fi];
     return phi[fi];
 }
