@@ -124,6 +124,16 @@ static lc_status procedural(lc_device *dev, size_t n, int dense, lc_volume **out
     return st;
 }
 
+/* CPU seconds of the whole process (every thread), user + system: steadier
+ * than wall time on a shared machine. */
+static double cpu_now(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
+           1e-6 * (double)ru.ru_stime.tv_usec;
+}
+
 static long rss_mb(void)
 {
     struct rusage ru;
@@ -206,15 +216,17 @@ static void run_set(const cfg *c, const char *set)
                         if (!strncmp(set, "dense", 5)) d.range[0] = 0.0f, d.range[1] = 32.0f;
                         lc_render_stats st;
                         for (int w = 0; w < c->warmup; w++) lc_render(dev, &d, rgba, &st);
-                        double times[64];
+                        double times[64], cpus[64];
                         int reps = 0;
                         double start = now();
                         uint64_t evals = 0, samples = 0;
                         while (reps < c->repeats && reps < 64) {
+                            double c0 = cpu_now();
                             if (lc_render(dev, &d, rgba, &st) != LC_OK) {
                                 fprintf(stderr, "bench_particles: %s\n", lc_last_error());
                                 break;
                             }
+                            cpus[reps] = cpu_now() - c0;
                             times[reps++] = st.seconds;
                             evals = st.kernel_evals, samples = st.samples;
                             if (now() - start > c->min_seconds) break;
@@ -222,12 +234,15 @@ static void run_set(const cfg *c, const char *set)
                         if (!reps) continue;
                         long rss_now = rss_now_mb();
                         qsort(times, (size_t)reps, sizeof times[0], cmpd);
+                        qsort(cpus, (size_t)reps, sizeof cpus[0], cmpd);
+                        double cmed = reps % 2 ? cpus[reps / 2] : 0.5 * (cpus[reps / 2 - 1] + cpus[reps / 2]);
                         double med = reps % 2 ? times[reps / 2] : 0.5 * (times[reps / 2 - 1] + times[reps / 2]);
                         printf("particles set=%s n=%zu view=%s target=%s lanes=%d threads=%d method=%s packet=%d "
-                               "size=%dx%d reps=%d median_s=%.5f min_s=%.5f max_s=%.5f fps=%.3f gauss_per_s=%.4g "
+                               "size=%dx%d reps=%d median_s=%.5f min_s=%.5f max_s=%.5f cpu_median_s=%.5f cpu_min_s=%.5f "
+                               "cpu_max_s=%.5f fps=%.3f gauss_per_s=%.4g "
                                "samples=%llu build_s=%.3f bvh_mb=%.2f data_mb=%.2f rss_now_mb=%ld rss_peak_mb=%ld\n",
                                set, pi.count, view, tn, lc_target_lanes((lc_target)t), th, mn, pk, c->width,
-                               c->height, reps, med, times[0], times[reps - 1], 1.0 / med, (double)evals / med,
+                               c->height, reps, med, times[0], times[reps - 1], cmed, cpus[0], cpus[reps - 1], 1.0 / med, (double)evals / med,
                                (unsigned long long)samples, pi.build_seconds, (double)pi.bvh_bytes / 1e6,
                                (double)pi.data_bytes / 1e6, rss_now, rss_mb());
                         fflush(stdout);

@@ -52,6 +52,9 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
                     for (int fi = 0; fi < nf; fi++) {
                         /* tau(0) = 0 and this field is 0 on every lane: it blends to exactly nothing */
                         if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi[fi], vf_zero())))) continue;
+                        /* dvr: every lane fully transparent in this TF: exactly nothing */
+                        if (mode == LC_KMODE_DVR && vm_none(vm_and(m, vf_gt(phi[fi], vf_set1(s->clear_below[fi])))))
+                            continue;
                         vgrad gr = {gx[fi], gy[fi], gz[fi]};
                         mode_sample_as(f, mode, fi, &col, m, phi[fi], shade ? &gr : NULL, &r, NULL, vi_set1(k), tk,
                                        &probe);
