@@ -74,7 +74,7 @@ lc_status lc_particles_get_info(const lc_volume *v, lc_particles_info *out)
  * |Phi_f| / |kappa| over the samples the node's particles reach, so a dvr
  * traversal may skip the node when |kappa| * bound lies where the field's TF
  * has zero extinction (prepare, clear_below). A coarse grid of cells (side
- * at least the largest support diameter, at most 64 per axis) sums, over
+ * at least the largest support radius, at most 128 per axis) sums, over
  * every particle whose support box overlaps a cell, |k_i| times its
  * Gaussian's largest value in the cell (padded against round-off); a leaf takes the largest
  * cell sum over the cells its grown box overlaps, an inner node the larger of
@@ -93,7 +93,8 @@ static void field_bounds(particles *p)
     lc_box3 b = p->info.bounds;
     float lo[3] = {b.lo.x - R, b.lo.y - R, b.lo.z - R}, ext[3] = {b.hi.x - b.lo.x + 2 * R, b.hi.y - b.lo.y + 2 * R,
                                                                    b.hi.z - b.lo.z + 2 * R};
-    float h = fmaxf(2.0f * R, fmaxf(ext[0], fmaxf(ext[1], ext[2])) / 64.0f);
+    /* cells of side >= R: a support spans at most 3 per axis (4 with round-off) */
+    float h = fmaxf(R * 1.01f, fmaxf(ext[0], fmaxf(ext[1], ext[2])) / 128.0f);
     if (!(h > 0.0f) || !isfinite(h)) return;
     int dim[3];
     for (int a = 0; a < 3; a++) dim[a] = (int)(ext[a] / h) + 1;
@@ -114,27 +115,25 @@ static void field_bounds(particles *p)
         CELL_RANGE(p->px[j], rs, 0, x0, x1)
         CELL_RANGE(p->py[j], rs, 1, y0, y1)
         CELL_RANGE(p->pz[j], rs, 2, z0, z1)
-        /* the Gaussian's largest value over the cell: at the cell point nearest the centre */
-        float pc[3] = {p->px[j], p->py[j], p->pz[j]}, e[3][3] = {{0}};
+        /* the Gaussian's largest value over a cell, at the cell point nearest the
+           centre: a product of one factor per axis */
+        float pc[3] = {p->px[j], p->py[j], p->pz[j]}, e[3][4] = {{0}};
         int i0[3] = {x0, y0, z0}, i1[3] = {x1, y1, z1};
+        double nir2 = 1.0 / (2.0 * (double)p->r[j] * (double)p->r[j]);
         for (int a = 0; a < 3; a++)
-            for (int q = 0; q < 3; q++) {
+            for (int q = 0; q < 4 && i0[a] + q <= i1[a]; q++) {
                 float clo = lo[a] + (float)(i0[a] + q) * h, chi = clo + h, dd = 0.0f;
-                if (i0[a] + q > i1[a]) break;
                 if (pc[a] < clo) dd = clo - pc[a];
                 else if (pc[a] > chi) dd = pc[a] - chi;
-                dd = fmaxf(0.0f, dd - 1e-3f * h); /* round-off: never more than the true maximum */
-                e[a][q] = dd * dd;
+                dd = fmaxf(0.0f, dd - 1e-3f * h); /* round-off: never below the true maximum */
+                e[a][q] = (float)exp(-(double)dd * (double)dd * nir2) * 1.0001f;
             }
-        double nir2 = 1.0 / (2.0 * (double)p->r[j] * (double)p->r[j]);
         for (int z = z0; z <= z1; z++)
-            for (int y = y0; y <= y1; y++)
-                for (int x = x0; x <= x1; x++) {
-                    float d2 = e[0][x - x0] + e[1][y - y0] + e[2][z - z0];
-                    float v = ak * (float)exp(-(double)d2 * nir2) * 1.0001f;
-                    g[(((size_t)z * (size_t)dim[1] + (size_t)y) * (size_t)dim[0] + (size_t)x) * (size_t)nf +
-                      p->field[j]] += v;
-                }
+            for (int y = y0; y <= y1; y++) {
+                float eyz = ak * e[1][y - y0] * e[2][z - z0];
+                float *row = g + (((size_t)z * (size_t)dim[1] + (size_t)y) * (size_t)dim[0]) * (size_t)nf + p->field[j];
+                for (int x = x0; x <= x1; x++) row[(size_t)x * (size_t)nf] += eyz * e[0][x - x0];
+            }
     }
     /* children follow their parent in the flat array: one backward sweep */
     for (int32_t n = nn - 1; n >= 0; n--) {
