@@ -90,20 +90,12 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
 static inline float grow(float sigma_r) { return sigma_r * 1.0001f + 1e-6f; }
 
 /* Transparent-space skipping (issue 8): can no particle below node n change
- * a dvr sample? Every field present below it is bounded by |kappa| times its
- * node bound (host/kinds/particles.c field_bounds) at every sample the
- * node's particles reach, and this frame's TF is fully transparent up to
- * that value (clear_below; -inf outside dvr). Samples there are transparent
- * whatever else is added to them, so skipping the node changes no pixel. */
-static inline int node_clear(const lc_kparticles *s, int32_t n)
-{
-    if (!s->node_fbound) return 0;
-    const float *b = s->node_fbound + (size_t)n * (size_t)s->nfields;
-    float ak = fabsf(s->kappa);
-    for (int f = 0; f < s->nfields; f++)
-        if (b[f] > 0.0f && !(ak * b[f] <= s->clear_below[f])) return 0;
-    return 1;
-}
+ * a dvr sample? The host marks such nodes per frame (host/kinds/particles.c
+ * clear_nodes): every field present below the node is bounded by |kappa|
+ * times its node bound at every sample the node's particles reach, and the
+ * frame's TF is fully transparent up to that value. Samples there are
+ * transparent whatever else is added to them, so skipping changes no pixel. */
+static inline int node_clear(const lc_kparticles *s, int32_t n) { return s->node_clear && s->node_clear[n]; }
 
 /* Every field (and, with grad, its gradient) at the points p of the lanes in m,
  * through the BVH: the direct method's per-sample gather. Returns whether any

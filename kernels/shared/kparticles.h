@@ -23,8 +23,8 @@ typedef struct lc_kparticles {
     const float *node_rmax; /* per node: largest radius below it */
     const float *node_ksum; /* per node: sum of |k_i| below it, so |kappa| * node_ksum bounds the
                                node's own contribution to any field (others add to it) */
-    const float *node_fbound; /* per node and field ([n * nfields + f]): a bound of |Phi_f| / |kappa| at
-                                 every sample the node's particles reach; NULL = none */
+    const uint8_t *node_clear; /* dvr, this frame: 1 where no particle below the node can change a
+                                  sample (host/kinds/particles.c clear_nodes); NULL = none */
     const float *px, *py, *pz;
     const float *r;
     const float *neg_inv_2r2; /* -1 / (2 r^2) */
