@@ -119,14 +119,14 @@ static void field_bounds(particles *p)
            centre: a product of one factor per axis */
         float pc[3] = {p->px[j], p->py[j], p->pz[j]}, e[3][4] = {{0}};
         int i0[3] = {x0, y0, z0}, i1[3] = {x1, y1, z1};
-        double nir2 = 1.0 / (2.0 * (double)p->r[j] * (double)p->r[j]);
+        float nir2 = 1.0f / (2.0f * p->r[j] * p->r[j]);
         for (int a = 0; a < 3; a++)
             for (int q = 0; q < 4 && i0[a] + q <= i1[a]; q++) {
                 float clo = lo[a] + (float)(i0[a] + q) * h, chi = clo + h, dd = 0.0f;
                 if (pc[a] < clo) dd = clo - pc[a];
                 else if (pc[a] > chi) dd = pc[a] - chi;
                 dd = fmaxf(0.0f, dd - 1e-3f * h); /* round-off: never below the true maximum */
-                e[a][q] = (float)exp(-(double)dd * (double)dd * nir2) * 1.0001f;
+                e[a][q] = expf(-dd * dd * nir2) * 1.0001f; /* 1e-4 covers expf's and the argument's round-off */
             }
         for (int z = z0; z <= z1; z++)
             for (int y = y0; y <= y1; y++) {
