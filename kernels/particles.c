@@ -46,12 +46,15 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
                     vfloat px = vf_fma(r.dx, tk, r.ox), py = vf_fma(r.dy, tk, r.oy), pz = vf_fma(r.dz, tk, r.oz);
                     vfloat phi[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
                     /* gather: every particle whose support contains a sample */
-                    int found = gather_fields(s, px, py, pz, m, shade, stack, phi, gx, gy, gz, st);
+                    int found = gather_fields(s, px, py, pz, m, shade, mode == LC_KMODE_DVR, stack, phi, gx, gy, gz, st);
                     if (!found && f->zero_transparent) continue; /* blends to exactly nothing */
                     st->samples += (uint64_t)vm_popcnt(m);
                     for (int fi = 0; fi < nf; fi++) {
                         /* tau(0) = 0 and this field is 0 on every lane: it blends to exactly nothing */
                         if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi[fi], vf_zero())))) continue;
+                        /* dvr: every lane fully transparent in this TF: exactly nothing */
+                        if (mode == LC_KMODE_DVR && vm_none(vm_and(m, vf_gt(phi[fi], vf_set1(s->clear_below[fi])))))
+                            continue;
                         vgrad gr = {gx[fi], gy[fi], gz[fi]};
                         mode_sample_as(f, mode, fi, &col, m, phi[fi], shade ? &gr : NULL, &r, NULL, vi_set1(k), tk,
                                        &probe);
@@ -94,7 +97,7 @@ static void particles_sample(const void *scene, const float *xyz, int64_t n, flo
         vfloat px = vf_load(tx), py = vf_load(ty), pz = vf_load(tz);
         vmask m = vm_first_n(cnt);
         vfloat acc[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
-        gather_fields(s, px, py, pz, m, 1, stack, acc, gx, gy, gz, NULL);
+        gather_fields(s, px, py, pz, m, 1, 0, stack, acc, gx, gy, gz, NULL);
         for (int fi = 0; fi < nf; fi++) {
             for (int l = 0; l < cnt; l++) {
                 int64_t o = (base + l) * nf + fi;

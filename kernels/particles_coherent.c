@@ -71,9 +71,13 @@ uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kf
 }
 
 /* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
- * of the group it overlaps (Listing 2, lines 6-8). */
+ * of the group it overlaps (Listing 2, lines 6-8). Exp-free (SPEC.md
+ * "Fields"): along a ray, d^2 = d_perp^2 + u^2 with u = t - tc, and the
+ * Gaussian at consecutive lattice samples follows the ratio recurrence
+ * g(k+1) = g(k) q(k), q(k+1) = q(k) c, c = exp(-dt^2 / r^2) (pgauss_step),
+ * re-anchored by a direct evaluation every PG_ANCHOR samples. */
 static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
-                           int32_t i, lc_kstats *st)
+                           int32_t i, float cstep, lc_kstats *st)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
@@ -81,6 +85,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     int K = s->buffer_k;
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
+    pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     for (int v = 0; v < nv; v++) {
         int o = v * LC_W;
         vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
@@ -106,28 +111,63 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         if (ka > kb) continue;
         c->touched[v] = 1;
         uint64_t evals = 0;
-        /* branch-free: [ka, kb] is the union of the lanes' chords, so almost every
-           step has active lanes and a data-dependent branch would mispredict at
-           both ends of every chord */
-        for (int k = ka; k <= kb; k++) {
-            vfloat t = vf_set1((float)k * dt);
-            vfloat px = vf_fma(dx, t, ox), py = vf_fma(dy, t, oy), pz = vf_fma(dz, t, oz);
-            vmask in;
-            vfloat ex, ey, ez;
-            vfloat pd2 = sample_d2(px, py, pz, cx, cy, cz, r2s, m, &in, &ex, &ey, &ez);
-            evals += (uint64_t)vm_popcnt(in);
-            vfloat phi = gaussian(pd2, nir, kk, in);
-            float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
-            vf_store(row, vf_add(vf_load(row), phi));
-            if (comps == 4) {
-                vfloat gp = vf_mul(phi, vf_set1(gscale));
-                vf_store(row + rays, vf_fma(ex, gp, vf_load(row + rays)));
-                vf_store(row + 2 * rays, vf_fma(ey, gp, vf_load(row + 2 * rays)));
-                vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
+        /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
+        vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
+        vfloat rr = vf_set1(r2s);
+        /* branch-free within a run: [ka, kb] is the union of the lanes' chords,
+           so almost every step has active lanes */
+        /* anchors on the lattice indices that are multiples of PG_ANCHOR, not
+           at ka: ka depends on which rays share the vector and on the pass,
+           and the image must not depend on tiles, packets or threads */
+        const int kal = ka - ((ka % PG_ANCHOR) + PG_ANCHOR) % PG_ANCHOR;
+        for (int k0 = kal; k0 <= kb; k0 += PG_ANCHOR) {
+            int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
+            vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
+            vfloat g, q;
+            pgauss_anchor(&gc, d2, u, m, &g, &q);
+            for (int k = k0; k <= k1; k++) {
+                if (k < ka) { /* before this pass or chord: stepped, not stored */
+                    pgauss_step(&gc, &g, &q);
+                    u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
+                    continue;
+                }
+                vfloat a = vf_fma(u, u, d2);
+                vmask in = vm_and(m, vf_lt(a, rr));
+                evals += (uint64_t)vm_popcnt(in);
+                vfloat phi = vf_select(in, g, vf_zero());
+                float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
+                vf_store(row, vf_add(vf_load(row), phi));
+                if (comps == 4) {
+                    vfloat gp = vf_mul(phi, vf_set1(gscale));
+                    vfloat ex = vf_fms(u, dx, qx), ey = vf_fms(u, dy, qy), ez = vf_fms(u, dz, qz);
+                    vf_store(row + rays, vf_fma(ex, gp, vf_load(row + rays)));
+                    vf_store(row + 2 * rays, vf_fma(ey, gp, vf_load(row + 2 * rays)));
+                    vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
+                }
+                pgauss_step(&gc, &g, &q);
+                u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
             }
         }
         st->kernel_evals += evals;
     }
+}
+
+int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float kk, float dt, int ka, int kb,
+                            int period, float *out)
+{
+    period = period > 0 ? period : PG_ANCHOR;
+    pgauss_consts gc = pgauss_consts_make(nir, kk, dt, pgauss_c(nir, dt));
+    vfloat vd2 = vf_load(d2), vtc = vf_load(tc);
+    for (int k0 = ka; k0 <= kb; k0 += period) {
+        int k1 = k0 + period - 1 < kb ? k0 + period - 1 : kb;
+        vfloat g, q;
+        pgauss_anchor(&gc, vd2, vf_sub(vf_set1((float)k0 * dt), vtc), vm_first_n(LC_W), &g, &q);
+        for (int k = k0; k <= k1; k++) {
+            vf_store(out + (size_t)(k - ka) * LC_W, g);
+            pgauss_step(&gc, &g, &q);
+        }
+    }
+    return period;
 }
 
 /* Listing 2, lines 3-10: coherent traversal filling the buffer for samples
@@ -137,6 +177,7 @@ static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscr
 {
     int32_t *stack = c->stack;
     int sp = 0;
+    float cnir = 1.0f, cstep = 0.0f; /* nir < 0: the first particle computes c */
     stack[sp++] = 0;
     while (sp > 0) {
         int32_t n = stack[--sp];
@@ -145,7 +186,7 @@ static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscr
         st->nodes++;
         /* the mode's test on the node's own contribution (dvr: always) */
         float vb = s->kappa * s->node_ksum[n];
-        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, 0, -INFINITY};
+        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, n), -INFINITY};
         if (!mode_node_matters(f, &mn)) continue;
         int hit = 0;
         for (int v = 0; v < nv && !hit; v++) {
@@ -163,14 +204,19 @@ static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscr
             continue;
         }
         st->leaves++;
-        for (int32_t i = node->first; i < node->first + node->count; i++) deposit(s, c, nv, kp, kend, dt, comps, i, st);
+        for (int32_t i = node->first; i < node->first + node->count; i++) {
+            /* c = exp(-dt^2 / r^2) once per radius: neighbours mostly share it */
+            if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+            deposit(s, c, nv, kp, kend, dt, comps, i, cstep, st);
+        }
     }
 }
 
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
  * group, front to back through the mode (a constant, so each mode gets its
  * own loop). */
-static inline __attribute__((always_inline)) void integrate_buffer(const lc_kframe *f, int mode, const cscratch *c,
+static inline __attribute__((always_inline)) void integrate_buffer(const lc_kparticles *s, const lc_kframe *f,
+                                                                   int mode, const cscratch *c,
                                                                    int nv, int K, int nf, int kp, int kend, int comps,
                                                                    const mprobe *probe, lc_kstats *st)
 {
@@ -196,6 +242,8 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kfra
                                              (size_t)rays + (size_t)o;
                 vfloat phi = vf_load(p);
                 if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
+                /* dvr: every lane fully transparent in this TF blends to exactly nothing */
+                if (mode == LC_KMODE_DVR && vm_none(vm_and(m, vf_gt(phi, vf_set1(s->clear_below[fi]))))) continue;
                 vgrad gr;
                 if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
                 mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL, vi_set1(k),
@@ -312,7 +360,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                 for (int v = 0; v < nv; v++) c.touched[v] = 0;
                 traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);
                 /* Listing 2, lines 11-13: integrate the buffer front to back */
-                integrate_buffer(f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
+                integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
             }
             finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }

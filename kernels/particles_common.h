@@ -39,15 +39,69 @@ static inline vfloat perp2(vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat
     return vf_fma(qx, qx, vf_fma(qy, qy, vf_mul(qz, qz)));
 }
 
+/* The Gaussian along a ray without exp per sample (SPEC.md "Fields"): with
+ * u = t - tc and d2 = d_perp^2, g(u) = kk exp(nir (d2 + u^2)) steps by
+ * g(u + dt) = g(u) q(u), q(u + dt) = q(u) c, c = exp(2 nir dt^2). Each run
+ * of PG_ANCHOR samples starts from a direct evaluation of g and q (two exps)
+ * and c is rounded once from double, so a term drifts by at most ~PG_ANCHOR
+ * roundings of q and PG_ANCHOR^2 / 2 of c: measured up to 5.2e-6 relative
+ * (tests/test_particles_recurrence.c checks 1e-5 on every target). */
+#define PG_ANCHOR 8
+
+typedef struct pgauss_consts {
+    float nir, kk, nirdt, dt;
+    vfloat c;
+} pgauss_consts;
+
+/* c = exp(2 nir dt^2), rounded once from double. */
+static inline float pgauss_c(float nir, float dt) { return (float)exp(2.0 * (double)nir * (double)dt * (double)dt); }
+
+static inline pgauss_consts pgauss_consts_make(float nir, float kk, float dt, float c)
+{
+    pgauss_consts gc;
+    gc.nir = nir, gc.kk = kk, gc.nirdt = nir * dt, gc.dt = dt;
+    gc.c = vf_set1(c);
+    return gc;
+}
+
+/* g and q at offset u from the centre's foot tc (lanes outside m: g = 0). */
+static inline void pgauss_anchor(const pgauss_consts *gc, vfloat d2, vfloat u, vmask m, vfloat *g, vfloat *q)
+{
+    vfloat a = vf_fma(u, u, d2);
+    *g = vf_select(m, vf_mul(vf_set1(gc->kk), vf_exp(vf_mul(a, vf_set1(gc->nir)))), vf_zero());
+    *q = vf_exp(vf_mul(vf_set1(gc->nirdt), vf_fma(u, vf_set1(2.0f), vf_set1(gc->dt))));
+}
+
+static inline void pgauss_step(const pgauss_consts *gc, vfloat *g, vfloat *q)
+{
+    *g = vf_mul(*g, *q);
+    *q = vf_mul(*q, gc->c);
+}
+
+/* Test hook (tests/test_particles_recurrence.c): the Gaussian at lattice
+ * samples ka..kb of LC_W rays (perpendicular distances d2[l], centre feet
+ * tc[l]), stepped as deposit steps it with a direct anchor every `period`
+ * samples (0: PG_ANCHOR), into out[(k - ka) * LC_W + l]. Returns the period. */
+int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float kk, float dt, int ka, int kb,
+                            int period, float *out);
+
 /* Boxes grow a little more than sigma * rmax so float round-off in the slab
  * test never drops a sample that lies within the truncation radius. */
 static inline float grow(float sigma_r) { return sigma_r * 1.0001f + 1e-6f; }
+
+/* Transparent-space skipping (issue 8): can no particle below node n change
+ * a dvr sample? The host marks such nodes per frame (host/kinds/particles.c
+ * clear_nodes): every field present below the node is bounded by |kappa|
+ * times its node bound at every sample the node's particles reach, and the
+ * frame's TF is fully transparent up to that value. Samples there are
+ * transparent whatever else is added to them, so skipping changes no pixel. */
+static inline int node_clear(const lc_kparticles *s, int32_t n) { return s->node_clear && s->node_clear[n]; }
 
 /* Every field (and, with grad, its gradient) at the points p of the lanes in m,
  * through the BVH: the direct method's per-sample gather. Returns whether any
  * particle contributed. */
 static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
-                                int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
+                                int skip, int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
 {
     for (int fi = 0; fi < s->nfields; fi++) phi[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
     if (s->nnodes == 0) return 0;
@@ -59,6 +113,7 @@ static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vf
         const lc_kpnode *node = &s->nodes[n];
         float g = grow(s->sigma * s->node_rmax[n]);
         nodes++;
+        if (skip && node_clear(s, n)) continue; /* dvr samples only: transparent whatever it adds */
         vmask in = vm_and(m, vm_and(vm_and(vf_ge(px, vf_set1(node->lo[0] - g)), vf_le(px, vf_set1(node->hi[0] + g))),
                                     vm_and(vm_and(vf_ge(py, vf_set1(node->lo[1] - g)), vf_le(py, vf_set1(node->hi[1] + g))),
                                            vm_and(vf_ge(pz, vf_set1(node->lo[2] - g)), vf_le(pz, vf_set1(node->hi[2] + g))))));
@@ -104,7 +159,7 @@ static inline vfloat particles_probe(const void *ctx, int fi, vfloat x, vfloat y
 {
     const pprobe *p = ctx;
     vfloat phi[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
-    gather_fields(p->s, x, y, z, m, g != NULL, p->stack, phi, gx, gy, gz, p->st);
+    gather_fields(p->s, x, y, z, m, g != NULL, 0, p->stack, phi, gx, gy, gz, p->st);
     if (g) g->x = gx[fi], g->y = gy[fi], g->z = gz[fi];
     return phi[fi];
 }

@@ -12,9 +12,17 @@ typedef struct particles {
     lc_particles_info info;
     lci_pbvh bvh;
     float *node_ksum; /* per node: sum of |k_i| below it */
+    float *node_fbound; /* per node and field: field bound (field_bounds); NULL = none */
+    float fbound_sigma; /* the sigma node_fbound was computed for */
     float *px, *py, *pz, *r, *nir, *k; /* leaf order */
     uint8_t *field;
 } particles;
+
+/* A support radius grown so float round-off never leaves out a cell a sample
+ * the kernels count as inside (they test d^2 < (sigma r)^2). */
+static float grow_support(float rs) { return rs * 1.001f + 1e-6f; }
+
+static void field_bounds(particles *p);
 
 static void destroy(lc_volume *v)
 {
@@ -22,6 +30,7 @@ static void destroy(lc_volume *v)
     if (!p) return;
     lci_pbvh_free(&p->bvh);
     free(p->node_ksum);
+    free(p->node_fbound);
     free(p->px);
     free(p->py);
     free(p->pz);
@@ -61,11 +70,111 @@ lc_status lc_particles_get_info(const lc_volume *v, lc_particles_info *out)
     return LC_OK;
 }
 
+/* Transparent-space skipping (issue 8): for every node and field a bound of
+ * |Phi_f| / |kappa| over the samples the node's particles reach, so a dvr
+ * traversal may skip the node when |kappa| * bound lies where the field's TF
+ * has zero extinction (prepare, clear_below). A coarse grid of cells (side
+ * at least the largest support radius, at most 128 per axis) sums, over
+ * every particle whose support box overlaps a cell, |k_i| times its
+ * Gaussian's largest value in the cell (padded against round-off); a leaf takes the largest
+ * cell sum over the cells its grown box overlaps, an inner node the larger of
+ * its children (its particles reach only their own leaves' grown boxes). It
+ * depends on sigma, not on kappa: recomputed when sigma changes, not rebuilt.
+ * Zero for fields a node holds no particle of. Out of memory: NULL, no
+ * skipping. */
+static void field_bounds(particles *p)
+{
+    free(p->node_fbound);
+    p->node_fbound = NULL;
+    p->fbound_sigma = p->info.params.sigma;
+    int nn = p->bvh.nnodes, nf = p->info.nfields;
+    if (nn <= 0) return;
+    float sig = p->info.params.sigma, R = sig * p->info.max_radius;
+    lc_box3 b = p->info.bounds;
+    float lo[3] = {b.lo.x - R, b.lo.y - R, b.lo.z - R}, ext[3] = {b.hi.x - b.lo.x + 2 * R, b.hi.y - b.lo.y + 2 * R,
+                                                                   b.hi.z - b.lo.z + 2 * R};
+    /* cells of side >= R: a support spans at most 3 per axis (4 with round-off) */
+    float h = fmaxf(R * 1.01f, fmaxf(ext[0], fmaxf(ext[1], ext[2])) / 128.0f);
+    if (!(h > 0.0f) || !isfinite(h)) return;
+    int dim[3];
+    for (int a = 0; a < 3; a++) dim[a] = (int)(ext[a] / h) + 1;
+    size_t cells = (size_t)dim[0] * (size_t)dim[1] * (size_t)dim[2];
+    float *g = calloc(cells * (size_t)nf, sizeof *g);
+    float *nb = calloc((size_t)nn * (size_t)nf, sizeof *nb);
+    if (!g || !nb) {
+        free(g), free(nb);
+        return;
+    }
+    const float inv = 1.0f / h;
+#define CELL_RANGE(c, r, a, i0, i1)                                                                                    \
+    int i0 = (int)floorf(((c) - (r) - lo[a]) * inv), i1 = (int)floorf(((c) + (r) - lo[a]) * inv);                      \
+    i0 = i0 < 0 ? 0 : i0 >= dim[a] ? dim[a] - 1 : i0;                                                                  \
+    i1 = i1 < 0 ? 0 : i1 >= dim[a] ? dim[a] - 1 : i1;
+    for (size_t j = 0; j < p->info.count; j++) {
+        float rs = grow_support(sig * p->r[j]), ak = fabsf(p->k[j]);
+        CELL_RANGE(p->px[j], rs, 0, x0, x1)
+        CELL_RANGE(p->py[j], rs, 1, y0, y1)
+        CELL_RANGE(p->pz[j], rs, 2, z0, z1)
+        /* the Gaussian's largest value over a cell, at the cell point nearest the
+           centre: a product of one factor per axis */
+        float pc[3] = {p->px[j], p->py[j], p->pz[j]}, e[3][4] = {{0}};
+        int i0[3] = {x0, y0, z0}, i1[3] = {x1, y1, z1};
+        float nir2 = 1.0f / (2.0f * p->r[j] * p->r[j]);
+        for (int a = 0; a < 3; a++)
+            for (int q = 0; q < 4 && i0[a] + q <= i1[a]; q++) {
+                float clo = lo[a] + (float)(i0[a] + q) * h, chi = clo + h, dd = 0.0f;
+                if (pc[a] < clo) dd = clo - pc[a];
+                else if (pc[a] > chi) dd = pc[a] - chi;
+                dd = fmaxf(0.0f, dd - 1e-3f * h); /* round-off: never below the true maximum */
+                e[a][q] = expf(-dd * dd * nir2) * 1.0001f; /* 1e-4 covers expf's and the argument's round-off */
+            }
+        for (int z = z0; z <= z1; z++)
+            for (int y = y0; y <= y1; y++) {
+                float eyz = ak * e[1][y - y0] * e[2][z - z0];
+                float *row = g + (((size_t)z * (size_t)dim[1] + (size_t)y) * (size_t)dim[0]) * (size_t)nf + p->field[j];
+                for (int x = x0; x <= x1; x++) row[(size_t)x * (size_t)nf] += eyz * e[0][x - x0];
+            }
+    }
+    /* children follow their parent in the flat array: one backward sweep */
+    for (int32_t n = nn - 1; n >= 0; n--) {
+        const lc_kpnode *node = &p->bvh.nodes[n];
+        float *out = nb + (size_t)n * (size_t)nf;
+        if (node->count == 0) {
+            const float *c0 = nb + (size_t)node->first * (size_t)nf, *c1 = c0 + nf;
+            for (int f = 0; f < nf; f++) out[f] = fmaxf(c0[f], c1[f]);
+            continue;
+        }
+        int has[LC_MAX_FIELDS] = {0};
+        for (int32_t i = node->first; i < node->first + node->count; i++) has[p->field[i]] = 1;
+        float rs = grow_support(sig * p->bvh.rmax[n]);
+        float cx = 0.5f * (node->lo[0] + node->hi[0]), cy = 0.5f * (node->lo[1] + node->hi[1]),
+              cz = 0.5f * (node->lo[2] + node->hi[2]);
+        float hx = rs + 0.5f * (node->hi[0] - node->lo[0]), hy = rs + 0.5f * (node->hi[1] - node->lo[1]),
+              hz = rs + 0.5f * (node->hi[2] - node->lo[2]);
+        CELL_RANGE(cx, hx, 0, x0, x1)
+        CELL_RANGE(cy, hy, 1, y0, y1)
+        CELL_RANGE(cz, hz, 2, z0, z1)
+        for (int z = z0; z <= z1; z++)
+            for (int y = y0; y <= y1; y++)
+                for (int x = x0; x <= x1; x++) {
+                    const float *c = g + (((size_t)z * (size_t)dim[1] + (size_t)y) * (size_t)dim[0] + (size_t)x) *
+                                             (size_t)nf;
+                    for (int f = 0; f < nf; f++)
+                        if (has[f]) out[f] = fmaxf(out[f], c[f]);
+                }
+    }
+#undef CELL_RANGE
+    free(g);
+    p->node_fbound = nb;
+}
+
 lc_status lc_particles_set_params(lc_volume *v, const lc_particle_params *params)
 {
     particles *p = lci_volume_as(v, LC_KIND_PARTICLES, "lc_particles_set_params");
     if (!p) return LC_ERROR_INVALID_ARGUMENT;
-    return fill_params(v->device, "lc_particles_set_params", params, &p->info.params);
+    lc_status s = fill_params(v->device, "lc_particles_set_params", params, &p->info.params);
+    if (s == LC_OK && p->info.params.sigma != p->fbound_sigma) field_bounds(p);
+    return s;
 }
 
 /* Sum of |k_i| under every node: children follow their parent in the flat
@@ -259,10 +368,11 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
                 s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
         }
         if (s == LC_OK) s = leaf_order(dev, d, &k, p);
+        if (s == LC_OK) field_bounds(p);
         info->build_seconds = lci_now() - t0;
         info->bvh_nodes = p->bvh.nnodes;
         info->bvh_depth = p->bvh.depth;
-        info->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + 2 * sizeof(float));
+        info->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + (2 + (size_t)nfields) * sizeof(float));
         info->data_bytes = k.n * (6 * sizeof(float) + 1);
         if (s == LC_OK)
             lci_log(dev, LC_LOG_INFO, "particles: %zu (%zu dropped), %d fields, BVH %d nodes depth %d, %.1f MB, %.3f s",
@@ -321,6 +431,7 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->nodes = p->bvh.nodes;
     k->node_rmax = p->bvh.rmax;
     k->node_ksum = p->node_ksum;
+    for (int f = 0; f < LC_KMAX_FIELDS; f++) k->clear_below[f] = -INFINITY; /* no skipping */
     k->px = p->px, k->py = p->py, k->pz = p->pz;
     k->r = p->r;
     k->neg_inv_2r2 = p->nir;
@@ -341,6 +452,49 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;
 }
 
+/* The largest field value a dvr sample may have and still be fully
+ * transparent in this TF (tau = 0 at every value at or below it; the table
+ * is clamped below v = 0), or -inf. dvr_classify_v interpolates entries i and
+ * i + 1 at x = v (N - 1): with entries 0..j at tau = 0, any x <= j gives 0;
+ * the bound keeps 1% of an entry from j against the normalisation's
+ * round-off. */
+static float clear_below(const lc_ktf *tf)
+{
+    int j = -1;
+    while (j + 1 < LC_TF_TABLE_SIZE && tf->rgbt[4 * (j + 1) + 3] == 0.0f) j++;
+    if (j < 0 || !(tf->inv_range > 0.0f) || !isfinite(tf->inv_range)) return -INFINITY;
+    if (j == LC_TF_TABLE_SIZE - 1) return INFINITY;
+    if (j == 0) return tf->lo; /* v <= 0 exactly: x = 0, weight 0 */
+    return tf->lo + ((float)j - 0.01f) / ((float)(LC_TF_TABLE_SIZE - 1) * tf->inv_range);
+}
+
+/* This frame's node flags: 1 where every field present below the node has
+ * |kappa| * bound <= clear_below (fields absent below it have bound 0). One
+ * byte per node, ~1 ms per million nodes; left NULL when no node is clear,
+ * so frames that cannot skip pay nothing in the traversals. */
+static void clear_nodes(const particles *p, lc_kparticles *k, uint8_t *flags)
+{
+    int nf = p->info.nfields;
+    float ak = fabsf(k->kappa);
+    long n_clear = 0;
+    for (int32_t n = 0; n < p->bvh.nnodes; n++) {
+        const float *b = p->node_fbound + (size_t)n * (size_t)nf;
+        int c = 1;
+        for (int f = 0; f < nf && c; f++) c = !(b[f] > 0.0f) || ak * b[f] <= k->clear_below[f];
+        flags[n] = (uint8_t)c;
+        n_clear += c;
+    }
+    k->node_clear = n_clear ? flags : NULL;
+}
+
+/* LANECAST_PARTICLE_SKIP=0 turns transparent-space skipping off (A/B runs
+ * and tests: the images agree within SPEC.md's tolerances). */
+static int skip_enabled(void)
+{
+    const char *e = getenv("LANECAST_PARTICLE_SKIP");
+    return !(e && !strcmp(e, "0"));
+}
+
 static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *d, const lc_kframe *frame,
                          lci_prepared *out)
 {
@@ -348,9 +502,16 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (m != LC_METHOD_COHERENT && m != LC_METHOD_DIRECT)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %d does not apply to particles (coherent or direct)",
                          (int)d->method);
-    lc_kparticles *k = lci_aligned_alloc(64, sizeof *k);
+    const particles *p = (const particles *)v;
+    int skip = frame->mode == LC_KMODE_DVR && p->node_fbound && skip_enabled();
+    size_t head = (sizeof(lc_kparticles) + 63) & ~(size_t)63;
+    lc_kparticles *k = lci_aligned_alloc(64, head + (skip ? (size_t)p->bvh.nnodes : 0));
     if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
-    kscene((const particles *)v, k);
+    kscene(p, k);
+    if (skip) {
+        for (int f = 0; f < k->nfields; f++) k->clear_below[f] = clear_below(&frame->tf[f]);
+        clear_nodes(p, k, (uint8_t *)k + head);
+    }
     int km = m == LC_METHOD_COHERENT ? LC_KMETHOD_FAST : LC_KMETHOD_BASE;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_PARTICLES];
     out->tile = kk->render[km];

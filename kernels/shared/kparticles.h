@@ -6,6 +6,7 @@
 #define LC_KPARTICLES_H
 
 #include <stdint.h>
+#include "kframe.h"
 
 /* Inner node: count == 0, children at first and first + 1.
  * Leaf: count >= 1 particles starting at first. */
@@ -22,6 +23,8 @@ typedef struct lc_kparticles {
     const float *node_rmax; /* per node: largest radius below it */
     const float *node_ksum; /* per node: sum of |k_i| below it, so |kappa| * node_ksum bounds the
                                node's own contribution to any field (others add to it) */
+    const uint8_t *node_clear; /* dvr, this frame: 1 where no particle below the node can change a
+                                  sample (host/kinds/particles.c clear_nodes); NULL = none */
     const float *px, *py, *pz;
     const float *r;
     const float *neg_inv_2r2; /* -1 / (2 r^2) */
@@ -36,7 +39,9 @@ typedef struct lc_kparticles {
     float sphere_scale;    /* > 0: opaque spheres of radius sphere_scale * r_i */
     float max_radius;
     float lo[4], hi[4];    /* centre bounds grown by max(sigma, sphere_scale) * max radius */
+    float clear_below[LC_KMAX_FIELDS]; /* dvr: field values at or below this are fully transparent
+                                          in this frame's TF (-inf: skip nothing) */
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 10 * 8 + 8 + 4 * 8 + 32, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS, "lc_kparticles layout");
 
 #endif
