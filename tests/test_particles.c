@@ -453,18 +453,21 @@ static void init_ref_tfs(void)
 }
 
 /* One ref_tf per data field with the value range lanecast resolves: the
- * render's range if set, else the field's TF range if it has one, else
- * [0, |kappa|]; one TF in the set is shared by every data field. */
-static void scene_ref_tfs(const scene *s, int nfields, double kappa, ref_tf *out)
+ * render's range if set, else the field's TF range if it has one, else the
+ * particles' peaks kappa k_i and 0 (lanecast.h, lc_volume_info.range); one
+ * TF in the set is shared by every data field. */
+static void scene_ref_tfs(const scene *s, const pdata *d, double kappa, ref_tf *out)
 {
-    int have_range = s->range[0] != 0.0f || s->range[1] != 0.0f;
+    int have_range = s->range[0] != 0.0f || s->range[1] != 0.0f, nfields = d->nfields < 1 ? 1 : d->nfields;
+    double klo = 0.0, khi = 0.0;
+    for (size_t i = 0; i < d->n; i++) klo = fmin(klo, kappa * d->k[i]), khi = fmax(khi, kappa * d->k[i]);
     for (int f = 0; f < nfields; f++) {
         int tfi = tf_count[s->tf] == 1 ? 0 : f;
         const lc_tf_field *l = &tf_sets[s->tf][tfi];
         double lo, hi;
         if (have_range) lo = s->range[0], hi = s->range[1];
         else if (l->has_range) lo = l->range[0], hi = l->range[1];
-        else lo = 0.0, hi = fabs(kappa);
+        else lo = klo, hi = khi;
         if (!(hi > lo)) hi = lo + 1.0;
         out[f] = (ref_tf){lo, hi, tf_color_d[s->tf][tfi], l->ncolor, tf_opacity_d[s->tf][tfi], l->nopacity};
     }
@@ -485,7 +488,7 @@ static void ref_for(const scene *s, const pdata *d, double *out)
     double sigma = s->sigma == 0.0f ? 2.0 : s->sigma, kappa = s->kappa == 0.0f ? 1.0 : s->kappa;
     refset rs = refset_make(d, sigma, kappa);
     ref_tf tf[REF_MAX_FIELDS];
-    scene_ref_tfs(s, d->nfields < 1 ? 1 : d->nfields, kappa, tf);
+    scene_ref_tfs(s, d, kappa, tf);
     ref_source src;
     ref_sphere_set spheres = {&rs.set, s->scale};
     ref_params q = {0};

@@ -311,18 +311,22 @@ static void test_particles(void)
             lc_volume_get_info(v, &vi);
             float g = (float)sigma * rmax;
             lc_box3 want = {{c.lo.x - g, c.lo.y - g, c.lo.z - g}, {c.hi.x + g, c.hi.y + g, c.hi.z + g}};
+            /* the default range: the peaks kappa k_i and 0 */
+            float rlo = 0.0f, rhi = 0.0f;
+            for (int i = 0; i < NPART; i++)
+                rlo = fminf(rlo, (float)kappa * p.k[i]), rhi = fmaxf(rhi, (float)kappa * p.k[i]);
             CHECK_QUIET(pi.params.sigma == (float)sigma && pi.params.kappa == (float)kappa && pi.bvh_nodes == pi0.bvh_nodes &&
                             pi.build_seconds == pi0.build_seconds && pi.nfields == NF && box_eq(pi.bounds, c, 0),
                         "%s sigma %g kappa %g: particle info params %g %g, %d nodes (was %d), build %g s (was %g)", tn,
                         sigma, kappa, (double)pi.params.sigma, (double)pi.params.kappa, pi.bvh_nodes, pi0.bvh_nodes,
                         pi.build_seconds, pi0.build_seconds);
             CHECK_QUIET(lc_volume_kind(v) == LC_KIND_PARTICLES && vi.kind == LC_KIND_PARTICLES && vi.nfields == NF &&
-                            box_eq(vi.bounds, want, 1e-5f) && vi.range[0] == 0.0f && vi.range[1] == fabsf((float)kappa),
+                            box_eq(vi.bounds, want, 1e-5f) && vi.range[0] == rlo && vi.range[1] == rhi,
                         "%s sigma %g kappa %g: volume info bounds [%g %g %g]-[%g %g %g] (want [%g %g %g]-[%g %g %g]), "
-                        "range [%g, %g]", tn, sigma, kappa, (double)vi.bounds.lo.x, (double)vi.bounds.lo.y,
+                        "range [%g, %g] (want [%g, %g])", tn, sigma, kappa, (double)vi.bounds.lo.x, (double)vi.bounds.lo.y,
                         (double)vi.bounds.lo.z, (double)vi.bounds.hi.x, (double)vi.bounds.hi.y, (double)vi.bounds.hi.z,
                         (double)want.lo.x, (double)want.lo.y, (double)want.lo.z, (double)want.hi.x, (double)want.hi.y,
-                        (double)want.hi.z, (double)vi.range[0], (double)vi.range[1]);
+                        (double)want.hi.z, (double)vi.range[0], (double)vi.range[1], (double)rlo, (double)rhi);
             /* the field and its gradient, values[i * nf + f], gradients[3 (i * nf + f) + c] */
             float val[NPTS * NF], grad[3 * NPTS * NF];
             lc_status s = lc_volume_sample(dev, v, NPTS, pts, val, grad);

@@ -417,8 +417,16 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
     out->bounds = grown_bounds(p);
     /* a quarter of the smallest radius resolves every Gaussian */
     out->default_dt = p->info.count ? 0.25f * p->info.min_radius : 1.0f;
-    out->default_range[0] = 0.0f;
-    out->default_range[1] = fabsf(p->info.params.kappa);
+    /* a particle's own peak is kappa k_i: the range spans them and 0, so
+       values such as B-factors or charges (and a negative kappa) map onto
+       the TF rather than past it; unit values and kappa > 0 give [0, kappa] */
+    float lo = 0.0f, hi = 0.0f, kappa = p->info.params.kappa;
+    for (size_t j = 0; j < p->info.count; j++) {
+        float peak = kappa * p->k[j];
+        lo = peak < lo ? peak : lo, hi = peak > hi ? peak : hi;
+    }
+    out->default_range[0] = lo;
+    out->default_range[1] = hi > lo ? hi : lo + 1.0f;
     out->nfields = p->info.nfields;
     return LC_OK;
 }

@@ -247,7 +247,8 @@ typedef struct lc_volume_info {
     lc_box3 bounds;   /* where the field may be non-zero with the current parameters */
     int nfields;      /* fields (1..LC_MAX_FIELDS) */
     float range[2];   /* the value range a TF maps by default (grids: the voxel range;
-                         particles: [0, |kappa|]; RBF sets: from the bias, their background,
+                         particles: from min(0, kappa k_i) to max(0, kappa k_i), [0, kappa]
+                         for unit values; RBF sets: from the bias, their background,
                          to the largest value at the centres; lc_rbf_info.range is a bound) */
 } lc_volume_info;
 
