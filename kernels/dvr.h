@@ -15,22 +15,23 @@ typedef struct vray {
 /* The rays of pixels (px, py), SPEC.md "Camera and rays". */
 static inline vray dvr_camera_rays(const lc_kcamera *c, vint px, vint py)
 {
-    vfloat u = vf_fms(vf_add(vi_to_vf(px), vf_set1(0.5f)), vf_set1(2.0f / (float)c->width), vf_set1(1.0f));
-    vfloat v = vf_fnma(vf_add(vi_to_vf(py), vf_set1(0.5f)), vf_set1(2.0f / (float)c->height), vf_set1(1.0f));
+    vfloat u = vf_msub(vf_add(vi_to_vf(px), vf_set1(0.5f)), vf_set1(2.0f / (float)c->width), vf_set1(1.0f));
+    vfloat v = vf_nmadd(vf_add(vi_to_vf(py), vf_set1(0.5f)), vf_set1(2.0f / (float)c->height), vf_set1(1.0f));
     vray r;
     if (c->ortho) {
-        r.ox = vf_fma(u, vf_set1(c->right[0]), vf_fma(v, vf_set1(c->up[0]), vf_set1(c->eye[0])));
-        r.oy = vf_fma(u, vf_set1(c->right[1]), vf_fma(v, vf_set1(c->up[1]), vf_set1(c->eye[1])));
-        r.oz = vf_fma(u, vf_set1(c->right[2]), vf_fma(v, vf_set1(c->up[2]), vf_set1(c->eye[2])));
+        r.ox = vf_madd(u, vf_set1(c->right[0]), vf_madd(v, vf_set1(c->up[0]), vf_set1(c->eye[0])));
+        r.oy = vf_madd(u, vf_set1(c->right[1]), vf_madd(v, vf_set1(c->up[1]), vf_set1(c->eye[1])));
+        r.oz = vf_madd(u, vf_set1(c->right[2]), vf_madd(v, vf_set1(c->up[2]), vf_set1(c->eye[2])));
         r.dx = vf_set1(c->forward[0]);
         r.dy = vf_set1(c->forward[1]);
         r.dz = vf_set1(c->forward[2]);
     } else {
-        vfloat dx = vf_fma(u, vf_set1(c->right[0]), vf_fma(v, vf_set1(c->up[0]), vf_set1(c->forward[0])));
-        vfloat dy = vf_fma(u, vf_set1(c->right[1]), vf_fma(v, vf_set1(c->up[1]), vf_set1(c->forward[1])));
-        vfloat dz = vf_fma(u, vf_set1(c->right[2]), vf_fma(v, vf_set1(c->up[2]), vf_set1(c->forward[2])));
-        /* exact division rather than rsqrt: directions must agree across targets */
-        vfloat inv = vf_div(vf_set1(1.0f), vf_sqrt(vf_fma(dx, dx, vf_fma(dy, dy, vf_mul(dz, dz)))));
+        vfloat dx = vf_madd(u, vf_set1(c->right[0]), vf_madd(v, vf_set1(c->up[0]), vf_set1(c->forward[0])));
+        vfloat dy = vf_madd(u, vf_set1(c->right[1]), vf_madd(v, vf_set1(c->up[1]), vf_set1(c->forward[1])));
+        vfloat dz = vf_madd(u, vf_set1(c->right[2]), vf_madd(v, vf_set1(c->up[2]), vf_set1(c->forward[2])));
+        /* unfused products and exact division rather than rsqrt: directions must
+           agree across targets to the bit (vf_madd) */
+        vfloat inv = vf_div(vf_set1(1.0f), vf_sqrt(vf_madd(dx, dx, vf_madd(dy, dy, vf_mul(dz, dz)))));
         r.ox = vf_set1(c->eye[0]);
         r.oy = vf_set1(c->eye[1]);
         r.oz = vf_set1(c->eye[2]);

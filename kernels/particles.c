@@ -43,7 +43,7 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
                     vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
                     if (vm_none(m)) continue;
                     vfloat tk = vf_set1((float)k * dt);
-                    vfloat px = vf_fma(r.dx, tk, r.ox), py = vf_fma(r.dy, tk, r.oy), pz = vf_fma(r.dz, tk, r.oz);
+                    vfloat px = vf_madd(r.dx, tk, r.ox), py = vf_madd(r.dy, tk, r.oy), pz = vf_madd(r.dz, tk, r.oz);
                     vfloat phi[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
                     /* gather: every particle whose support contains a sample */
                     int found = gather_fields(s, px, py, pz, m, shade, mode == LC_KMODE_DVR, stack, phi, gx, gy, gz, st);

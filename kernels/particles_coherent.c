@@ -94,7 +94,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         vfloat ox = vf_load(c->ox + o), oy = vf_load(c->oy + o), oz = vf_load(c->oz + o);
         vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
         vfloat ocx = vf_sub(vf_set1(cx), ox), ocy = vf_sub(vf_set1(cy), oy), ocz = vf_sub(vf_set1(cz), oz);
-        vfloat tc = vf_fma(ocx, dx, vf_fma(ocy, dy, vf_mul(ocz, dz)));
+        vfloat tc = vf_madd(ocx, dx, vf_madd(ocy, dy, vf_mul(ocz, dz)));
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         /* conservative chord: the per-sample test below is the exact one */
         vfloat h2 = vf_sub(vf_set1(r2s * 1.001f + 1e-12f), d2);
@@ -131,7 +131,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
                     u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
                     continue;
                 }
-                vfloat a = vf_fma(u, u, d2);
+                vfloat a = vf_madd(u, u, d2);
                 vmask in = vm_and(m, vf_lt(a, rr));
                 evals += (uint64_t)vm_popcnt(in);
                 vfloat phi = vf_select(in, g, vf_zero());

@@ -19,7 +19,7 @@ static inline vfloat sample_d2(vfloat px, vfloat py, vfloat pz, float cx, float 
     *ex = vf_sub(px, vf_set1(cx));
     *ey = vf_sub(py, vf_set1(cy));
     *ez = vf_sub(pz, vf_set1(cz));
-    vfloat d2 = vf_fma(*ex, *ex, vf_fma(*ey, *ey, vf_mul(*ez, *ez)));
+    vfloat d2 = vf_madd(*ex, *ex, vf_madd(*ey, *ey, vf_mul(*ez, *ez))); /* the same bits on every target */
     *inside = vm_and(m, vf_lt(d2, vf_set1(r2s)));
     return d2;
 }
@@ -35,8 +35,8 @@ static inline vfloat gaussian(vfloat d2, float nir, float kk, vmask inside)
  * against R^2 ~ 1) and wrongly drops rays that do pass within the support. */
 static inline vfloat perp2(vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vfloat tc)
 {
-    vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
-    return vf_fma(qx, qx, vf_fma(qy, qy, vf_mul(qz, qz)));
+    vfloat qx = vf_nmadd(tc, dx, ocx), qy = vf_nmadd(tc, dy, ocy), qz = vf_nmadd(tc, dz, ocz);
+    return vf_madd(qx, qx, vf_madd(qy, qy, vf_mul(qz, qz)));
 }
 
 /* The Gaussian along a ray without exp per sample (SPEC.md "Fields"): with
@@ -67,7 +67,7 @@ static inline pgauss_consts pgauss_consts_make(float nir, float kk, float dt, fl
 /* g and q at offset u from the centre's foot tc (lanes outside m: g = 0). */
 static inline void pgauss_anchor(const pgauss_consts *gc, vfloat d2, vfloat u, vmask m, vfloat *g, vfloat *q)
 {
-    vfloat a = vf_fma(u, u, d2);
+    vfloat a = vf_madd(u, u, d2);
     *g = vf_select(m, vf_mul(vf_set1(gc->kk), vf_exp(vf_mul(a, vf_set1(gc->nir)))), vf_zero());
     *q = vf_exp(vf_mul(vf_set1(gc->nirdt), vf_fma(u, vf_set1(2.0f), vf_set1(gc->dt))));
 }
@@ -194,7 +194,7 @@ static inline __attribute__((always_inline)) void trace_spheres(const lc_kpartic
             float rr = scale * s->r[i];
             vfloat ocx = vf_sub(vf_set1(s->px[i]), ray->ox), ocy = vf_sub(vf_set1(s->py[i]), ray->oy),
                    ocz = vf_sub(vf_set1(s->pz[i]), ray->oz);
-            vfloat tc = vf_fma(ocx, ray->dx, vf_fma(ocy, ray->dy, vf_mul(ocz, ray->dz)));
+            vfloat tc = vf_madd(ocx, ray->dx, vf_madd(ocy, ray->dy, vf_mul(ocz, ray->dz)));
             vfloat d2 = perp2(ocx, ocy, ocz, ray->dx, ray->dy, ray->dz, tc);
             vfloat h2 = vf_sub(vf_set1(rr * rr), d2);
             vmask m = vm_and(hit, vf_ge(h2, vf_zero()));

@@ -3,6 +3,14 @@
 #define LC_LANE_MATH_H
 
 static inline vfloat vf_clamp(vfloat x, vfloat lo, vfloat hi) { return vf_min(vf_max(x, lo), hi); }
+/* a * b + c, a * b - c and c - a * b rounded twice on every target (never
+ * fused): the geometry that decides whether a sample lies inside a truncated
+ * support (ray directions, sample positions, squared distances) must give
+ * the same bits on every target, or a sample at the cut keeps a term on one
+ * target and drops it on another (a jump of exp(-sigma^2 / 2) of a peak). */
+static inline vfloat vf_madd(vfloat a, vfloat b, vfloat c) { return vf_add(vf_mul(a, b), c); }
+static inline vfloat vf_msub(vfloat a, vfloat b, vfloat c) { return vf_sub(vf_mul(a, b), c); }
+static inline vfloat vf_nmadd(vfloat a, vfloat b, vfloat c) { return vf_sub(c, vf_mul(a, b)); }
 static inline vfloat vf_lerp(vfloat a, vfloat b, vfloat w) { return vf_fma(w, vf_sub(b, a), a); }
 
 /* One Newton-Raphson step on the hardware estimate: relative error ~1e-7 on
