@@ -90,4 +90,15 @@ double lci_now(void);
 void *lci_aligned_alloc(size_t align, size_t bytes); /* zeroed; free with lci_aligned_free */
 void lci_aligned_free(void *p);
 
+/* A private temporary file next to path with the same extension, registered
+ * so that SIGINT/SIGTERM handlers remove it (host/api/image.c): its name in
+ * out (n bytes), its fd returned, or -1 with errno set; *slot is released
+ * with lci_temp_release once the file is renamed or unlinked. */
+#define LCI_TEMP_NAME 4096 /* the longest temporary name lci_temp_file registers */
+int lci_temp_file(const char *path, char *out, size_t n, int *slot);
+void lci_test_write_delay(void); /* LANECAST_TEST_WRITE_DELAY_MS (tests only) */
+/* The extension of path's last component ("" if none), e.g. ".png". */
+const char *lci_path_extension(const char *path);
+void lci_temp_release(int slot);
+
 #endif

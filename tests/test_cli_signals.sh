@@ -69,6 +69,35 @@ for sig in INT TERM; do
         echo "FAIL SIG$sig while writing: no temporary file appeared (exit $?): $(cat "$dir/err")"; fail=1
     fi
 done
+# lanecast encode writes its .rbf the same way: SIGTERM while the temporary
+# .rbf exists removes it and keeps an existing file (needs LAPACKE)
+if "$exe" formats | grep -Eq '^ *lapacke +yes'; then
+    printf 'x,y,z,value\n' > "$dir/s.csv"
+    for i in 0 1 2 3 4 5 6 7 8 9 10 11; do
+        printf '%d,%d,%d,%d\n' $((i % 3)) $((i / 3 % 2)) $((i / 6)) $((i * i % 7)) >> "$dir/s.csv"
+    done
+    cp "$dir/keep" "$dir/out.rbf"
+    LANECAST_TEST_WRITE_DELAY_MS=20000 $envd "$exe" encode "$dir/s.csv" -o "$dir/out.rbf" --max-rbfs 2 --quiet \
+        2> "$dir/err" &
+    pid=$!
+    if wait_temp; then
+        kill -s TERM "$pid"
+        wait "$pid"
+        rc=$?
+        left=$(ls "$dir" | grep -c '\.lanecast-' || true)
+        if [ "$rc" -ne 143 ] || [ "$left" -ne 0 ] || ! cmp -s "$dir/out.rbf" "$dir/keep"; then
+            echo "FAIL SIGTERM while encode writes: exit $rc, $left temporary files, $(ls "$dir")"; fail=1
+        else
+            echo "ok   SIGTERM while encode writes: exit $rc, old .rbf kept, no temporary file"
+        fi
+    else
+        wait "$pid"
+        echo "FAIL SIGTERM while encode writes: no temporary file appeared (exit $?): $(cat "$dir/err")"; fail=1
+    fi
+    rm -f "$dir/out.rbf" "$dir/s.csv"
+else
+    echo "skip encode: this build has no LAPACKE"
+fi
 # control: without a signal the same render replaces the old output
 LANECAST_THREADS=1 "$exe" demo --size 64x48 -o "$dir/out.png" --quiet
 if cmp -s "$dir/out.png" "$dir/keep" || [ "$(ls "$dir" | grep -c '\.lanecast-')" -ne 0 ]; then

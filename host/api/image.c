@@ -20,13 +20,6 @@ int lci_oiio_encode(const char *path, const char *format_name, int width, int he
                     const void *pixels, void **bytes, size_t *nbytes, char *err, size_t errlen);
 int lci_oiio_can_write(const char *path);
 
-static const char *extension(const char *path)
-{
-    const char *slash = strrchr(path, '/');
-    const char *dot = strrchr(path, '.');
-    if (!dot || (slash && dot < slash)) return "";
-    return dot;
-}
 
 static int is_float_format(const char *ext)
 {
@@ -34,73 +27,6 @@ static int is_float_format(const char *ext)
     for (size_t i = 0; i < sizeof fl / sizeof fl[0]; i++)
         if (!strcasecmp(ext, fl[i])) return 1;
     return 0;
-}
-
-/* Crash safety: the temporary files being written, so that a program's
- * SIGINT/SIGTERM handler can remove them (lci_image_remove_temps). A slot is
- * claimed atomically, the name is built in the slot itself (mkstemps fills
- * it in place), and released after the rename or unlink. A signal between
- * the claim and mkstemps unlinks a name that does not exist yet: harmless. */
-#define TEMP_SLOTS 16
-#define TEMP_NAME 4096
-static char temp_names[TEMP_SLOTS][TEMP_NAME];
-static volatile sig_atomic_t temp_used[TEMP_SLOTS];
-
-static int temp_claim(void)
-{
-    for (int i = 0; i < TEMP_SLOTS; i++) {
-        sig_atomic_t zero = 0;
-        if (__atomic_compare_exchange_n(&temp_used[i], &zero, 1, 0, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) return i;
-    }
-    return -1;
-}
-
-static void temp_release(int slot)
-{
-    if (slot >= 0) __atomic_store_n(&temp_used[slot], 0, __ATOMIC_SEQ_CST);
-}
-
-/* Async-signal-safe (unlink only): removes every temporary image file this
- * process is writing. For signal handlers (tools/lanecast.c); the process
- * must not continue writing images afterwards. */
-void lci_image_remove_temps(void);
-void lci_image_remove_temps(void)
-{
-    for (int i = 0; i < TEMP_SLOTS; i++)
-        if (__atomic_load_n(&temp_used[i], __ATOMIC_SEQ_CST)) unlink(temp_names[i]);
-}
-
-/* Creates a private temporary file next to the target with the same
- * extension (so OpenImageIO picks the same format): its name in out, its fd
- * returned, or -1 with errno set. *slot is its registration (release it with
- * temp_release once the file is renamed or removed), -1 when all slots are
- * busy (more than TEMP_SLOTS concurrent writes: not removed on a signal). */
-static int temp_file(const char *path, char *out, size_t n, int *slot)
-{
-    const char *ext = extension(path);
-    size_t stem = strlen(path) - strlen(ext);
-    *slot = -1;
-    int w = snprintf(out, n, "%.*s.lanecast-XXXXXX%s", (int)stem, path, ext);
-    if (w <= 0 || (size_t)w >= n || (size_t)w >= TEMP_NAME) {
-        errno = ENAMETOOLONG;
-        return -1;
-    }
-    *slot = temp_claim();
-    char *name = *slot >= 0 ? temp_names[*slot] : out;
-    if (*slot >= 0) memcpy(name, out, (size_t)w + 1);
-    int fd = mkstemps(name, (int)strlen(ext));
-    if (name != out) memcpy(out, name, (size_t)w + 1);
-    if (fd < 0) {
-        int e = errno;
-        temp_release(*slot);
-        *slot = -1;
-        errno = e;
-        return -1;
-    }
-    mode_t um = umask(0);
-    umask(um);
-    fchmod(fd, 0666 & ~um); /* the permissions an ordinary new file gets */
-    return fd;
 }
 
 /* Test hook: LANECAST_TEST_WRITE_LIMIT=N makes image writes fail with ENOSPC
@@ -111,18 +37,6 @@ static long long write_limit(void)
     return e && *e ? atoll(e) : -1;
 }
 
-/* Test hook: LANECAST_TEST_WRITE_DELAY_MS=N holds the temporary file open
- * for N ms before writing it, so that a test can interrupt the write
- * (tests/test_cli_signals.sh). */
-static void write_delay(void)
-{
-    const char *e = getenv("LANECAST_TEST_WRITE_DELAY_MS");
-    long ms = e && *e ? atol(e) : 0;
-    if (ms <= 0) return;
-    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
-    while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
-    }
-}
 
 /* Writes all n bytes or fails with errno set. */
 static int write_all(int fd, const unsigned char *b, size_t n)
@@ -149,19 +63,19 @@ static int write_all(int fd, const unsigned char *b, size_t n)
 lc_status lc_image_check(lc_device *device, const char *path)
 {
     if (!path || !*path) return lci_error(device, LC_ERROR_INVALID_ARGUMENT, "image path is empty");
-    const char *ext = extension(path);
+    const char *ext = lci_path_extension(path);
     if (!*ext)
         return lci_error(device, LC_ERROR_INVALID_ARGUMENT,
                          "%s: no file extension to choose an image format (.png, .exr, .tif, ...)", path);
     if (!lci_oiio_can_write(path))
         return lci_error(device, LC_ERROR_UNSUPPORTED, "%s: OpenImageIO cannot write '%s' files", path, ext);
-    char tmp[TEMP_NAME];
+    char tmp[LCI_TEMP_NAME];
     int slot;
-    int fd = temp_file(path, tmp, sizeof tmp, &slot);
+    int fd = lci_temp_file(path, tmp, sizeof tmp, &slot);
     if (fd < 0) return lci_error(device, LC_ERROR_IO, "%s: cannot write here: %s", path, strerror(errno));
     close(fd);
     unlink(tmp);
-    temp_release(slot);
+    lci_temp_release(slot);
     return LC_OK;
 }
 
@@ -181,7 +95,7 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
                          d->width, d->height, LC_MAX_IMAGE_SIDE);
     lc_status s = lc_image_check(device, path);
     if (s != LC_OK) return s;
-    const char *ext = extension(path);
+    const char *ext = lci_path_extension(path);
     int fl = is_float_format(ext);
     int ch = d->alpha ? 4 : 3;
     size_t n = (size_t)d->width * (size_t)d->height;
@@ -203,14 +117,14 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
         else
             for (int c = 0; c < ch; c++) ((unsigned char *)buf)[i * (size_t)ch + (size_t)c] = quantise(o[c]);
     }
-    char tmp[TEMP_NAME], err[512] = "";
+    char tmp[LCI_TEMP_NAME], err[512] = "";
     int slot;
-    int fd = temp_file(path, tmp, sizeof tmp, &slot);
+    int fd = lci_temp_file(path, tmp, sizeof tmp, &slot);
     if (fd < 0) {
         free(buf);
         return lci_error(device, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
     }
-    write_delay();
+    lci_test_write_delay();
     void *bytes = NULL;
     size_t nbytes = 0;
     int r = lci_oiio_encode(tmp, path, d->width, d->height, ch, fl, buf, &bytes, &nbytes, err, sizeof err);
@@ -227,15 +141,15 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
     if (close(fd) != 0 && r == 0) r = -1, snprintf(err, sizeof err, "closing the image failed: %s", strerror(errno));
     if (r != 0) {
         unlink(tmp);
-        temp_release(slot);
+        lci_temp_release(slot);
         return lci_error(device, LC_ERROR_IO, "%s: %s (nothing written)", path, err);
     }
     if (rename(tmp, path) != 0) {
         int e = errno;
         remove(tmp);
-        temp_release(slot);
+        lci_temp_release(slot);
         return lci_error(device, LC_ERROR_IO, "%s: cannot rename the finished image into place: %s", path, strerror(e));
     }
-    temp_release(slot);
+    lci_temp_release(slot);
     return LC_OK;
 }

@@ -85,17 +85,17 @@ lc_status lc_rbf_write(lc_device *dev, const char *path, const lc_rbf_desc *d, l
                          (int)variant);
     lc_status s = check(dev, path, d);
     if (s != LC_OK) return s;
-    size_t n = strlen(path);
-    char *tmp = malloc(n + 16);
+    size_t n = strlen(path) + 32;
+    char *tmp = malloc(n);
     if (!tmp) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_write: out of memory");
-    snprintf(tmp, n + 16, "%s.tmpXXXXXX", path);
-    int fd = mkstemp(tmp);
+    int slot;
+    int fd = lci_temp_file(path, tmp, n, &slot); /* removed by the CLI's signal handler too */
     if (fd < 0) {
         s = lci_error(dev, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
         free(tmp);
         return s;
     }
-    fchmod(fd, 0644); /* mkstemp's 0600 would make the result private */
+    lci_test_write_delay();
     FILE *f = fdopen(fd, "wb");
     int bad = !f;
     if (f) {
@@ -111,6 +111,7 @@ lc_status lc_rbf_write(lc_device *dev, const char *path, const lc_rbf_desc *d, l
         unlink(tmp);
         s = lci_error(dev, LC_ERROR_IO, "%s: write failed: %s", path, strerror(e));
     }
+    lci_temp_release(slot);
     free(tmp);
     return s;
 }
