@@ -119,20 +119,32 @@ static inline void dvr_classify(const lc_ktf *tf, vfloat phi, vfloat *r, vfloat 
 }
 
 /* SPEC.md "Shading": headlight, n = -grad/|grad|, l = -dir, h = normalize(l - dir).
- * With a headlight h = l, so |n.h| = |n.l|. Unshaded where |grad| < grad_eps. */
+ * With a headlight h = l, so |n.h| = |n.l|. Unshaded where |grad| < grad_eps:
+ * returns the lit lanes (none: *k and *spec unset), the diffuse factor
+ * k = ka + kd |n.l| and the specular term ks |n.h|^p (0 unless phong). */
+static inline __attribute__((always_inline)) vmask dvr_light(const lc_kframe *f, float grad_eps, const vray *ray, vfloat gx, vfloat gy, vfloat gz,
+                                                              vfloat *k, vfloat *spec)
+{
+    vfloat g2 = vf_fma(gx, gx, vf_fma(gy, gy, vf_mul(gz, gz)));
+    vfloat glen = vf_sqrt(g2);
+    vmask lit = vf_ge(glen, vf_set1(grad_eps));
+    if (vm_none(lit)) return lit;
+    /* n.l = (-grad/|grad|) . (-dir) = grad.dir / |grad| */
+    vfloat ndl = vf_abs(vf_div(vf_fma(gx, ray->dx, vf_fma(gy, ray->dy, vf_mul(gz, ray->dz))), vf_max(glen, vf_set1(1e-30f))));
+    *k = vf_fma(vf_set1(f->kd), ndl, vf_set1(f->ka));
+    *spec = vf_zero();
+    if (f->shade == LC_KSHADE_PHONG) *spec = vf_mul(vf_set1(f->ks), vf_powi(ndl, f->phong_exp));
+    return lit;
+}
+
+/* Shades a sample's colour in place: rgb k + spec on the lit lanes. */
 static inline void dvr_shade(const lc_kframe *f, float grad_eps, const vray *ray, vfloat gx, vfloat gy, vfloat gz, vfloat *r,
                              vfloat *g, vfloat *b)
 {
     if (f->shade == LC_KSHADE_NONE) return;
-    vfloat g2 = vf_fma(gx, gx, vf_fma(gy, gy, vf_mul(gz, gz)));
-    vfloat glen = vf_sqrt(g2);
-    vmask lit = vf_ge(glen, vf_set1(grad_eps));
+    vfloat k, spec;
+    vmask lit = dvr_light(f, grad_eps, ray, gx, gy, gz, &k, &spec);
     if (vm_none(lit)) return;
-    /* n.l = (-grad/|grad|) . (-dir) = grad.dir / |grad| */
-    vfloat ndl = vf_abs(vf_div(vf_fma(gx, ray->dx, vf_fma(gy, ray->dy, vf_mul(gz, ray->dz))), vf_max(glen, vf_set1(1e-30f))));
-    vfloat k = vf_fma(vf_set1(f->kd), ndl, vf_set1(f->ka));
-    vfloat spec = vf_zero();
-    if (f->shade == LC_KSHADE_PHONG) spec = vf_mul(vf_set1(f->ks), vf_powi(ndl, f->phong_exp));
     *r = vf_select(lit, vf_fma(*r, k, spec), *r);
     *g = vf_select(lit, vf_fma(*g, k, spec), *g);
     *b = vf_select(lit, vf_fma(*b, k, spec), *b);

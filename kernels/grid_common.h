@@ -333,14 +333,10 @@ static inline __attribute__((always_inline)) void grid_shade_pm(const lc_kframe 
                                                                 vfloat gx, vfloat gy, vfloat gz, vfloat a, vfloat *r,
                                                                 vfloat *g, vfloat *b)
 {
-    vfloat g2 = vf_fma(gx, gx, vf_fma(gy, gy, vf_mul(gz, gz)));
-    vfloat glen = vf_sqrt(g2);
-    vmask lit = vf_ge(glen, vf_set1(grad_eps));
+    vfloat k, spec;
+    vmask lit = dvr_light(f, grad_eps, ray, gx, gy, gz, &k, &spec);
     if (vm_none(lit)) return;
-    vfloat ndl = vf_abs(vf_div(vf_fma(gx, ray->dx, vf_fma(gy, ray->dy, vf_mul(gz, ray->dz))), vf_max(glen, vf_set1(1e-30f))));
-    vfloat k = vf_fma(vf_set1(f->kd), ndl, vf_set1(f->ka));
-    vfloat as = vf_zero();
-    if (f->shade == LC_KSHADE_PHONG) as = vf_mul(a, vf_mul(vf_set1(f->ks), vf_powi(ndl, f->phong_exp)));
+    vfloat as = vf_mul(a, spec);
     *r = vf_select(lit, vf_fma(*r, k, as), *r);
     *g = vf_select(lit, vf_fma(*g, k, as), *g);
     *b = vf_select(lit, vf_fma(*b, k, as), *b);

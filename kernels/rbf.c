@@ -95,18 +95,8 @@ static inline __attribute__((always_inline)) void render_tile_as(const lc_krbf *
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vint px, py, kf, kl;
             vray r;
-            vfloat ta, tb;
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
-            if (!rbf_packet_setup(s, f, t, x, y, &px, &py, &r, &ta, &tb, &kf, &kl, st)) {
-                mode_store_as(t, mode, px, py, &col, vf_set1(INFINITY));
-                continue;
-            }
-            if (mode == LC_KMODE_SLICE) { /* no lattice: one sample per ray, in mode_finish */
-                mode_slice(f, &r, ta, tb, vf_set1(INFINITY), &col);
-                st->samples += (uint64_t)vm_popcnt(vf_gt(col.a, vf_zero()));
-                mode_store_as(t, mode, px, py, &col, mode_finish_as(f, mode, &col, &r, &probe));
-                continue;
-            }
+            if (!rbf_packet_begin(s, f, mode, t, x, y, &probe, &px, &py, &r, &kf, &kl, &col, st)) continue;
             int k0 = 1 << 30, k1 = -(1 << 30);
             for (int l = 0; l < LC_W; l++) {
                 if (vi_lane(kf, l) > vi_lane(kl, l)) continue;

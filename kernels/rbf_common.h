@@ -35,13 +35,16 @@ static inline vmask term(const lc_krbf *s, int32_t i, vfloat px, vfloat py, vflo
 }
 
 
-/* One packet of rays of the tile at pixel block (x, y): the rays, their
- * overlap [ta, tb] with the set's box (ta > tb on lanes without one), their
- * lattice range [kf, kl] there, and whether any lane has samples (0: the
- * caller stores the empty colour and moves on). Shared by the BVH gather and
- * the octree. */
-static inline int rbf_packet_setup(const lc_krbf *s, const lc_kframe *f, const lc_ktile *t, int x, int y, vint *px,
-                                   vint *py, vray *r, vfloat *ta, vfloat *tb, vint *kf, vint *kl, lc_kstats *st)
+/* The start of a packet of rays at pixel block (x, y) for both RBF methods
+ * (the BVH gather and the octree), in mode `mode` (f->mode, a constant): the
+ * rays and their lattice range [kf, kl] inside the set's box. Returns 0
+ * when the packet is finished here: no ray meets the box (the empty colour
+ * is stored), or slice (its one sample per ray taken through the method's
+ * probe and stored); 1 when the caller walks the lattice. */
+static inline __attribute__((always_inline)) int rbf_packet_begin(const lc_krbf *s, const lc_kframe *f, int mode,
+                                                                  const lc_ktile *t, int x, int y, const mprobe *probe,
+                                                                  vint *px, vint *py, vray *r, vint *kf, vint *kl,
+                                                                  vcolor *col, lc_kstats *st)
 {
     dvr_packet_pixels(x, y, px, py);
     vmask valid = vm_and(vi_lt(*px, vi_set1(t->x1)), vi_lt(*py, vi_set1(t->y1)));
@@ -49,11 +52,19 @@ static inline int rbf_packet_setup(const lc_krbf *s, const lc_kframe *f, const l
     vfloat t0, t1;
     dvr_clip_box(r, s->lo, s->hi, &t0, &t1);
     valid = vm_and(valid, vf_le(t0, t1));
-    if (s->empty || vm_none(valid)) return 0;
+    if (s->empty || vm_none(valid)) {
+        mode_store_as(t, mode, *px, *py, col, vf_set1(INFINITY));
+        return 0;
+    }
     st->rays += (uint64_t)vm_popcnt(valid);
-    *ta = vf_select(valid, t0, vf_set1(1.0f));
-    *tb = vf_select(valid, t1, vf_set1(-1.0f));
-    dvr_lattice(*ta, *tb, f->dt, kf, kl);
+    vfloat ta = vf_select(valid, t0, vf_set1(1.0f)), tb = vf_select(valid, t1, vf_set1(-1.0f));
+    if (mode == LC_KMODE_SLICE) { /* no lattice: one sample per ray, in mode_finish */
+        mode_slice(f, r, ta, tb, vf_set1(INFINITY), col);
+        st->samples += (uint64_t)vm_popcnt(vf_gt(col->a, vf_zero()));
+        mode_store_as(t, mode, *px, *py, col, mode_finish_as(f, mode, col, r, probe));
+        return 0;
+    }
+    dvr_lattice(ta, tb, f->dt, kf, kl);
     return 1;
 }
 
