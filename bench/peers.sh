@@ -33,7 +33,7 @@ command -v xvfb-run >/dev/null || { echo "peers.sh: xvfb-run is missing: apt-get
 xvfb-run -a -s "-screen 0 1024x768x24" /usr/bin/python3 bench/peers_vtk.py "$exe" "$data" docs/bench \
     bench/results/bench_peers.jsonl "$@"
 if command -v splash >/dev/null; then
-    /usr/bin/python3 bench/peers_splash.py "$exe" "$data" docs/bench bench/results/bench_peers.jsonl
+    /usr/bin/python3 bench/peers_splash.py "$exe" "$data" docs/bench bench/results/bench_peers.jsonl "${SPLASH_SPLIT:-1}"
 else
     echo "peers.sh: splash is missing (apt-get install splash): SPLASH skipped" >&2
 fi

@@ -2,7 +2,13 @@
 """lanecast against SPLASH (Debian `splash`) on the same SPH gas particles
 (run by bench/peers.sh; it installs splash when asked).
 
-usage: peers_splash.py LANECAST DATA_DIR OUT_DIR RECORDS.jsonl
+usage: peers_splash.py LANECAST DATA_DIR OUT_DIR RECORDS.jsonl [SPLIT]
+
+SPLIT (default 1) refines the gas SPLIT times by particle splitting before
+anything else: each particle becomes 8 at its position +-1/4 of the mean
+particle spacing on each axis, with 1/8 of its mass and its velocity and
+internal energy, so the 32,768 gas particles become 262,144 (SPLIT 1) or
+2,097,152 (SPLIT 2) that sample the same density field; SPLIT 0 keeps them.
 
 The shared GADGET initial conditions (particles/gadget_lcdm_gas.dat: 32,768
 gas particles) carry no densities or smoothing lengths, which SPLASH needs,
@@ -117,6 +123,19 @@ def main():
     os.makedirs(work, exist_ok=True)
     hdr, npart, massarr, box, pos, vel, mass, u = read_gas(src)
     ng = npart[0]
+    split = int(sys.argv[5]) if len(sys.argv) > 5 else 1
+    ng0 = ng
+    for _ in range(split):  # particle splitting: 8 children a quarter spacing around each parent
+        span = box if box > 0 else float(np.max(pos) - np.min(pos))
+        d = 0.25 * span / ng ** (1.0 / 3.0)
+        off = np.array([[sx, sy, sz] for sx in (-d, d) for sy in (-d, d) for sz in (-d, d)])
+        pos = (pos[:, None, :] + off[None, :, :]).reshape(-1, 3)
+        vel = np.repeat(vel, 8, axis=0)
+        u = np.repeat(u, 8)
+        mass = np.repeat(mass / 8.0, 8)
+        massarr = list(massarr)
+        massarr[0] = massarr[0] / 8.0
+        ng *= 8
     if box > 0:  # periodic
         pos = np.mod(pos, box)
         tree = cKDTree(pos, boxsize=box)
@@ -181,13 +200,14 @@ def main():
         ax.imshow(img)
         ax.set_title(name, fontsize=9)
         ax.axis("off")
-    fig.suptitle("LCDM gas, %d particles, HSML from the %dth neighbour, kappa %.3g" % (ng, K, kappa), fontsize=10)
+    fig.suptitle("LCDM gas, %d particles (%d split %dx), HSML from the %dth neighbour, kappa %.3g"
+                 % (ng, ng0, 8 ** split, K, kappa), fontsize=10)
     fig.tight_layout()
     fig.savefig(comp, dpi=90)
     plt.close(fig)
     rec = {"record": "peer", "peer": "splash", "peer_version": subprocess.run(["dpkg-query", "-W", "-f", "${Version}", "splash"], capture_output=True,
                                                         text=True).stdout or "?", "peer_mapper": "opacity rendering",
-           "scene": "lcdm gas %d" % ng, "size": SIZE, "threads": 2, "dt": None, "kappa": kappa,
+           "scene": "lcdm gas %d" % ng, "split_from": ng0, "size": SIZE, "threads": 2, "dt": None, "kappa": kappa,
            "density_column": col, "lanecast_first_s": statistics.median(walls),
            "lanecast_frame_s": statistics.median(renders), "peer_first_s": statistics.median(sp_walls),
            "peer_frame_s": statistics.median(sp_walls),

@@ -345,7 +345,8 @@ def peers_section(peers):
                    "PSNR).\n")
     if any(r["peer"] == "splash" for r in peers):
         out.append("\nSPLASH: the shared GADGET initial conditions have no densities or smoothing lengths, so "
-                   "`bench/peers_splash.py` writes a snapshot of the 32,768 gas particles with HSML = distance to "
+                   "`bench/peers_splash.py` writes a snapshot of the 32,768 gas particles (or, with SPLIT 1, of the "
+                   "262,144 made by splitting each into 8 a quarter spacing around it, 1/8 of its mass) with HSML = distance to "
                    "the 32nd neighbour and SPH densities (GADGET-2 cubic spline); SPLASH renders its density column "
                    "with opacity rendering (`--kappa`, orthographic along z, its own colour table over the density's "
                    "min..max, one image per run). lanecast renders the same particles from a CSV: one Gaussian per "
