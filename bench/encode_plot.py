@@ -8,7 +8,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 src = sys.argv[1] if len(sys.argv) > 1 else "bench/results/encode_rms.txt"
-dst = sys.argv[2] if len(sys.argv) > 2 else "docs/encode_rms.png"
+dst = sys.argv[2] if len(sys.argv) > 2 else "docs/bench/encode_rms.png"
 curves = {}
 for line in open(src):
     f = line.split()
