@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """RMS error against RBF count (bench/results/encode_rms.txt, written by
-bench/encode_bench.sh) as docs/encode_rms.png. Needs Debian's
+bench/encode_bench.sh) as docs/bench/encode_rms.png. Needs Debian's
 python3-matplotlib: /usr/bin/python3 bench/encode_plot.py [IN] [OUT]."""
 import sys
 import matplotlib
