@@ -228,7 +228,7 @@ static const char help[] =
     "  --repeats N         renders per case after one warm-up (default 5)\n"
     "  --max-seconds S     stop repeating a case after S seconds (default 10)\n"
     "  --profile           stage profile (CPU ms) instead of fps: the kernel variants of bench/grid_prof.c\n"
-    "                      (avx2 and avx512 when compiled), repeats interleaved; see docs/BENCHMARKS-grid.md\n";
+    "                      (avx2 and avx512 when compiled), repeats interleaved; see docs/bench/grid.md\n";
 
 int main(int argc, char **argv)
 {

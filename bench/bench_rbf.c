@@ -1,4 +1,4 @@
-/* RBF set benchmark (docs/BENCHMARKS-rbf.md): the BVH gather against the
+/* RBF set benchmark (docs/bench/rbf.md): the BVH gather against the
  * adaptive octree of Jang 2004 §5 (lc_rbf_desc.accel) on synthetic sets,
  * fixed seeds: n RBFs uniform in [-1, 1]^3 or in 8 clusters (normal, sigma
  * 0.12), widths s = 0.5 n^(-1/3) U(0.5, 1.5) (so each point lies in a few

@@ -1,5 +1,5 @@
 #!/bin/sh
-# RBF encoder benchmark (docs/BENCHMARKS-rbf.md): encode time against volume
+# RBF encoder benchmark (docs/bench/rbf.md): encode time against volume
 # size (embryo resampled to 64^3, 128^3 and 256^3, a fixed 256 RBFs), RMS
 # error against RBF count for hydrogen, neghip and headsq (the encoder's
 # per-iteration report), and the rendered RBF set against the rendered grid

@@ -1,4 +1,4 @@
-/* Stage-profile variants of the grid kernels (docs/BENCHMARKS-grid.md
+/* Stage-profile variants of the grid kernels (docs/bench/grid.md
  * "Stage profile"): kernels/grid_bvh.c and grid_brute.c compiled again for
  * a target (avx2, avx512) with GRID_PROF = PROF_MASK (stages replaced by stand-ins,
  * kernels/grid_common.h) and entry points renamed grid_bvh_prof<PROF_ID> /

@@ -5,7 +5,7 @@
 # the proxy path VTK users take (Gaussian interpolation onto a grid, then the
 # ray caster). Records go to
 # bench/results/bench_peers.jsonl, composite PNGs (lanecast | VTK | diff) to
-# docs/bench/; bench/report.py puts both into REPORT.md.
+# docs/bench/; bench/report.py puts both into docs/BENCHMARKS.md.
 # And SPLASH (Debian `splash`, opacity rendering) on the LCDM gas particles,
 # from a GADGET snapshot with SPH densities and smoothing lengths that
 # bench/peers_splash.py writes first (the shared initial conditions lack

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Frame rate of an encoded RBF set (BVH gather and octree) against its
-# original grid, for every render mode, at 1024^2 (docs/BENCHMARKS-rbf.md).
+# original grid, for every render mode, at 1024^2 (docs/bench/rbf.md).
 # The same camera, transfer function, value range and step for all three;
 # the RBF set renders inside the grid's box (--domain), so both sample the
 # same lattice. Each case: one warm-up, then REPEATS frames; the median of

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Turns `lanecast bench` JSON-lines records into one page with tables and
-PNG plots (docs/bench/REPORT.md by default).
+PNG plots (docs/BENCHMARKS.md by default).
 
 usage: /usr/bin/python3 bench/report.py RECORDS.jsonl... [-o DIR] [--command CMD]
 
@@ -17,6 +17,7 @@ import argparse
 import collections
 import json
 import os
+import re
 import statistics
 import sys
 
@@ -368,6 +369,8 @@ def main():
     ap.add_argument("records", nargs="+")
     ap.add_argument("-o", "--out", default="docs/bench")
     ap.add_argument("--command", default="", help="the command(s) that made the records, for the page's top")
+    ap.add_argument("--page", default="", help="where the page goes (default OUT/REPORT.md); its image links "
+                    "are made relative to it")
     a = ap.parse_args()
     cases, roofs, skips, peers = load(a.records)
     if not cases and not roofs:
@@ -377,7 +380,15 @@ def main():
     m = (cases or roofs)[0]
     loads = [r["loadavg"] for r in cases + roofs if r.get("loadavg", -1) >= 0]
     commits = sorted({r["commit"] for r in cases + roofs})
-    doc = ["# lanecast bench report\n"]
+    doc = ["# Benchmarks\n",
+           "`lanecast bench` is the project's one benchmark: for each case of a matrix (scenes, views, sizes, "
+           "targets, threads, methods, modes, packets; `lanecast bench --help`) it first checks every SIMD target's "
+           "image against the scalar target's (SPEC.md tolerances; a mismatch is recorded and makes it exit 1), then "
+           "times the targets in interleaved rounds and writes one JSON line per case and target (median and spread, "
+           "fps, ns per ray, samples/s, Gaussians/s, build time and bytes, peak RSS, CPU, commit, compiler). "
+           "`--quick` runs as a test, `--roofline` measures this machine's ceilings, `--width-study` separates "
+           "instruction set from width. `bench/report.py` made this page from the records in `bench/results/`; "
+           "`bench/peers.sh` measures VTK and SPLASH on the same data.\n"]
     if a.command:
         doc.append("Made with:\n\n```sh\n%s\n```\n" % a.command.strip())
     doc.append("Machine: %s (%s), %d CPUs online, host `%s`; commit %s; %s. Load average during the run: %s to %s "
@@ -446,9 +457,20 @@ def main():
         doc.append(peers_section(peers))
     if skips:
         doc.append("\n## Skipped\n\n" + "".join("- %s: %s\n" % (s["scene"], s["note"]) for s in skips))
-    with open(P("REPORT.md"), "w") as f:
-        f.write("\n".join(doc))
-    print("report.py: wrote %s (%d case records, %d roofline)" % (P("REPORT.md"), len(cases), len(roofs)))
+    page = a.page or P("REPORT.md")
+    rel = os.path.relpath(a.out, os.path.dirname(os.path.abspath(page)) or ".")
+    docs = os.path.relpath(os.path.join(a.out), os.path.dirname(os.path.abspath(page)))
+    doc.append("\n## Per-issue measurements\n\nThe A/B runs behind each speed and design change, made with the "
+               "older per-kind harnesses (`build/bench/bench_particles`, `bench_grid`, `bench_rbf`) and kept with "
+               "their commands and raw results: [particles](%s/particles.md), [grids](%s/grid.md), "
+               "[RBF sets and the encoder](%s/rbf.md); what those harnesses still cover that `lanecast bench` "
+               "does not: [bench/README.md](%s/README.md).\n" % (docs, docs, docs, docs))
+    text = "\n".join(doc)
+    if rel != ".":  # plots and composites live in OUT
+        text = re.sub(r"\]\(([^/()]+\.png)\)", lambda mm: "](%s/%s)" % (rel, mm.group(1)), text)
+    with open(page, "w") as f:
+        f.write(text)
+    print("report.py: wrote %s (%d case records, %d roofline)" % (page, len(cases), len(roofs)))
 
 
 if __name__ == "__main__":

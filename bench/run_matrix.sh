@@ -1,5 +1,5 @@
 #!/bin/sh
-# The modest matrix behind docs/bench/REPORT.md: lanecast bench records into
+# The modest matrix behind docs/BENCHMARKS.md: lanecast bench records into
 # bench/results/bench_*.jsonl (appended), then bench/report.py. Sized for a
 # shared 2-core machine: 256x256 images, few rounds, interleaved targets.
 # usage: bench/run_matrix.sh BUILD_DIR   (from the source root)
@@ -26,4 +26,6 @@ run $common --scenes uniform:1e5,engine --targets scalar,avx512 --views far,medi
     --methods default,direct,brute -o $out/bench_views.jsonl
 # the large sets, widest target only, 2 threads (memory: rss_peak_kb)
 run $common --scenes uniform:1e7,grid:512 --targets avx512 --threads 2 --repeats 3 -o $out/bench_large.jsonl
-/usr/bin/python3 bench/report.py $out/bench_*.jsonl -o docs/bench
+/usr/bin/python3 bench/report.py $out/bench_*.jsonl -o docs/bench --page docs/BENCHMARKS.md \
+    --command "bench/run_matrix.sh ${1:-build}   # every lanecast bench run in this script, then report.py
+bench/peers.sh ${1:-build}   # VTK and SPLASH side by side (records in bench_peers.jsonl; --install installs them)"

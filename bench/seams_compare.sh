@@ -4,7 +4,7 @@
 # in BEFORE/build) and this tree's build (AFTER).
 # Usage: bench/seams_compare.sh BEFORE AFTER [NAME]
 # Appends to bench/results/NAME_{particles,grid}.txt (NAME: seams);
-# bench/seams_table.py [NAME] makes their tables (docs/BENCHMARKS.md "Kind and
+# bench/seams_table.py [NAME] makes their tables (docs/bench/particles.md "Kind and
 # mode seams"). Wall-clock times: on a busy machine use bench/ab_compare.sh.
 set -eu
 BEFORE=$1 AFTER=$2 NAME=${3:-seams}

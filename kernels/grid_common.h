@@ -12,7 +12,7 @@
 #include "shared/ktable.h"
 #include "grid_rows.h"
 
-/* Stage profile (bench only, docs/BENCHMARKS-grid.md "Stage profile"): the
+/* Stage profile (bench only, docs/bench/grid.md "Stage profile"): the
  * benchmark compiles these kernels again with GRID_PROF set to a cumulative
  * set of stages replaced by cheap stand-ins that keep the data flow (so the
  * compiler cannot drop what remains) and the samples taken (frames run with

@@ -1,6 +1,6 @@
 #!/bin/sh
 # lanecast encode: hydrogen reaches 2% RMS and renders; neghip (reduced: 256
-# and 1024 RBFs, see docs/BENCHMARKS-rbf.md for the full runs) improves with
+# and 1024 RBFs, see docs/bench/rbf.md for the full runs) improves with
 # more RBFs; the text variant; bad input gives one line, exit 1 and no file.
 # Args: the lanecast executable, the shared data folder, a scratch folder.
 set -u

@@ -14,7 +14,7 @@ static const char help[] =
     "                        with a bias the field is w0 everywhere else, so the box bounds it\n"
     "  --rbf-leaf N          RBFs per BVH leaf, 1..32 (default 4)\n"
     "  --rbf-accel bvh|octree   what the default method renders through: the adaptive octree of\n"
-    "                        Jang 2004 §5 (default: faster on most sets in docs/BENCHMARKS-rbf.md; the BVH\n"
+    "                        Jang 2004 §5 (default: faster on most sets in docs/bench/rbf.md; the BVH\n"
     "                        is faster on dense clusters of wide supports) or the BVH gather\n"
     "  --rbf-cell N          octree: split cells holding more than N RBFs, 1..4096 (default 32)\n"
     "  --rbf-significant     octree: keep only the N most significant RBFs per cell and interpolate\n"

@@ -1,7 +1,7 @@
 /* lanecast bench: one benchmark over the public API (after dav1d's checkasm:
  * every target is checked against the scalar target's image, then timed).
  * The case matrix is the cross product of the lists given; one JSON line per
- * case and target (bench/report.py turns them into docs/bench/REPORT.md). */
+ * case and target (bench/report.py turns them into docs/BENCHMARKS.md). */
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>

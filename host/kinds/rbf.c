@@ -68,7 +68,7 @@ static int box_is_zero(const lc_box3 *b)
 }
 
 /* LC_RBF_ACCEL_DEFAULT: the faster of the two on the measured sets
- * (docs/BENCHMARKS-rbf.md). */
+ * (docs/bench/rbf.md). */
 static lc_rbf_accel resolve_accel(lc_rbf_accel a) { return a == LC_RBF_ACCEL_DEFAULT ? LC_RBF_ACCEL_OCTREE : a; }
 
 /* The descriptor's scalar checks; the per-RBF ones follow in create. */

@@ -403,7 +403,7 @@ LC_API lc_status lc_grid_histogram(const lc_volume *grid, int nbins, uint64_t *c
  * LC_METHOD_DEFAULT renders (the BVH is always built: LC_METHOD_BVH and
  * LC_METHOD_BRUTE stay available on either). */
 typedef enum lc_rbf_accel {
-    LC_RBF_ACCEL_DEFAULT = 0, /* the faster on most measured sets (docs/BENCHMARKS-rbf.md): the octree,
+    LC_RBF_ACCEL_DEFAULT = 0, /* the faster on most measured sets (docs/bench/rbf.md): the octree,
                                  or the BVH when the octree's lists would exceed their limit */
     LC_RBF_ACCEL_BVH = 1,     /* per-sample gather through the BVH of the supports */
     LC_RBF_ACCEL_OCTREE = 2   /* the adaptive octree of Jang 2004 §5: per-cell lists of the RBFs whose
@@ -657,7 +657,7 @@ typedef struct lc_rbf_encode_desc {
     lc_rbf_centre centre;
     int fit_range_set;    /* 1: fit only samples with values in fit_range (inclusive) */
     float fit_range[2];
-    /* Bounded cost per iteration (docs/BENCHMARKS-rbf.md): the fit runs on at
+    /* Bounded cost per iteration (docs/bench/rbf.md): the fit runs on at
        most fit_samples samples (a fixed-seed uniform subsample; 0 = 2^21,
        the report is over all), Levenberg-Marquardt sees at most lm_samples
        of the new RBF's neighbourhood (0 = 2048) and the local least squares
