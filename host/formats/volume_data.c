@@ -331,12 +331,20 @@ lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, 
             free(data);
             return LC_ERROR_FORMAT;
         }
-    for (int a = 0; a < 3; a++) d->size[a] = (int)h->size[a];
-    d->type = h->type;
-    d->spacing = h->have_spacing ? (lc_vec3){(float)h->spacing[0], (float)h->spacing[1], (float)h->spacing[2]}
-                                 : (lc_vec3){1, 1, 1};
+    const double one[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
+    return lci_vol_hand_over(dev, path, d, h->size, h->type, h->have_spacing ? h->spacing : one,
+                             h->have_origin ? h->origin : zero, o, data, out);
+}
+
+lc_status lci_vol_hand_over(lc_device *dev, const char *path, lc_grid_desc *d, const int64_t size[3], lc_value_type type,
+                            const double spacing[3], const double origin[3], const lci_vol_opts *o, void *data,
+                            lci_loaded *out)
+{
+    for (int a = 0; a < 3; a++) d->size[a] = (int)size[a];
+    d->type = type;
+    d->spacing = (lc_vec3){(float)spacing[0], (float)spacing[1], (float)spacing[2]};
+    d->origin = (lc_vec3){(float)origin[0], (float)origin[1], (float)origin[2]};
     if (o->spacing.x != 0 || o->spacing.y != 0 || o->spacing.z != 0) d->spacing = o->spacing;
-    if (h->have_origin) d->origin = (lc_vec3){(float)h->origin[0], (float)h->origin[1], (float)h->origin[2]};
     if (o->origin.x != 0 || o->origin.y != 0 || o->origin.z != 0) d->origin = o->origin;
     d->data = data;
     out->desc = d;

@@ -75,6 +75,13 @@ int lci_parse_offset(const char *v, long long *out);
 #define LCI_MAX_COORD 1e30
 lc_status lci_vol_geometry(lc_device *dev, const char *path, const int size[3], lc_vec3 spacing, lc_vec3 origin);
 
+/* Hands a read volume over as out's lc_grid_desc d (allocated by the caller;
+ * out keeps d and data from here on): size, type, the file's spacing and
+ * origin unless the options override them, then checks the geometry. */
+lc_status lci_vol_hand_over(lc_device *dev, const char *path, lc_grid_desc *d, const int64_t size[3], lc_value_type type,
+                            const double spacing[3], const double origin[3], const lci_vol_opts *o, void *data,
+                            lci_loaded *out);
+
 /* Reads the header of `path` with parse (which fills h from the open file),
  * finds the data (detached: relative to the header's folder), and loads it. */
 typedef lc_status (*lci_header_fn)(lc_device *dev, const char *path, FILE *f, lci_vol_header *h);

@@ -421,17 +421,8 @@ static lc_status vtk_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", a->path);
         goto out;
     }
-    for (int k = 0; k < 3; k++) d->size[k] = (int)dims[k];
-    d->type = vt->to;
-    d->spacing = (lc_vec3){(float)spacing[0], (float)spacing[1], (float)spacing[2]};
-    d->origin = (lc_vec3){(float)origin[0], (float)origin[1], (float)origin[2]};
-    if (o.spacing.x != 0 || o.spacing.y != 0 || o.spacing.z != 0) d->spacing = o.spacing;
-    if (o.origin.x != 0 || o.origin.y != 0 || o.origin.z != 0) d->origin = o.origin;
-    d->data = data;
-    out->desc = d;
-    lci_loaded_keep(out, data);
-    data = NULL;
-    s = lci_vol_geometry(dev, a->path, d->size, d->spacing, d->origin);
+    s = lci_vol_hand_over(dev, a->path, d, dims, vt->to, spacing, origin, &o, data, out);
+    data = NULL; /* out keeps it */
 out:
     free(data);
     fclose(r->f);
