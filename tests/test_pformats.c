@@ -52,14 +52,7 @@ static const lc_particles_desc *read_with(const lci_format *fmt, const char *pat
 /* lc_volume_load must fail with LC_ERROR_FORMAT (or want) and one line starting "FILE: byte N" / "FILE:LINE:". */
 static void must_fail(const char *name, const char *where, const char *says, lc_status want, const lc_load_desc *d)
 {
-    char prefix[1200];
-    snprintf(prefix, sizeof prefix, "%s%s", tpath(name), where);
-    lc_volume *v = NULL;
-    lc_status s = lc_volume_load(dev, tpath(name), d, &v);
-    const char *m = lc_last_error();
-    CHECK(s == want && !v && !strncmp(m, prefix, strlen(prefix)) && strstr(m, says) && !strchr(m, '\n'),
-          "%s fails (%s ... %s): %s", name, where, says, m);
-    lc_volume_destroy(v);
+    load_must_fail(dev, tpath(name), where, says, NULL, want, d);
 }
 
 /* ------------------------------------------------------------------ DCD */
