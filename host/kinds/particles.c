@@ -15,6 +15,7 @@ typedef struct particles {
     float *node_fbound; /* per node and field: field bound (field_bounds); NULL = none */
     float fbound_sigma; /* the sigma node_fbound was computed for */
     float *px, *py, *pz, *r, *nir, *k; /* leaf order */
+    float kmin, kmax; /* of the k_i and 0: the default value range is kappa times them */
     uint8_t *field;
 } particles;
 
@@ -327,6 +328,7 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
         p->r[j] = ro;
         p->nir[j] = -1.0f / (2.0f * ro * ro);
         p->k[j] = d->values ? d->values[i] : 1.0f;
+        p->kmin = p->k[j] < p->kmin ? p->k[j] : p->kmin, p->kmax = p->k[j] > p->kmax ? p->k[j] : p->kmax;
         p->field[j] = d->fields ? d->fields[i] : 0;
     }
     free(p->bvh.order);
@@ -420,11 +422,8 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
     /* a particle's own peak is kappa k_i: the range spans them and 0, so
        values such as B-factors or charges (and a negative kappa) map onto
        the TF rather than past it; unit values and kappa > 0 give [0, kappa] */
-    float lo = 0.0f, hi = 0.0f, kappa = p->info.params.kappa;
-    for (size_t j = 0; j < p->info.count; j++) {
-        float peak = kappa * p->k[j];
-        lo = peak < lo ? peak : lo, hi = peak > hi ? peak : hi;
-    }
+    float kappa = p->info.params.kappa, a = kappa * p->kmin, b = kappa * p->kmax;
+    float lo = a < b ? a : b, hi = a < b ? b : a; /* kmin <= 0 <= kmax: both hold 0 */
     out->default_range[0] = lo;
     out->default_range[1] = hi > lo ? hi : lo + 1.0f;
     out->nfields = p->info.nfields;
