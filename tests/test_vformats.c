@@ -306,10 +306,9 @@ static void vtk(void)
 /* ------------------------------------------------------------------ HDF5 */
 
 #if LC_HAVE_HDF5
-static void h5_attr(hid_t g, const char *name, hid_t type, const void *v)
+static void h5_attr(hid_t g, const char *name, hid_t type, const void *v, hsize_t count)
 {
-    hsize_t six = 6;
-    hid_t sp = H5Screate_simple(1, &six, NULL);
+    hid_t sp = H5Screate_simple(1, &count, NULL);
     hid_t a = H5Acreate2(g, name, type, sp, H5P_DEFAULT, H5P_DEFAULT);
     H5Awrite(a, type, v);
     H5Aclose(a);
@@ -327,15 +326,17 @@ static void h5_data(hid_t g, const char *name, hid_t ftype, hid_t mtype, int ran
 
 /* A GADGET-style snapshot: 3 gas (double positions, hsml, density, masses)
  * and 2 halo particles (float positions, mass from MassTable). bad: 1 = halo
- * positions N x 2, 2 = NumPart disagrees. */
+ * positions N x 2, 2 = NumPart disagrees, 3 = SWIFT's 7-type header and a
+ * NumFilesPerSnapshot of 64 values (both fine), 4 = a MassTable of 20. */
 static void h5_snapshot(const char *name, int bad)
 {
     hid_t f = H5Fcreate(tpath(name), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     hid_t h = H5Gcreate2(f, "Header", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    int np[6] = {3, bad == 2 ? 7 : 2, 0, 0, 0, 0};
-    double mt[6] = {0, 0.5, 0, 0, 0, 0};
-    h5_attr(h, "NumPart_ThisFile", H5T_NATIVE_INT, np);
-    h5_attr(h, "MassTable", H5T_NATIVE_DOUBLE, mt);
+    int np[64] = {3, bad == 2 ? 7 : 2, 0, 0, 0, 0};
+    double mt[20] = {0, 0.5, 0, 0, 0, 0};
+    h5_attr(h, "NumPart_ThisFile", H5T_NATIVE_INT, np, bad == 3 ? 7 : 6);
+    h5_attr(h, "MassTable", H5T_NATIVE_DOUBLE, mt, bad == 3 ? 7 : bad == 4 ? 20 : 6);
+    if (bad == 3) h5_attr(h, "NumFilesPerSnapshot", H5T_NATIVE_INT, np, 64);
     H5Gclose(h);
     hid_t g = H5Gcreate2(f, "PartType0", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     double x0[9] = {0, 0, 0, 1, 0, 0, 0, 2, 0};
@@ -403,6 +404,13 @@ static void hdf5(void)
     /* malformed */
     h5_snapshot("n2.hdf5", 1);
     must_fail("n2.hdf5", ": /PartType1/Coordinates (byte ", "shape 2 x 2, expected N x 3", LC_ERROR_FORMAT, NULL);
+    h5_snapshot("swift.hdf5", 3);
+    d = read_with(&lci_format_hdf5, tpath("swift.hdf5"), 0, (lc_option[]){{"value", "mass"}}, 1, &l);
+    CHECK(d && d->count == 5 && d->values[3] == 0.5f,
+          "swift.hdf5: 7-type header, a 64-value NumFilesPerSnapshot: loads (no fixed buffer overrun)");
+    lci_loaded_free(&l);
+    h5_snapshot("mt20.hdf5", 4);
+    must_fail("mt20.hdf5", ": /Header/MassTable: ", "20 values, expected 1 to 16", LC_ERROR_FORMAT, NULL);
     h5_snapshot("np.hdf5", 2);
     must_fail("np.hdf5", ": /PartType1/Coordinates (byte ", "NumPart_ThisFile[1] says 7", LC_ERROR_FORMAT, NULL);
     FILE *f = fopen(tpath("snap.hdf5"), "rb");

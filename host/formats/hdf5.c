@@ -83,6 +83,42 @@ static lc_status h5_open(lc_device *dev, const char *path, hid_t *out)
 
 static int exists(hid_t loc, const char *name) { return H5Lexists(loc, name, H5P_DEFAULT) > 0; }
 
+/* Whether libhdf5 can convert numbers of type ty to native ones safely. Its
+ * converters trust the bit layout a file declares: a float whose exponent
+ * or mantissa is wider than 64 bits, or fields outside the type's bytes,
+ * overrun fixed buffers inside libhdf5 1.10 (a fuzzed GADGET snapshot
+ * smashed the stack in H5T__bit_get_d). So every dataset and attribute is
+ * checked here before it is read: integers and floats of 1, 2, 4 or 8 bytes
+ * whose declared fields lie inside those bytes, exponents of at most 16
+ * bits and mantissas of at most 64. why gets the reason. */
+static int type_sane(hid_t ty, char *why, size_t n)
+{
+    H5T_class_t cls = H5Tget_class(ty);
+    size_t size = H5Tget_size(ty), prec = H5Tget_precision(ty);
+    int off = H5Tget_offset(ty);
+    if (cls != H5T_INTEGER && cls != H5T_FLOAT) {
+        snprintf(why, n, "not a number (HDF5 class %d)", (int)cls);
+        return 0;
+    }
+    if (size != 1 && size != 2 && size != 4 && size != 8) {
+        snprintf(why, n, "numbers of %zu bytes, expected 1, 2, 4 or 8", size);
+        return 0;
+    }
+    if (off < 0 || prec < 1 || (size_t)off + prec > 8 * size) {
+        snprintf(why, n, "a number type with %zu bits at bit offset %d in %zu bytes", prec, off, size);
+        return 0;
+    }
+    if (cls == H5T_FLOAT) {
+        size_t spos, epos, esize, mpos, msize;
+        if (size == 1 || H5Tget_fields(ty, &spos, &epos, &esize, &mpos, &msize) < 0 || esize < 1 || esize > 16 ||
+            msize < 1 || msize > 64 || spos >= 8 * size || epos + esize > 8 * size || mpos + msize > 8 * size) {
+            snprintf(why, n, "a floating-point type with a damaged bit layout (%zu bytes)", size);
+            return 0;
+        }
+    }
+    return 1;
+}
+
 /* A dataset's shape (rank <= 3) and its place for messages ("byte N" of a contiguous one). */
 typedef struct dinfo {
     int rank;
@@ -103,6 +139,8 @@ static lc_status dataset_info(lc_device *dev, const char *path, const char *name
     d->cls = ty >= 0 ? H5Tget_class(ty) : H5T_NO_CLASS;
     d->size = ty >= 0 ? H5Tget_size(ty) : 0;
     d->is_signed = d->cls == H5T_INTEGER && H5Tget_sign(ty) == H5T_SGN_2;
+    char why[96] = "";
+    int sane = ty >= 0 && type_sane(ty, why, sizeof why);
     haddr_t addr = H5Dget_offset(ds);
     if (addr != HADDR_UNDEF) snprintf(d->where, sizeof d->where, " (byte %llu)", (unsigned long long)addr);
     if (sp >= 0) H5Sclose(sp);
@@ -112,6 +150,7 @@ static lc_status dataset_info(lc_device *dev, const char *path, const char *name
     if (d->cls != H5T_INTEGER && d->cls != H5T_FLOAT)
         return lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: not a dataset of numbers (HDF5 class %d)", path, name, d->where,
                          (int)d->cls);
+    if (!sane) return lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: %s", path, name, d->where, why);
     /* a contiguous dataset's bytes must be in the file */
     if (addr != HADDR_UNDEF) {
         hsize_t need = d->size;
@@ -164,18 +203,28 @@ static lc_status per_particle(lc_device *dev, const char *path, hid_t g, int typ
     return LC_OK;
 }
 
-/* A /Header attribute of up to 6 numbers as doubles; 0 when absent. */
-static int header_attr(hid_t f, const char *name, double v[6])
+/* The /Header attribute name of 1 to n numbers as doubles into v[n] (the
+ * rest 0): 1 when read, 0 when absent, -1 (with why) when present but empty,
+ * longer than n or of a type libhdf5 does not convert safely. (SWIFT writes
+ * 7 types where GADGET writes 6.) */
+static int header_attr(hid_t f, const char *name, double *v, hssize_t n, char *why, size_t wn)
 {
     if (!exists(f, "Header") || H5Aexists_by_name(f, "Header", name, H5P_DEFAULT) <= 0) return 0;
     hid_t a = H5Aopen_by_name(f, "Header", name, H5P_DEFAULT, H5P_DEFAULT);
-    if (a < 0) return 0;
-    hid_t sp = H5Aget_space(a);
-    hssize_t n = H5Sget_simple_extent_npoints(sp);
-    H5Sclose(sp);
-    int ok = n == 6 && H5Aread(a, H5T_NATIVE_DOUBLE, v) >= 0;
+    if (a < 0) {
+        snprintf(why, wn, "libhdf5 cannot open it (%s)", h5_why());
+        return -1;
+    }
+    hid_t sp = H5Aget_space(a), ty = H5Aget_type(a);
+    hssize_t got = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
+    int ok = ty >= 0 && type_sane(ty, why, wn);
+    if (ok && (got < 1 || got > n)) snprintf(why, wn, "%lld values, expected 1 to %lld", (long long)got, (long long)n), ok = 0;
+    for (hssize_t i = 0; i < n; i++) v[i] = 0.0;
+    if (ok && H5Aread(a, H5T_NATIVE_DOUBLE, v) < 0) snprintf(why, wn, "libhdf5 cannot read it (%s)", h5_why()), ok = 0;
+    if (sp >= 0) H5Sclose(sp);
+    if (ty >= 0) H5Tclose(ty);
     H5Aclose(a);
-    return ok;
+    return ok ? 1 : -1;
 }
 
 enum { V_NONE, V_MASS, V_U, V_RHO, V_HSML };
@@ -276,8 +325,12 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, hopts 
     lci_plist p;
     memset(&p, 0, sizeof p);
     lc_status s = LC_OK;
-    double mtab[6] = {0}, npart[6] = {0};
-    int have_mtab = header_attr(f, "MassTable", mtab), have_np = header_attr(f, "NumPart_ThisFile", npart);
+    double mtab[16] = {0}, npart[16] = {0};
+    char why[96] = "";
+    int have_mtab = header_attr(f, "MassTable", mtab, 16, why, sizeof why);
+    if (have_mtab < 0) return lci_error(dev, LC_ERROR_FORMAT, "%s: /Header/MassTable: %s", path, why);
+    int have_np = header_attr(f, "NumPart_ThisFile", npart, 16, why, sizeof why);
+    if (have_np < 0) return lci_error(dev, LC_ERROR_FORMAT, "%s: /Header/NumPart_ThisFile: %s", path, why);
     int nfields = 0, any = 0;
     for (int t = 0; t < 6 && s == LC_OK; t++) {
         char gname[16], name[96];
@@ -351,13 +404,9 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, hopts 
     if (s == LC_OK && !any && !o->sel.sel) /* with a selection, lci_psel_close says it matched nothing */
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: no particles in the chosen PartTypeN groups%s", path,
                       o->value != V_NONE ? " with that value" : "");
-    double nfiles[6];
-    if (s == LC_OK && H5Aexists_by_name(f, "Header", "NumFilesPerSnapshot", H5P_DEFAULT) > 0) {
-        hid_t at = H5Aopen_by_name(f, "Header", "NumFilesPerSnapshot", H5P_DEFAULT, H5P_DEFAULT);
-        if (at >= 0 && H5Aread(at, H5T_NATIVE_DOUBLE, nfiles) >= 0 && nfiles[0] > 1)
-            lci_log(dev, LC_LOG_INFO, "%s: one file of a %.0f-file snapshot (its own particles only)", path, nfiles[0]);
-        if (at >= 0) H5Aclose(at);
-    }
+    double nfiles = 0;
+    if (s == LC_OK && header_attr(f, "NumFilesPerSnapshot", &nfiles, 1, why, sizeof why) > 0 && nfiles > 1)
+        lci_log(dev, LC_LOG_INFO, "%s: one file of a %.0f-file snapshot (its own particles only)", path, nfiles);
     return lci_plist_finish(dev, path, s, &p, o->by_type ? nfields : 1, o->value != V_NONE, out);
 }
 
