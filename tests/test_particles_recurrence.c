@@ -85,7 +85,7 @@ static double worst_error(probe_fn fn, int lanes, int period, int chords, int *u
 int main(void)
 {
     int tested = 0;
-    for (int t = 0; t < LC_TARGET_COUNT; t++) {
+    for (int t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++) {
         probe_fn fn = probe_of((lc_target)t);
         if (!fn || !lc_target_compiled((lc_target)t) || !lc_target_supported((lc_target)t)) {
             printf("skip %s: not compiled or not supported here\n", lc_target_name((lc_target)t));

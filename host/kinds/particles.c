@@ -71,6 +71,13 @@ lc_status lc_particles_get_info(const lc_volume *v, lc_particles_info *out)
     return LC_OK;
 }
 
+/* floor(x) as a cell index clamped to [0, dim - 1]; NaN gives 0. */
+static inline int cell_index(float x, int dim)
+{
+    float f = floorf(x);
+    return !(f >= 0.0f) ? 0 : f >= (float)(dim - 1) ? dim - 1 : (int)f;
+}
+
 /* Transparent-space skipping (issue 8): for every node and field a bound of
  * |Phi_f| / |kappa| over the samples the node's particles reach, so a dvr
  * traversal may skip the node when |kappa| * bound lies where the field's TF
@@ -83,6 +90,7 @@ lc_status lc_particles_get_info(const lc_volume *v, lc_particles_info *out)
  * depends on sigma, not on kappa: recomputed when sigma changes, not rebuilt.
  * Zero for fields a node holds no particle of. Out of memory: NULL, no
  * skipping. */
+
 static void field_bounds(particles *p)
 {
     free(p->node_fbound);
@@ -107,10 +115,11 @@ static void field_bounds(particles *p)
         return;
     }
     const float inv = 1.0f / h;
+    /* clamped in float before converting: with a tiny radius the cell index
+       can be far outside int (undefined behaviour, found by UBSan's
+       float-cast-overflow) */
 #define CELL_RANGE(c, r, a, i0, i1)                                                                                    \
-    int i0 = (int)floorf(((c) - (r) - lo[a]) * inv), i1 = (int)floorf(((c) + (r) - lo[a]) * inv);                      \
-    i0 = i0 < 0 ? 0 : i0 >= dim[a] ? dim[a] - 1 : i0;                                                                  \
-    i1 = i1 < 0 ? 0 : i1 >= dim[a] ? dim[a] - 1 : i1;
+    int i0 = cell_index(((c) - (r) - lo[a]) * inv, dim[a]), i1 = cell_index(((c) + (r) - lo[a]) * inv, dim[a]);
     for (size_t j = 0; j < p->info.count; j++) {
         float rs = grow_support(sig * p->r[j]), ak = fabsf(p->k[j]);
         CELL_RANGE(p->px[j], rs, 0, x0, x1)
