@@ -189,14 +189,17 @@ int lci_knn_radii(const float *xyz, size_t n, int k, float *r)
                 }
                 if (m >= 0.0 && m * m >= (double)heap[0]) break;
             }
-            for (int dz = -s; dz <= s; dz++) {
+            /* shell s, clipped to the grid: a long thin grid (one far point
+               stretches it to 1 x 1 x 1024 cells) costs O(s) per shell, not O(s^2) */
+            int zlo = -s > -c[2] ? -s : -c[2], zhi = s < g.dim[2] - 1 - c[2] ? s : g.dim[2] - 1 - c[2];
+            int ylo = -s > -c[1] ? -s : -c[1], yhi = s < g.dim[1] - 1 - c[1] ? s : g.dim[1] - 1 - c[1];
+            int xlo = -s > -c[0] ? -s : -c[0], xhi = s < g.dim[0] - 1 - c[0] ? s : g.dim[0] - 1 - c[0];
+            for (int dz = zlo; dz <= zhi; dz++) {
                 int z = c[2] + dz;
-                if (z < 0 || z >= g.dim[2]) continue;
-                for (int dy = -s; dy <= s; dy++) {
+                for (int dy = ylo; dy <= yhi; dy++) {
                     int y = c[1] + dy;
-                    if (y < 0 || y >= g.dim[1]) continue;
                     int onshell = dz == -s || dz == s || dy == -s || dy == s;
-                    for (int dx = -s; dx <= s; dx += onshell ? 1 : 2 * s) {
+                    for (int dx = onshell ? xlo : -s; dx <= (onshell ? xhi : s); dx += onshell ? 1 : 2 * s) {
                         int xx = c[0] + dx;
                         if (xx >= 0 && xx < g.dim[0]) {
                             size_t cc = ((size_t)z * (size_t)g.dim[1] + (size_t)y) * (size_t)g.dim[0] + (size_t)xx;
@@ -211,6 +214,10 @@ int lci_knn_radii(const float *xyz, size_t n, int k, float *r)
                     }
                 }
             }
+            /* every cell seen: nothing further to find */
+            if (xlo == -c[0] && ylo == -c[1] && zlo == -c[2] && xhi == g.dim[0] - 1 - c[0] &&
+                yhi == g.dim[1] - 1 - c[1] && zhi == g.dim[2] - 1 - c[2])
+                break;
         }
         r[i] = sqrtf(heap[0]);
     }
