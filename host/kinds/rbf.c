@@ -523,10 +523,10 @@ static lc_status prepare_coherent(lc_device *dev, const rbf *p, const lc_kframe 
         }
         k->node_clear = n_clear ? flags : NULL;
     }
-    const lc_kkind *pk = dev->kt->kind[LC_KKIND_PARTICLES];
-    out->tile = pk->render[LC_KMETHOD_FAST];
+    const lc_kkind *kk = dev->kt->kind[LC_KKIND_RBF];
+    out->tile = kk->render[LC_KMETHOD_COHERENT];
     out->kscene = k;
-    out->scratch_bytes = pk->scratch_bytes[LC_KMETHOD_FAST](k, frame);
+    out->scratch_bytes = kk->scratch_bytes[LC_KMETHOD_COHERENT](k, frame);
     out->owned = k; /* freed with free(): posix_memalign memory */
     return LC_OK;
 }
