@@ -16,6 +16,8 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
     const int nf = s->nfields, shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
     const pprobe pc = {s, stack, st};
     const mprobe probe = {particles_probe, &pc};
+    const int skip = skip_base(s, f);
+    const vfloat vbias = vf_set1(s->bias);
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
@@ -47,11 +49,11 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
                     vfloat phi[LC_KMAX_FIELDS], gx[LC_KMAX_FIELDS], gy[LC_KMAX_FIELDS], gz[LC_KMAX_FIELDS];
                     /* gather: every particle whose support contains a sample */
                     int found = gather_fields(s, px, py, pz, m, shade, mode == LC_KMODE_DVR, stack, phi, gx, gy, gz, st);
-                    if (!found && f->zero_transparent) continue; /* blends to exactly nothing */
+                    if (!found && skip) continue; /* every field is the bias: blends to exactly nothing */
                     st->samples += (uint64_t)vm_popcnt(m);
                     for (int fi = 0; fi < nf; fi++) {
-                        /* tau(0) = 0 and this field is 0 on every lane: it blends to exactly nothing */
-                        if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi[fi], vf_zero())))) continue;
+                        /* tau(bias) = 0 and this field is the bias on every lane: it blends to exactly nothing */
+                        if (skip && vm_none(vm_and(m, vf_ne(phi[fi], vbias)))) continue;
                         /* dvr: every lane fully transparent in this TF: exactly nothing */
                         if (mode == LC_KMODE_DVR && vm_none(vm_and(m, vf_gt(phi[fi], vf_set1(s->clear_below[fi])))))
                             continue;

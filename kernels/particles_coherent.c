@@ -221,13 +221,15 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kpar
                                                                    const mprobe *probe, lc_kstats *st)
 {
     const int rays = nv * LC_W;
+    const int skip = skip_base(s, f);
+    const vfloat vbias = vf_set1(s->bias);
     for (int v = 0; v < nv; v++) {
         int o = v * LC_W;
         vmask live = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
         if (vm_none(live)) continue;
-        /* no particle reached these rays in this pass: every sample is 0 and, with
-           tau(0) = 0, blends to exactly nothing */
-        if (f->zero_transparent && !c->touched[v]) continue;
+        /* no particle reached these rays in this pass: every sample is the bias (0
+           for particles) and, with tau(bias) = 0, blends to exactly nothing */
+        if (skip && !c->touched[v]) continue;
         vray r;
         r.dx = vf_load(c->dx + o), r.dy = vf_load(c->dy + o), r.dz = vf_load(c->dz + o);
         if (mode == LC_KMODE_ISO) r.ox = vf_load(c->ox + o), r.oy = vf_load(c->oy + o), r.oz = vf_load(c->oz + o);
@@ -241,7 +243,7 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kpar
                 const float *p = c->buf + (((size_t)fi * (size_t)K + (size_t)(k - kp)) * (size_t)comps) *
                                              (size_t)rays + (size_t)o;
                 vfloat phi = vf_load(p);
-                if (f->zero_transparent && vm_none(vm_and(m, vf_ne(phi, vf_zero())))) continue;
+                if (skip && vm_none(vm_and(m, vf_ne(phi, vbias)))) continue;
                 /* dvr: every lane fully transparent in this TF blends to exactly nothing */
                 if (mode == LC_KMODE_DVR && vm_none(vm_and(m, vf_gt(phi, vf_set1(s->clear_below[fi]))))) continue;
                 vgrad gr;
@@ -291,6 +293,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     const pprobe pc = {s, c.stack, st};
     const mprobe probe = {particles_probe, &pc};
     const mprobe *pr = mode == LC_KMODE_ISO ? &probe : NULL;
+    const vfloat vbias = vf_set1(s->bias);
     for (int gy = t->y0; gy < t->y1; gy += g.gh) {
         for (int gx = t->x0; gx < t->x1; gx += g.gw) {
             /* Listing 3, line 3: rays, their box interval and lattice range */
@@ -352,10 +355,12 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                 }
                 st->passes++;
                 int nrows = kend - kp + 1;
+                /* every sample starts at the bias (0 for particles), its gradient at 0 */
                 for (int fi = 0; fi < nf; fi++)
                     for (int row = 0; row < nrows; row++) {
                         float *p = c.buf + ((size_t)fi * (size_t)K + (size_t)row) * (size_t)comps * (size_t)rays;
-                        for (int q = 0; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
+                        for (int q = 0; q < rays; q += LC_W) vf_store(p + q, vbias);
+                        for (int q = rays; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
                     }
                 for (int v = 0; v < nv; v++) c.touched[v] = 0;
                 traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);

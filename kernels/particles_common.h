@@ -97,13 +97,22 @@ static inline float grow(float sigma_r) { return sigma_r * 1.0001f + 1e-6f; }
  * transparent whatever else is added to them, so skipping changes no pixel. */
 static inline int node_clear(const lc_kparticles *s, int32_t n) { return s->node_clear && s->node_clear[n]; }
 
+/* Do samples that no particle reached (they hold exactly s->bias) blend to
+ * exactly nothing in this frame, so a method may skip them? bias 0: the
+ * frame's zero_transparent (tau(0) = 0, dvr); otherwise what the host found
+ * for tau(bias) (kparticles.h). */
+static inline int skip_base(const lc_kparticles *s, const lc_kframe *f)
+{
+    return s->bias == 0.0f ? f->zero_transparent : s->bias_clear;
+}
+
 /* Every field (and, with grad, its gradient) at the points p of the lanes in m,
- * through the BVH: the direct method's per-sample gather. Returns whether any
- * particle contributed. */
+ * through the BVH: the direct method's per-sample gather, starting from the
+ * bias (0 for particles). Returns whether any particle contributed. */
 static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
                                 int skip, int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
 {
-    for (int fi = 0; fi < s->nfields; fi++) phi[fi] = gx[fi] = gy[fi] = gz[fi] = vf_zero();
+    for (int fi = 0; fi < s->nfields; fi++) phi[fi] = vf_set1(s->bias), gx[fi] = gy[fi] = gz[fi] = vf_zero();
     if (s->nnodes == 0) return 0;
     int sp = 0, found = 0;
     uint64_t nodes = 0, leaves = 0, evals = 0;

@@ -1,4 +1,6 @@
 /* RBF set volume rendering (Jang et al. 2004), compiled once per target.
+ * (The coherent method, the fastest, is the particle kind's kernel over the
+ * set: kernels/particles_coherent.c, slot LC_KMETHOD_COHERENT below.)
  *
  * The field f(x) = w0 + sum w_i exp(-|x - mu_i|^2 / (2 s_i^2)) over the terms
  * whose support |x - mu_i| < R_i holds x (eqs. 2-3) is reconstructed at every
@@ -186,10 +188,14 @@ static uint64_t render_scratch_bytes(const void *scene, const lc_kframe *f)
     return stack_bytes(scene);
 }
 
+/* COHERENT renders the set's particle view (lc_kparticles, host/kinds/rbf.c
+ * prepare_coherent) through the particle kind's coherent kernel. */
 const lc_kkind LC_KFN(lc_kkind_rbf) = {
-    .render = {[LC_KMETHOD_FAST] = rbf_bvh, [LC_KMETHOD_BASE] = rbf_brute, [LC_KMETHOD_CELLS] = LC_KFN(rbf_octree)},
+    .render = {[LC_KMETHOD_FAST] = rbf_bvh, [LC_KMETHOD_BASE] = rbf_brute, [LC_KMETHOD_CELLS] = LC_KFN(rbf_octree),
+               [LC_KMETHOD_COHERENT] = LC_KFN(particles_coherent)},
     .scratch_bytes = {[LC_KMETHOD_FAST] = render_scratch_bytes, [LC_KMETHOD_BASE] = render_scratch_bytes,
-                      [LC_KMETHOD_CELLS] = LC_KFN(rbf_octree_scratch_bytes)},
+                      [LC_KMETHOD_CELLS] = LC_KFN(rbf_octree_scratch_bytes),
+                      [LC_KMETHOD_COHERENT] = LC_KFN(particles_coherent_scratch_bytes)},
     .sample = rbf_sample,
     .sample_scratch_bytes = stack_bytes,
 };

@@ -26,6 +26,11 @@ typedef struct scene {
     lc_shading shade;
     lc_mode mode;
     float range[2];
+    float iso;                /* iso: the iso value */
+    int nplanes;              /* slice: planes[0 .. nplanes - 1], point and normal */
+    float planes[2][6];
+    const float *opacity;     /* the TF's opacity points [v, tau], nopacity of them; NULL: tf_opacity */
+    int nopacity;
 } scene;
 
 static uint32_t seed;
@@ -63,9 +68,13 @@ static const float tf_color[] = {0.0f, 0.1f, 0.2f, 0.9f, 0.4f, 0.8f, 0.2f, 0.1f,
 static const float tf_opacity[] = {0.0f, 1.5f, 0.3f, 0.0f, 0.5f, 0.1f, 1.0f, 3.0f};
 static const lc_camera cam = {LC_PERSPECTIVE, {0.7f, 1.1f, 9.0f}, {0.1f, -0.2f, 0.0f}, {0, 1, 0}, 40.0f, 0.0f};
 
+static const float *opacity_of(const scene *sc) { return sc->opacity ? sc->opacity : tf_opacity; }
+static int nopacity_of(const scene *sc) { return sc->opacity ? sc->nopacity : 4; }
+
 /* The reference image of a scene (terms cut at eps), the support box or the
- * domain as clip box; 0 ok. */
-static int ref_image(const scene *sc, float eps, float *img)
+ * domain as clip box, in the scene's mode (dvr, mip, iso, slice); with depth
+ * not NULL also ref_render_depth's depth and margin (iso, slice); 0 ok. */
+static int ref_image_depth(const scene *sc, float eps, float *img, double *depth, double *margin)
 {
     static double c[3 * MAXN], s[MAXN], w[MAXN];
     for (int i = 0; i < 3 * sc->n; i++) c[i] = sc->c[i];
@@ -78,28 +87,40 @@ static int ref_image(const scene *sc, float eps, float *img)
         const double lo[3] = {d->lo.x, d->lo.y, d->lo.z}, hi[3] = {d->hi.x, d->hi.y, d->hi.z};
         memcpy(src.lo, lo, sizeof lo), memcpy(src.hi, hi, sizeof hi);
     }
-    double col[12], op[8];
+    double col[12], op[16];
     for (int i = 0; i < 12; i++) col[i] = tf_color[i];
-    for (int i = 0; i < 8; i++) op[i] = tf_opacity[i];
-    ref_tf tf = {sc->range[0], sc->range[1], col, 3, op, 4};
+    for (int i = 0; i < 2 * nopacity_of(sc); i++) op[i] = opacity_of(sc)[i];
+    ref_tf tf = {sc->range[0], sc->range[1], col, 3, op, nopacity_of(sc)};
+    static const ref_mode modes[] = {[LC_MODE_DVR] = REF_MODE_DVR, [LC_MODE_MIP] = REF_MODE_MIP,
+                                     [LC_MODE_ISO] = REF_MODE_ISO, [LC_MODE_SLICE] = REF_MODE_SLICE};
     ref_params p = {.width = W, .height = H, .tf = &tf, .dt = sc->dt, .alpha_stop = 1.0,
-                    .shading = (ref_shading)sc->shade, .mode = sc->mode == LC_MODE_MIP ? REF_MODE_MIP : REF_MODE_DVR};
+                    .shading = (ref_shading)sc->shade, .mode = modes[sc->mode], .iso = sc->iso,
+                    .nplanes = sc->nplanes};
+    for (int i = 0; i < sc->nplanes; i++)
+        for (int k = 0; k < 6; k++) p.planes[i][k] = sc->planes[i][k];
     p.camera.projection = REF_PERSPECTIVE;
     for (int k = 0; k < 3; k++) {
         p.camera.eye[k] = (&cam.eye.x)[k], p.camera.at[k] = (&cam.at.x)[k], p.camera.up[k] = (&cam.up.x)[k];
     }
     p.camera.fovy = cam.fovy;
+    if (depth && ref_render_depth(&src, &p, depth, margin)) return -1;
     return ref_render_f(&src, &p, img);
 }
+
+static int ref_image(const scene *sc, float eps, float *img) { return ref_image_depth(sc, eps, img, NULL, NULL); }
 
 /* Renders a scene on dev with method m; 0 ok. */
 static int render(lc_device *dev, const lc_volume *v, const scene *sc, lc_method m, float *img, lc_render_stats *st)
 {
-    lc_tf_field f = {tf_color, 3, tf_opacity, 4, 1, {sc->range[0], sc->range[1]}};
+    lc_tf_field f = {tf_color, 3, opacity_of(sc), nopacity_of(sc), 1, {sc->range[0], sc->range[1]}};
     lc_tf *tf = NULL;
     if (lc_tf_create(dev, &f, 1, &tf) != LC_OK) return -1;
     lc_render_desc rd = {.width = W, .height = H, .camera = cam, .tf = tf, .volume = v, .dt = sc->dt,
-                         .alpha_stop = 1.0f, .shading = sc->shade, .method = m, .mode = sc->mode};
+                         .alpha_stop = 1.0f, .shading = sc->shade, .method = m, .mode = sc->mode,
+                         .iso = sc->iso, .nplanes = sc->nplanes};
+    for (int i = 0; i < sc->nplanes; i++)
+        rd.planes[i] = (lc_plane){{sc->planes[i][0], sc->planes[i][1], sc->planes[i][2]},
+                                  {sc->planes[i][3], sc->planes[i][4], sc->planes[i][5]}};
     lc_status s = lc_render(dev, &rd, img, st);
     lc_tf_destroy(tf);
     return s == LC_OK ? 0 : -1;

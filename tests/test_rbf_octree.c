@@ -266,9 +266,9 @@ static void test_options(lc_device *dev)
     printf("-- bad octree options refused, good ones taken from a file load\n");
     float c[3] = {0, 0, 0}, s[1] = {1}, w[1] = {1};
     lc_volume *v = NULL;
-    lc_rbf_desc d = {.count = 1, .centres = c, .widths = s, .weights = w, .accel = (lc_rbf_accel)3};
-    CHECK(lc_rbf_create(dev, &d, &v) == LC_ERROR_INVALID_ARGUMENT && !v && strstr(lc_last_error(), "accel = 3"),
-          "accel 3: %s", lc_last_error());
+    lc_rbf_desc d = {.count = 1, .centres = c, .widths = s, .weights = w, .accel = (lc_rbf_accel)4};
+    CHECK(lc_rbf_create(dev, &d, &v) == LC_ERROR_INVALID_ARGUMENT && !v && strstr(lc_last_error(), "accel = 4"),
+          "accel 4: %s", lc_last_error());
     d.accel = LC_RBF_ACCEL_OCTREE, d.cell_max = -1;
     CHECK(lc_rbf_create(dev, &d, &v) == LC_ERROR_INVALID_ARGUMENT && strstr(lc_last_error(), "cell_max = -1"),
           "cell_max -1: %s", lc_last_error());
@@ -284,9 +284,10 @@ static void test_options(lc_device *dev)
     d.accel = LC_RBF_ACCEL_DEFAULT, d.significant = 0;
     lc_rbf_info in;
     CHECK(lc_rbf_create(dev, &d, &v) == LC_OK && lc_rbf_get_info(v, &in) == LC_OK &&
-              (in.accel == LC_RBF_ACCEL_BVH || in.accel == LC_RBF_ACCEL_OCTREE) &&
+              (in.accel == LC_RBF_ACCEL_BVH || in.accel == LC_RBF_ACCEL_OCTREE || in.accel == LC_RBF_ACCEL_COHERENT) &&
               (in.accel == LC_RBF_ACCEL_OCTREE) == (in.octree_cells > 0),
-          "the default accel resolves to %s", in.accel == LC_RBF_ACCEL_OCTREE ? "octree" : "bvh");
+          "the default accel resolves to %s",
+          in.accel == LC_RBF_ACCEL_OCTREE ? "octree" : in.accel == LC_RBF_ACCEL_BVH ? "bvh" : "coherent");
     lc_volume_destroy(v), v = NULL;
     /* file options */
     char p[512];
@@ -301,7 +302,7 @@ static void test_options(lc_device *dev)
           in.truncated, in.truncation_bound);
     lc_volume_destroy(v), v = NULL;
     const lc_option bad[][1] = {{{"accel", "kdtree"}}, {{"cell_max", "0"}}, {{"significant", "yes"}}};
-    const char *expect[] = {"expected bvh or octree", "cell_max", "significant"};
+    const char *expect[] = {"expected coherent, bvh or octree", "cell_max", "significant"};
     for (int i = 0; i < 3; i++) {
         lc_load_desc lb = {.options = bad[i], .noptions = 1};
         lc_status st = lc_volume_load(dev, p, &lb, &v);

@@ -81,7 +81,7 @@ static inline int cell_index(float x, int dim)
 /* Transparent-space skipping (issue 8): for every node and field a bound of
  * |Phi_f| / |kappa| over the samples the node's particles reach, so a dvr
  * traversal may skip the node when |kappa| * bound lies where the field's TF
- * has zero extinction (prepare, clear_below). A coarse grid of cells (side
+ * has zero extinction (prepare, lci_tf_clear_below). A coarse grid of cells (side
  * at least the largest support radius, at most 128 per axis) sums, over
  * every particle whose support box overlaps a cell, |k_i| times its
  * Gaussian's largest value in the cell (padded against round-off); a leaf takes the largest
@@ -474,7 +474,7 @@ static void kscene(const particles *p, lc_kparticles *k)
  * i + 1 at x = v (N - 1): with entries 0..j at tau = 0, any x <= j gives 0;
  * the bound keeps 1% of an entry from j against the normalisation's
  * round-off. */
-static float clear_below(const lc_ktf *tf)
+float lci_tf_clear_below(const lc_ktf *tf)
 {
     int j = -1;
     while (j + 1 < LC_TF_TABLE_SIZE && tf->rgbt[4 * (j + 1) + 3] == 0.0f) j++;
@@ -525,7 +525,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
     kscene(p, k);
     if (skip) {
-        for (int f = 0; f < k->nfields; f++) k->clear_below[f] = clear_below(&frame->tf[f]);
+        for (int f = 0; f < k->nfields; f++) k->clear_below[f] = lci_tf_clear_below(&frame->tf[f]);
         clear_nodes(p, k, (uint8_t *)k + head);
     }
     int km = m == LC_METHOD_COHERENT ? LC_KMETHOD_FAST : LC_KMETHOD_BASE;

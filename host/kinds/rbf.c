@@ -1,7 +1,10 @@
 /* RBF sets (Jang et al. 2004): validation, the truncation supports of eq. 3,
  * the BVH over the supports (the particle builder, radius = R_i), a
- * conservative value range, and the per-frame kernel scene. Render only: no
- * encoder. */
+ * conservative value range, and the per-frame kernel scene: lc_krbf for the
+ * BVH gather, brute force and the octree (kernels/rbf*.c), or the particle
+ * view lc_kparticles for the coherent method, which runs the particle kind's
+ * coherent kernel (kparticles.h says how a term maps onto a particle). Render
+ * only: no encoder. */
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -11,6 +14,7 @@
 #include "bvh/particle_bvh.h"
 #include "bvh/rbf_octree.h"
 #include "kernels/shared/krbf.h"
+#include "kernels/shared/ktable.h"
 
 typedef struct rbf {
     lc_volume base; /* first: the kind-neutral handle */
@@ -19,6 +23,12 @@ typedef struct rbf {
     lci_octree oct; /* accel = octree */
     float *cx, *cy, *cz, *r2, *nis, *w, *R; /* leaf order */
     float peak[2]; /* the field's range at the centres (with the bias): the default TF range */
+    /* the coherent method's particle view (kparticles.h): per node the sum of
+       |w_i| below it (node_ksum), and an upper bound of the field (bias
+       included) at every point the node's terms reach (node_hi, range_bound),
+       which decides the transparent nodes of a dvr frame; field ids, all 0 */
+    float *node_wsum, *node_hi;
+    uint8_t *field0;
 } rbf;
 
 static void destroy(lc_volume *v)
@@ -28,6 +38,7 @@ static void destroy(lc_volume *v)
     lci_pbvh_free(&p->bvh);
     lci_octree_free(&p->oct);
     free(p->cx), free(p->cy), free(p->cz), free(p->r2), free(p->nis), free(p->w), free(p->R);
+    free(p->node_wsum), free(p->node_hi), free(p->field0);
     free(p);
 }
 
@@ -67,9 +78,14 @@ static int box_is_zero(const lc_box3 *b)
            b->hi.z == 0.0f;
 }
 
-/* LC_RBF_ACCEL_DEFAULT: the faster of the two on the measured sets
- * (docs/bench/rbf.md). */
-static lc_rbf_accel resolve_accel(lc_rbf_accel a) { return a == LC_RBF_ACCEL_DEFAULT ? LC_RBF_ACCEL_OCTREE : a; }
+/* LC_RBF_ACCEL_DEFAULT: the fastest on the measured sets (docs/bench/rbf.md),
+ * the coherent method; the octree when an octree option (cell_max,
+ * significant) asks for one. */
+static lc_rbf_accel resolve_accel(const lc_rbf_desc *d)
+{
+    if (d->accel != LC_RBF_ACCEL_DEFAULT) return d->accel;
+    return d->cell_max || d->significant ? LC_RBF_ACCEL_OCTREE : LC_RBF_ACCEL_COHERENT;
+}
 
 /* The descriptor's scalar checks; the per-RBF ones follow in create. */
 static lc_status check_desc(lc_device *dev, const lc_rbf_desc *d)
@@ -85,15 +101,16 @@ static lc_status check_desc(lc_device *dev, const lc_rbf_desc *d)
                          d->leaf_size);
     if (!isfinite(d->bias))
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: bias = %g, expected a finite value", fn, (double)d->bias);
-    if ((int)d->accel < 0 || (int)d->accel > LC_RBF_ACCEL_OCTREE)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: accel = %d, expected 0 (default), %d (bvh) or %d (octree)",
-                         fn, (int)d->accel, LC_RBF_ACCEL_BVH, LC_RBF_ACCEL_OCTREE);
+    if ((int)d->accel < 0 || (int)d->accel > LC_RBF_ACCEL_COHERENT)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "%s: accel = %d, expected 0 (default), %d (bvh), %d (octree) or %d (coherent)", fn,
+                         (int)d->accel, LC_RBF_ACCEL_BVH, LC_RBF_ACCEL_OCTREE, LC_RBF_ACCEL_COHERENT);
     if (d->cell_max < 0 || d->cell_max > LC_RBF_MAX_CELL)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: cell_max = %d, expected 0 (default) or 1 to %d", fn,
                          d->cell_max, LC_RBF_MAX_CELL);
     if (d->significant != 0 && d->significant != 1)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: significant = %d, expected 0 or 1", fn, d->significant);
-    if (d->significant && resolve_accel(d->accel) != LC_RBF_ACCEL_OCTREE)
+    if (d->significant && resolve_accel(d) != LC_RBF_ACCEL_OCTREE)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                          "%s: significant = 1 keeps the most significant RBFs of octree cells; it needs accel = octree",
                          fn);
@@ -155,33 +172,47 @@ static double box_d2(const float c[3], const float lo[3], const float hi[3])
     return d2;
 }
 
+/* A support grown so float round-off never leaves out a term the kernels
+ * count (they test d^2 < R^2 in float), as the particle kind's grow_support. */
+static double grow_support(float R) { return (double)R * 1.001 + 1e-6; }
+
 /* The default range (lanecast.h, lc_rbf_info.range). A point x inside the
  * support of a term of leaf L lies in L's centre box grown by L's largest R,
  * and every term contributing at x has a support reaching x, hence that box:
  * so f(x) - w0 lies between the negative and the positive weight sums over
  * the supports reaching the grown box of any leaf. Outside all supports
- * f = w0. One BVH query per leaf. */
+ * f = w0. One BVH query per leaf.
+ * The same query gives node_hi for the coherent method's transparent-space
+ * skipping (prepare_coherent): w0 plus the positive weight sum over the
+ * supports, grown by grow_support, reaching the leaf's box grown likewise,
+ * bounds every partial sum of the terms at any sample a leaf term reaches;
+ * an inner node takes the larger of its children's. */
 static lc_status range_bound(lc_device *dev, rbf *p, float out[2])
 {
     double lo = p->info.bias, hi = p->info.bias;
+    int32_t nn = p->bvh.nnodes;
+    p->node_hi = malloc(sizeof(float) * (size_t)(nn > 0 ? nn : 1));
+    p->node_wsum = malloc(sizeof(float) * (size_t)(nn > 0 ? nn : 1));
+    if (!p->node_hi || !p->node_wsum) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: out of memory");
     int32_t *stack = malloc(sizeof(int32_t) * (size_t)(p->bvh.depth + 4));
     if (!stack) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: out of memory");
     for (int32_t l = 0; l < p->bvh.nnodes; l++) {
         const lc_kpnode *leaf = &p->bvh.nodes[l];
         if (leaf->count == 0) continue;
-        float g = p->bvh.rmax[l], blo[3], bhi[3];
+        float g = p->bvh.rmax[l], blo[3], bhi[3], glo[3], ghi[3], gg = (float)grow_support(g);
         for (int k = 0; k < 3; k++) blo[k] = leaf->lo[k] - g, bhi[k] = leaf->hi[k] + g;
-        double pos = 0.0, neg = 0.0;
+        for (int k = 0; k < 3; k++) glo[k] = leaf->lo[k] - gg, ghi[k] = leaf->hi[k] + gg;
+        double pos = 0.0, neg = 0.0, gpos = 0.0;
         int sp = 0;
         stack[sp++] = 0;
         while (sp > 0) {
             const int32_t n = stack[--sp];
             const lc_kpnode *node = &p->bvh.nodes[n];
-            float r = p->bvh.rmax[n], nlo[3], nhi[3];
+            float r = (float)grow_support(p->bvh.rmax[n]), nlo[3], nhi[3];
             int overlap = 1;
             for (int k = 0; k < 3; k++) {
                 nlo[k] = node->lo[k] - r, nhi[k] = node->hi[k] + r;
-                overlap &= nlo[k] <= bhi[k] && nhi[k] >= blo[k];
+                overlap &= nlo[k] <= ghi[k] && nhi[k] >= glo[k];
             }
             if (!overlap) continue;
             if (node->count == 0) {
@@ -190,6 +221,8 @@ static lc_status range_bound(lc_device *dev, rbf *p, float out[2])
             }
             for (int32_t j = node->first; j < node->first + node->count; j++) {
                 const float c[3] = {p->cx[j], p->cy[j], p->cz[j]};
+                const double Rg = grow_support(p->R[j]);
+                if (p->w[j] > 0.0f && box_d2(c, glo, ghi) <= Rg * Rg) gpos += p->w[j];
                 if (box_d2(c, blo, bhi) > (double)p->R[j] * p->R[j]) continue;
                 pos += p->w[j] > 0.0f ? p->w[j] : 0.0;
                 neg += p->w[j] < 0.0f ? p->w[j] : 0.0;
@@ -197,8 +230,23 @@ static lc_status range_bound(lc_device *dev, rbf *p, float out[2])
         }
         hi = fmax(hi, (double)p->info.bias + pos);
         lo = fmin(lo, (double)p->info.bias + neg);
+        /* rounded up well past the kernels' float sums */
+        double h = (double)p->info.bias + gpos;
+        p->node_hi[l] = (float)(h + 1e-5 * (fabs(h) + gpos) + 1e-30);
     }
     free(stack);
+    /* children follow their parent in the flat array: one backward sweep */
+    for (int32_t n = nn - 1; n >= 0; n--) {
+        const lc_kpnode *node = &p->bvh.nodes[n];
+        double ws = 0.0;
+        if (node->count == 0) {
+            p->node_hi[n] = fmaxf(p->node_hi[node->first], p->node_hi[node->first + 1]);
+            ws = (double)p->node_wsum[node->first] + p->node_wsum[node->first + 1];
+        } else {
+            for (int32_t j = node->first; j < node->first + node->count; j++) ws += fabs((double)p->w[j]);
+        }
+        p->node_wsum[n] = (float)ws * (1.0f + 1e-6f);
+    }
     /* a hair wider: the kernels sum in float */
     double pad = 1e-6 * (fabs(lo) + fabs(hi));
     out[0] = (float)(lo - pad), out[1] = (float)(hi + pad);
@@ -270,6 +318,8 @@ static lc_status build(lc_device *dev, rbf *p, const lc_rbf_desc *d, const float
     for (size_t a = 0; a < sizeof arr / sizeof arr[0]; a++)
         if (!(*arr[a] = malloc(sizeof(float) * m)))
             return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: out of memory for %zu RBFs", n);
+    if (!(p->field0 = calloc(m, 1)))
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: out of memory for %zu RBFs", n);
     in->min_width = n ? INFINITY : 0.0f;
     for (size_t j = 0; j < n; j++) {
         uint32_t o = p->bvh.order[j];
@@ -339,7 +389,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     in->bias = d->bias;
     in->eps = pick_eps(d);
     in->leaf_size = d->leaf_size ? d->leaf_size : 4;
-    in->accel = resolve_accel(d->accel);
+    in->accel = resolve_accel(d);
     if (in->accel == LC_RBF_ACCEL_OCTREE) in->cell_max = d->cell_max ? d->cell_max : 32, in->significant = d->significant;
     double t0 = lci_now();
     size_t n = keep(d, in->eps, xyz, R, src, &in->support_bounds);
@@ -428,15 +478,74 @@ static lc_krbf *kscene(lc_device *dev, const rbf *p)
     return k;
 }
 
+/* The coherent method: the set as the particle kind's kernel reads it
+ * (kparticles.h), rendered by that kind's coherent kernel. A dvr frame also
+ * gets transparent-space skipping: the TF's transparent values (at or below
+ * clear_below) and the nodes whose bound node_hi lies there, exactly as for
+ * particles but with the bias inside the bound, and the bias itself when it
+ * is transparent (bias_clear). */
+static lc_status prepare_coherent(lc_device *dev, const rbf *p, const lc_kframe *frame, lci_prepared *out)
+{
+    const int nn = p->bvh.nnodes, dvr = frame->mode == LC_KMODE_DVR;
+    size_t head = (sizeof(lc_kparticles) + 63) & ~(size_t)63;
+    lc_kparticles *k = lci_aligned_alloc(64, head + (dvr ? (size_t)nn : 0));
+    if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the RBF scene");
+    memset(k, 0, sizeof *k);
+    k->nodes = p->bvh.nodes;
+    k->node_rmax = p->bvh.rmax; /* the largest R below each node: sigma = 1 */
+    k->node_ksum = p->node_wsum;
+    for (int f = 0; f < LC_KMAX_FIELDS; f++) k->clear_below[f] = -INFINITY;
+    k->px = p->cx, k->py = p->cy, k->pz = p->cz;
+    k->r = p->R;              /* support test d^2 < R^2 */
+    k->neg_inv_2r2 = p->nis;  /* -1 / (2 s^2) */
+    k->k = p->w;
+    k->field = p->field0;
+    k->count = (int64_t)p->info.count;
+    k->nnodes = nn;
+    k->depth = p->bvh.depth;
+    k->nfields = 1;
+    k->buffer_k = 32; /* the particle kind's default for one field */
+    k->sigma = 1.0f, k->kappa = 1.0f;
+    k->max_radius = p->info.max_support;
+    const lc_box3 *b = &p->info.bounds; /* the domain: the lattice clip box of every method */
+    k->lo[0] = b->lo.x, k->lo[1] = b->lo.y, k->lo[2] = b->lo.z;
+    k->hi[0] = b->hi.x, k->hi[1] = b->hi.y, k->hi[2] = b->hi.z;
+    k->bias = p->info.bias;
+    if (dvr) {
+        float cb = lci_tf_clear_below(&frame->tf[0]);
+        k->clear_below[0] = cb;
+        k->bias_clear = k->bias <= cb;
+        uint8_t *flags = (uint8_t *)k + head;
+        long n_clear = 0;
+        for (int32_t n = 0; n < nn; n++) {
+            flags[n] = (uint8_t)(p->node_hi[n] <= cb);
+            n_clear += flags[n];
+        }
+        k->node_clear = n_clear ? flags : NULL;
+    }
+    const lc_kkind *kk = dev->kt->kind[LC_KKIND_RBF];
+    out->tile = kk->render[LC_KMETHOD_COHERENT];
+    out->kscene = k;
+    out->scratch_bytes = kk->scratch_bytes[LC_KMETHOD_COHERENT](k, frame);
+    out->owned = k; /* freed with free(): posix_memalign memory */
+    return LC_OK;
+}
+
 static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *d, const lc_kframe *frame,
                          lci_prepared *out)
 {
     static const char *const names[] = {"default", "coherent", "direct", "bvh", "brute"};
     lc_method m = d->method;
-    if (m != LC_METHOD_DEFAULT && m != LC_METHOD_BVH && m != LC_METHOD_BRUTE)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %s does not apply to RBF sets (bvh or brute)",
+    if (m != LC_METHOD_DEFAULT && m != LC_METHOD_COHERENT && m != LC_METHOD_BVH && m != LC_METHOD_BRUTE)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "method %s does not apply to RBF sets (coherent, bvh or brute)",
                          (int)m >= 0 && (int)m < 5 ? names[m] : "(unknown)");
     const rbf *p = (const rbf *)v;
+    if (m == LC_METHOD_DEFAULT && p->info.accel == LC_RBF_ACCEL_COHERENT) m = LC_METHOD_COHERENT;
+    /* no term: the field is w0 on the domain, which the particle kernel (it
+       renders nothing without a node) leaves to the BVH method */
+    if (m == LC_METHOD_COHERENT && p->info.count > 0) return prepare_coherent(dev, p, frame, out);
+    if (m == LC_METHOD_COHERENT) m = LC_METHOD_BVH;
     lc_krbf *k = kscene(dev, p);
     if (!k) return LC_ERROR_OUT_OF_MEMORY;
     /* DEFAULT: the set's accel; BVH and BRUTE on any set (the BVH is always built) */
@@ -471,9 +580,10 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
     if (!strcmp(o->key, "accel")) {
         if (!strcmp(o->value, "bvh")) d->accel = LC_RBF_ACCEL_BVH;
         else if (!strcmp(o->value, "octree")) d->accel = LC_RBF_ACCEL_OCTREE;
+        else if (!strcmp(o->value, "coherent")) d->accel = LC_RBF_ACCEL_COHERENT;
         else
-            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: accel = '%s', expected bvh or octree", file,
-                             o->value);
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: accel = '%s', expected coherent, bvh or octree",
+                             file, o->value);
         return LC_OK;
     }
     if (!strcmp(o->key, "domain")) {

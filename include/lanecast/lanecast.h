@@ -400,14 +400,17 @@ LC_API lc_status lc_grid_histogram(const lc_volume *grid, int nbins, uint64_t *c
  * so they are build parameters; create a new set to change them. */
 
 /* Which structure finds the RBFs whose support holds a sample, i.e. what
- * LC_METHOD_DEFAULT renders (the BVH is always built: LC_METHOD_BVH and
- * LC_METHOD_BRUTE stay available on either). */
+ * LC_METHOD_DEFAULT renders (the BVH is always built: LC_METHOD_COHERENT,
+ * LC_METHOD_BVH and LC_METHOD_BRUTE stay available on any set; the octree
+ * only where it was built). */
 typedef enum lc_rbf_accel {
-    LC_RBF_ACCEL_DEFAULT = 0, /* the faster on most measured sets (docs/bench/rbf.md): the octree,
-                                 or the BVH when the octree's lists would exceed their limit */
+    LC_RBF_ACCEL_DEFAULT = 0, /* the fastest on the measured sets (docs/bench/rbf.md): coherent */
     LC_RBF_ACCEL_BVH = 1,     /* per-sample gather through the BVH of the supports */
-    LC_RBF_ACCEL_OCTREE = 2   /* the adaptive octree of Jang 2004 §5: per-cell lists of the RBFs whose
+    LC_RBF_ACCEL_OCTREE = 2,  /* the adaptive octree of Jang 2004 §5: per-cell lists of the RBFs whose
                                  support reaches the cell, evaluated along each ray cell by cell */
+    LC_RBF_ACCEL_COHERENT = 3 /* the BVH of the supports walked by coherent ray groups that deposit each
+                                 term into per-group sample buffers without exp per sample (the
+                                 particle kind's kernel, Knoll 2014; LC_METHOD_COHERENT) */
 } lc_rbf_accel;
 
 /* Largest lc_rbf_desc.cell_max. */
@@ -747,8 +750,9 @@ typedef struct lc_plane {
 /* How a kind walks its data; each kind takes its own (DEFAULT = the fast one). */
 typedef enum lc_method {
     LC_METHOD_DEFAULT = 0,  /* coherent for particles, bvh for grids, the set's accel for RBF sets
-                               (lc_rbf_desc.accel: the BVH gather or the octree) */
-    LC_METHOD_COHERENT = 1, /* particles: coherent packet traversal with sample buffers (Knoll 2014) */
+                               (lc_rbf_desc.accel: coherent, the BVH gather or the octree) */
+    LC_METHOD_COHERENT = 1, /* particles: coherent packet traversal with sample buffers (Knoll 2014);
+                               RBF sets: the same kernel over the BVH of the supports */
     LC_METHOD_DIRECT = 2,   /* particles: per-sample gather through the BVH (the paper's baseline) */
     LC_METHOD_BVH = 3,      /* grids: implicit min-max BVH traversal (Knoll 2011); RBF sets:
                                per-sample gather of the RBFs through the BVH of their supports */

@@ -1,7 +1,15 @@
 /* The particle scene as kernels read it (Knoll 2014): a flat binary BVH whose
  * node boxes bound the particle centres, a per-node maximum radius so the box
  * grows by sigma * rmax at traversal time (sigma and kappa change without a
- * rebuild, paper §5.3), a per-node value bound for the mode's culling test, and structure-of-arrays particle data in leaf order. */
+ * rebuild, paper §5.3), a per-node value bound for the mode's culling test, and structure-of-arrays particle data in leaf order.
+ *
+ * RBF sets (Jang 2004) render through the same kernels (lc_method coherent,
+ * host/kinds/rbf.c): a term w_i exp(-|x - mu_i|^2 / (2 s_i^2)) cut at its
+ * support R_i is a particle with sigma = 1, r = R_i (the support test
+ * d^2 < (sigma r)^2 and the box growth sigma * rmax), neg_inv_2r2 = -1 / (2 s_i^2)
+ * (the Gaussian's own width, which for particles is r again), kappa = 1,
+ * k = w_i and field 0; the set's constant w0 is `bias`, the lattice clip box
+ * lo/hi is the set's domain. Particles leave bias = 0 and bias_clear = 0. */
 #ifndef LC_KPARTICLES_H
 #define LC_KPARTICLES_H
 
@@ -41,7 +49,15 @@ typedef struct lc_kparticles {
     float lo[4], hi[4];    /* centre bounds grown by max(sigma, sphere_scale) * max radius */
     float clear_below[LC_KMAX_FIELDS]; /* dvr: field values at or below this are fully transparent
                                           in this frame's TF (-inf: skip nothing) */
+    /* A constant added to every field at every sample inside lo/hi, also where
+       no particle reaches (RBF sets: w0; particles: 0). Samples a traversal
+       found no particle for hold exactly bias; they are skipped as blending to
+       nothing when bias == 0 and the frame's zero_transparent says tau(0) = 0,
+       or when bias != 0 and bias_clear is 1 (dvr: the host found tau(bias) = 0
+       in this frame's TF). */
+    float bias;
+    int32_t bias_clear;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 8, "lc_kparticles layout");
 
 #endif

@@ -18,7 +18,10 @@ typedef void (*lc_ktile_fn)(const void *scene, const lc_kframe *frame, const lc_
  * CELLS: a kind's second accelerated method over a spatial subdivision (RBF
  * sets: the octree of Jang 2004 §5, when the volume built one); NULL in the
  * kinds without one. */
-enum { LC_KMETHOD_FAST = 0, LC_KMETHOD_BASE = 1, LC_KMETHOD_CELLS = 2, LC_KMETHOD_COUNT = 3 };
+/* COHERENT: a kind's coherent buffered method when that is not its FAST one
+ * (RBF sets: the particle kind's coherent kernel over the set's lc_kparticles
+ * view, kparticles.h); NULL in the other kinds. */
+enum { LC_KMETHOD_FAST = 0, LC_KMETHOD_BASE = 1, LC_KMETHOD_CELLS = 2, LC_KMETHOD_COHERENT = 3, LC_KMETHOD_COUNT = 4 };
 
 /* One data kind's kernels on this target. */
 typedef struct lc_kkind {
