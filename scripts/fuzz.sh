@@ -76,7 +76,12 @@ mkdir -p $b/logs
 run_one() {
     n=$1
     mkdir -p "$b/corpus/$n" "$b/findings/$n"
-    set -- -max_total_time="$seconds" -rss_limit_mb="$rss" -malloc_limit_mb="$rss" -timeout=20 \
+    # libhdf5 allocates the sizes a damaged file declares (a 12 GB local heap
+    # for a 9 KB file) and fails cleanly when the read runs past the end; the
+    # allocation is never touched, so for hdf5 only the resident size counts
+    mlimit=$rss
+    [ "$n" = hdf5 ] && mlimit=1048576
+    set -- -max_total_time="$seconds" -rss_limit_mb="$rss" -malloc_limit_mb="$mlimit" -timeout=20 \
         -print_final_stats=1 -artifact_prefix="$b/findings/$n/"
     [ "$runs" -gt 0 ] && set -- "$@" -runs="$runs"
     [ -f "fuzz/$n.dict" ] && set -- "$@" -dict="fuzz/$n.dict"
