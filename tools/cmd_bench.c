@@ -26,7 +26,7 @@ static const char help[] =
     "  --sizes LIST      image sides or WxH (default 512)\n"
     "  --targets LIST    scalar, sse4, avx2, avx512_8, avx512 (default: every one this CPU runs)\n"
     "  --threads LIST    worker threads (default 1)\n"
-    "  --methods LIST    default, coherent, direct (particles), bvh, brute (grids, RBF sets);\n"
+    "  --methods LIST    default, coherent (particles, RBF sets), direct (particles), bvh, brute (grids, RBF sets);\n"
     "                    a method another kind lacks is skipped for it (default: default)\n"
     "  --modes LIST      dvr, mip, iso, slice (default dvr; iso at the middle of the value range,\n"
     "                    slice through the centre, normal z)\n"
@@ -156,6 +156,7 @@ static int method_for(lc_kind kind, int m)
 {
     if (m == 0) return LC_METHOD_DEFAULT;
     if (kind == LC_KIND_PARTICLES) return m == 1 ? LC_METHOD_COHERENT : m == 2 ? LC_METHOD_DIRECT : -1;
+    if (kind == LC_KIND_RBF && m == 1) return LC_METHOD_COHERENT; /* RBF sets: coherent, bvh, brute */
     return m == 3 ? LC_METHOD_BVH : m == 4 ? LC_METHOD_BRUTE : -1;
 }
 
