@@ -69,7 +69,7 @@ for exe in $b/fuzz/fuzz_*; do
     names="$names $n"
 done
 # a report fails the run: UBSan stops at the first one; ASan checks leaks
-export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:allocator_may_return_null=1}"
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:allocator_may_return_null=1:suppressions=$(pwd)/fuzz/asan.supp}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$(pwd)/fuzz/lsan.supp}"
 mkdir -p $b/logs
