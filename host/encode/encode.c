@@ -19,6 +19,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdio.h>
 #include "host/encode/encode_local.h"
 
 #define DEFAULT_MAX_ERROR 0.02f
@@ -350,6 +351,16 @@ void lc_rbf_encoded_free(lc_rbf_encoded *o)
  * the last one's. */
 static int refit_due(size_t m, size_t last) { return m >= 4 && m >= last + (last >> 3) + 1; }
 
+/* Polish sweeps when the count has grown by a quarter since the last one:
+ * each costs about the same per RBF, so the sum stays about five times the
+ * last one's. */
+static int polish_due(size_t m, size_t last)
+{
+    static double gr = -1;
+    if (gr < 0) gr = getenv("LC_GR") ? atof(getenv("LC_GR")) : 0.25;
+    return gr > 0 && m >= 8 && (double)m >= (double)last * (1.0 + gr) + 1;
+}
+
 static double rms_rel(const lci_enc *e)
 {
     double range = e->vhi > e->vlo ? e->vhi - e->vlo : 1.0;
@@ -360,6 +371,7 @@ static lc_status run(lci_enc *e, lc_rbf_encode_report *rep, double t0)
 {
     lc_status s = LC_OK;
     int it = 0, refit_at = -1;
+    size_t polish_at = 0;
     while (s == LC_OK && rms_rel(e) > e->d.max_error && e->R.m < e->d.max_rbfs) {
         size_t best = e->ncl;
         for (size_t c = 0; c < e->ncl; c++)
@@ -380,12 +392,23 @@ static lc_status run(lci_enc *e, lc_rbf_encode_report *rep, double t0)
         }
         it++;
         if (refit_due(e->R.m, (size_t)(refit_at < 0 ? 0 : refit_at))) s = global_refit(e), refit_at = (int)e->R.m;
+        if (s == LC_OK && polish_due(e->R.m, polish_at)) {
+            s = lci_enc_polish(e, NULL), polish_at = e->R.m;
+            for (size_t c = 0; c < e->ncl; c++) e->cl[c].done = 0;
+        }
         if (e->d.progress) {
             lc_rbf_encode_progress p = {it, e->R.m, rms_rel(e), lci_now() - t0, e->d.max_error, e->d.max_rbfs};
             e->d.progress(e->d.progress_user, &p);
         }
     }
     if (s == LC_OK && refit_at != (int)e->R.m) s = global_refit(e);
+    int fs = getenv("LC_FS") ? atoi(getenv("LC_FS")) : 8;
+    for (int k = 0; s == LC_OK && k < fs && rms_rel(e) > e->d.max_error; k++) {
+        double before = rms_rel(e);
+        s = lci_enc_polish(e, NULL);
+        if (getenv("LC_DBG")) fprintf(stderr, "final sweep %d: %.3f%% -> %.3f%% at %.1f s\n", k, 100 * before, 100 * rms_rel(e), lci_now() - t0);
+        if (rms_rel(e) > before * 0.995) break;
+    }
     rep->iterations = it;
     return s;
 }
