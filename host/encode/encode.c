@@ -45,7 +45,9 @@ static uint64_t rng_next(uint64_t *s)
     return *s = x;
 }
 
-double lci_enc_rand(lci_enc *e) { return (double)(rng_next(&e->rng) >> 11) * (1.0 / 9007199254740992.0); }
+double lci_enc_rand01(uint64_t *state) { return (double)(rng_next(state) >> 11) * (1.0 / 9007199254740992.0); }
+
+double lci_enc_rand(lci_enc *e) { return lci_enc_rand01(&e->rng); }
 
 static int in_fit(const lc_rbf_encode_desc *d, float v)
 {

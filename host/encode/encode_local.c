@@ -75,7 +75,7 @@ void lci_enc_free(lci_enc *e)
     lci_rbfs_free(&e->R);
 }
 
-double lci_enc_apply_term(lci_enc *e, const double *c, double s, double w, double sign)
+double lci_enc_apply_term(lci_enc *e, const double *c, double s, double w, double sign, int clusters)
 {
     double cut2 = LCI_ENC_CUT2 * s * s, inv = 1.0 / (2.0 * s * s), delta = 0.0;
     LCI_FOR_SAMPLES_NEAR(e, c, sqrt(cut2), j)
@@ -86,7 +86,7 @@ double lci_enc_apply_term(lci_enc *e, const double *c, double s, double w, doubl
         if (d2 >= cut2) continue;
         double old = e->r[j], r = old - sign * w * exp(-d2 * inv);
         e->r[j] = r;
-        e->cl[e->cid[j]].sse += r * r - old * old;
+        if (clusters) e->cl[e->cid[j]].sse += r * r - old * old;
         delta += r * r - old * old;
     }
     return delta;
@@ -139,7 +139,7 @@ static void pick_local(const lci_enc *e, size_t q, const double *mu, double rreg
 
 /* Samples of the region (a sphere of radius rreg): a uniform subsample of
  * at most cap of them (selection sampling). Returns the count. */
-size_t lci_enc_region(lci_enc *e, const double *mu, double rreg, size_t cap, uint32_t **out)
+size_t lci_enc_region(const lci_enc *e, const double *mu, double rreg, size_t cap, uint64_t *rng, uint32_t **out)
 {
     size_t n = 0;
     double r2 = rreg * rreg;
@@ -158,7 +158,7 @@ size_t lci_enc_region(lci_enc *e, const double *mu, double rreg, size_t cap, uin
         const float *x = e->p + 3 * j;
         if ((x[0] - mu[0]) * (x[0] - mu[0]) + (x[1] - mu[1]) * (x[1] - mu[1]) + (x[2] - mu[2]) * (x[2] - mu[2]) >= r2)
             continue;
-        if (k < want && (double)(n - seen) * lci_enc_rand(e) < (double)(want - k)) sel[k++] = (uint32_t)j;
+        if (k < want && (double)(n - seen) * lci_enc_rand01(rng) < (double)(want - k)) sel[k++] = (uint32_t)j;
         seen++;
     }
     *out = sel;
@@ -248,9 +248,9 @@ static void commit(lci_enc *e, const local *L, const double *olds, const double 
     for (int a = 0; a < L->k; a++) {
         size_t i = L->id[a];
         if (olds[a] == L->s[a] && oldw[a] == L->w[a]) continue;
-        if (oldw[a] != 0.0) lci_enc_apply_term(e, R->c + 3 * i, olds[a], oldw[a], -1.0); /* take the old term back */
+        if (oldw[a] != 0.0) lci_enc_apply_term(e, R->c + 3 * i, olds[a], oldw[a], -1.0, 1); /* take the old term back */
         R->s[i] = L->s[a], R->w[i] = L->w[a], R->cut[i] = sqrt(LCI_ENC_CUT2) * L->s[a];
-        lci_enc_apply_term(e, R->c + 3 * i, L->s[a], L->w[a], 1.0);
+        lci_enc_apply_term(e, R->c + 3 * i, L->s[a], L->w[a], 1.0, 1);
     }
 }
 
@@ -268,7 +268,7 @@ lc_status lci_enc_add(lci_enc *e, const double mu[3], double s0, int *added)
     local L = {0};
     pick_local(e, q, mu, rreg, &L);
     uint32_t *sel = NULL;
-    size_t m = lci_enc_region(e, mu, rreg, 4 * e->d.lm_samples, &sel);
+    size_t m = lci_enc_region(e, mu, rreg, 4 * e->d.lm_samples, &e->rng, &sel);
     if (m == (size_t)-1) return lci_error(e->dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_encode: out of memory");
     if (m < (size_t)L.k + 1) L.k = m > 1 ? (int)m - 1 : 0;
     if (L.k == 0) {

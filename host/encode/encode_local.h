@@ -41,6 +41,7 @@ typedef struct lci_enc {
 } lci_enc;
 
 double lci_enc_rand(lci_enc *e); /* uniform in [0, 1) */
+double lci_enc_rand01(uint64_t *state); /* the same on a state of one's own (xorshift, not 0) */
 double lci_enc_total_sse(const lci_enc *e);
 
 /* Copies the picked samples into bucket order and sets up one cluster,
@@ -81,12 +82,14 @@ static inline void lci_enc_bucket_box(const lci_enc *e, const double *c, double 
                  j < e->bstart[b_ + (size_t)i1_[0] + 1]; j++)
 
 /* r -= sign * w phi over term (c, s)'s cut sphere, keeping the cluster
- * errors; returns the change of the squared error. */
-double lci_enc_apply_term(lci_enc *e, const double *c, double s, double w, double sign);
+ * errors when clusters is 1 (0: they are recomputed later; what parallel
+ * sweeps do); returns the change of the squared error. Touches the
+ * residuals inside the cut sphere only. */
+double lci_enc_apply_term(lci_enc *e, const double *c, double s, double w, double sign, int clusters);
 /* Samples within rreg of mu: a uniform subsample of at most cap of them
- * (selection sampling) in *out (malloc'd). Returns the count, or
- * (size_t)-1 when out of memory. */
-size_t lci_enc_region(lci_enc *e, const double *mu, double rreg, size_t cap, uint32_t **out);
+ * (selection sampling on the state rng) in *out (malloc'd). Returns the
+ * count, or (size_t)-1 when out of memory. */
+size_t lci_enc_region(const lci_enc *e, const double *mu, double rreg, size_t cap, uint64_t *rng, uint32_t **out);
 
 /* One polish sweep (encode_polish.c): every RBF's weight, width and
  * centre refitted in turn by LM against the residual; *changed (may be

@@ -25,6 +25,7 @@
 #define NP 5            /* w, ln s, centre x y z */
 #define LM_ITERS 8
 #define REGION_GROW 1.3 /* region radius / old cut radius */
+#define MAX_CELLS_AXIS 128
 
 typedef struct one {
     size_t m;
@@ -104,16 +105,20 @@ static void one_lm(const one *o, double *p)
     }
 }
 
-/* Refits RBF i; *improved = 1 when it changed. */
-static lc_status polish_one(lci_enc *e, size_t i, float *xs, double *ts, int *improved)
+/* Refits RBF i (its residuals updated without the cluster errors);
+ * *improved = 1 when it changed. Reads and writes residuals only inside
+ * the region, a sphere of radius region_radius(i) around its centre. */
+static double region_radius(const lci_rbfs *R, size_t i) { return REGION_GROW * sqrt(LCI_ENC_CUT2) * R->s[i]; }
+
+static lc_status polish_one(lci_enc *e, size_t i, float *xs, double *ts, uint64_t *rng, int *improved)
 {
     lci_rbfs *R = &e->R;
     double *c = R->c + 3 * i, s = R->s[i], w = R->w[i];
     *improved = 0;
-    double rreg = REGION_GROW * sqrt(LCI_ENC_CUT2) * s;
+    double rreg = region_radius(R, i);
     uint32_t *sel = NULL;
-    size_t m = lci_enc_region(e, c, rreg, e->d.lm_samples, &sel);
-    if (m == (size_t)-1) return lci_error(e->dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_encode: out of memory");
+    size_t m = lci_enc_region(e, c, rreg, e->d.lm_samples, rng, &sel);
+    if (m == (size_t)-1) return LC_ERROR_OUT_OF_MEMORY;
     if (m < 2 * NP) {
         free(sel);
         return LC_OK;
@@ -135,31 +140,140 @@ static lc_status polish_one(lci_enc *e, size_t i, float *xs, double *ts, int *im
     double nc[3] = {c[0] + p[2], c[1] + p[3], c[2] + p[4]}, ns = exp(p[1]), nw = p[0];
     if (nw == w && ns == s && p[2] == 0.0 && p[3] == 0.0 && p[4] == 0.0) return LC_OK;
     /* exact over the region: the old term back, the new one in */
-    double delta = lci_enc_apply_term(e, c, s, w, -1.0) + lci_enc_apply_term(e, nc, ns, nw, 1.0);
+    double delta = lci_enc_apply_term(e, c, s, w, -1.0, 0) + lci_enc_apply_term(e, nc, ns, nw, 1.0, 0);
     if (delta < 0.0) {
         memcpy(c, nc, sizeof nc);
         R->s[i] = ns, R->w[i] = nw, R->cut[i] = sqrt(LCI_ENC_CUT2) * ns;
         *improved = 1;
     } else {
-        lci_enc_apply_term(e, nc, ns, nw, -1.0);
-        lci_enc_apply_term(e, c, s, w, 1.0);
+        lci_enc_apply_term(e, nc, ns, nw, -1.0, 0);
+        lci_enc_apply_term(e, c, s, w, 1.0, 0);
     }
     return LC_OK;
 }
 
+/* ---------------------------------------------------------------- the sweep, in parallel */
+
+/* The RBFs are sorted into cubic cells of edge L, at least twice the region
+ * radius of each of them (the others, the widest tenth and those centred
+ * outside the samples' box, go first, one by one). Cells of one colour
+ * (the parity of their three indices) are two cells apart on some axis, so
+ * their RBFs' regions are disjoint: the cells of a colour are refitted in
+ * parallel, each cell's RBFs in index order, each cell with its own random
+ * state (the result does not depend on the thread count). */
+typedef struct sweep {
+    lci_enc *e;
+    int nc[3];
+    size_t *order, *cstart; /* RBFs of cell c: order[cstart[c] .. cstart[c + 1]) */
+    size_t *tasks;          /* the cells of the current colour */
+    float *xs;              /* per worker: 3 lm_samples */
+    double *ts;             /* per worker: lm_samples */
+    size_t *changed;        /* per worker */
+    int *failed;            /* per worker */
+    uint64_t seed;
+} sweep;
+
+static uint64_t mix(uint64_t x)
+{
+    x ^= x >> 33, x *= 0xff51afd7ed558ccdull, x ^= x >> 33, x *= 0xc4ceb9fe1a85ec53ull, x ^= x >> 33;
+    return x ? x : 1;
+}
+
+static void run_cell(sweep *w, size_t cell, int worker)
+{
+    uint64_t rng = mix(w->seed ^ (cell + 1) * 0x9E3779B97F4A7C15ull);
+    size_t cap = w->e->d.lm_samples;
+    for (size_t k = w->cstart[cell]; k < w->cstart[cell + 1] && !w->failed[worker]; k++) {
+        int imp = 0;
+        if (polish_one(w->e, w->order[k], w->xs + 3 * cap * (size_t)worker, w->ts + cap * (size_t)worker, &rng, &imp))
+            w->failed[worker] = 1;
+        w->changed[worker] += (size_t)imp;
+    }
+}
+
+static void cell_task(void *ctx, int task, int worker)
+{
+    sweep *w = ctx;
+    run_cell(w, w->tasks[task], worker);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Cell edge: twice the 90th percentile of the region radii, at least a
+ * bucket and 1/MAX_CELLS_AXIS of the box. */
+static double cell_edge(const lci_enc *e, double *tmp)
+{
+    size_t m = e->R.m;
+    for (size_t i = 0; i < m; i++) tmp[i] = region_radius(&e->R, i);
+    qsort(tmp, m, sizeof(double), cmp_double);
+    double ext = 0.0;
+    for (int a = 0; a < 3; a++) ext = fmax(ext, e->hi[a] - e->lo[a]);
+    return fmax(fmax(2.0 * tmp[(m * 9) / 10], e->bcell), ext / MAX_CELLS_AXIS);
+}
+
 lc_status lci_enc_polish(lci_enc *e, size_t *changed)
 {
-    size_t cap = e->d.lm_samples;
-    float *xs = malloc(sizeof(float) * 3 * cap);
-    double *ts = malloc(sizeof(double) * cap);
-    lc_status s = xs && ts ? LC_OK : lci_error(e->dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_encode: out of memory");
-    size_t n = 0;
-    for (size_t i = 0; s == LC_OK && i < e->R.m; i++) {
-        int imp = 0;
-        s = polish_one(e, i, xs, ts, &imp);
-        n += (size_t)imp;
+    size_t m = e->R.m, cap = e->d.lm_samples;
+    int nw = lci_pool_threads(e->dev->pool);
+    sweep w = {.e = e, .seed = mix(e->rng += 0x9E3779B97F4A7C15ull)};
+    double *tmp = malloc(sizeof(double) * (m ? m : 1));
+    size_t *cell = malloc(sizeof(size_t) * (m ? m : 1));
+    w.order = malloc(sizeof(size_t) * (m ? m : 1));
+    w.xs = malloc(sizeof(float) * 3 * cap * (size_t)nw), w.ts = malloc(sizeof(double) * cap * (size_t)nw);
+    w.changed = calloc((size_t)nw, sizeof(size_t)), w.failed = calloc((size_t)nw, sizeof(int));
+    lc_status st = LC_OK;
+    if (!tmp || !cell || !w.order || !w.xs || !w.ts || !w.changed || !w.failed) goto oom;
+    double L = m ? cell_edge(e, tmp) : 1.0;
+    size_t ncells = 1;
+    for (int a = 0; a < 3; a++) {
+        w.nc[a] = (int)fmin(MAX_CELLS_AXIS + 1.0, floor((e->hi[a] - e->lo[a]) / L) + 1.0);
+        ncells *= (size_t)w.nc[a];
     }
-    free(xs), free(ts);
-    if (changed) *changed = n;
-    return s;
+    /* cell ncells: the serial list */
+    w.cstart = calloc(ncells + 2, sizeof(size_t)), w.tasks = malloc(sizeof(size_t) * ncells);
+    if (!w.cstart || !w.tasks) goto oom;
+    for (size_t i = 0; i < m; i++) {
+        const double *c = e->R.c + 3 * i;
+        size_t id = 0;
+        int inside = 2.0 * region_radius(&e->R, i) <= L;
+        for (int a = 2; a >= 0 && inside; a--) {
+            double t = (c[a] - e->lo[a]) / L;
+            inside = t >= 0.0 && t < (double)w.nc[a];
+            id = id * (size_t)w.nc[a] + (size_t)(inside ? (int)t : 0);
+        }
+        cell[i] = inside ? id : ncells;
+        w.cstart[cell[i] + 1]++;
+    }
+    for (size_t c = 0; c <= ncells; c++) w.cstart[c + 1] += w.cstart[c];
+    for (size_t i = 0; i < m; i++) w.order[w.cstart[cell[i]]++] = i; /* stable: index order per cell */
+    for (size_t c = ncells + 1; c > 0; c--) w.cstart[c] = w.cstart[c - 1];
+    w.cstart[0] = 0;
+    run_cell(&w, ncells, 0);
+    for (int colour = 0; colour < 8 && !w.failed[0]; colour++) {
+        size_t nt = 0;
+        for (size_t c = 0; c < ncells; c++) {
+            size_t x = c % (size_t)w.nc[0], y = c / (size_t)w.nc[0] % (size_t)w.nc[1], z = c / ((size_t)w.nc[0] * (size_t)w.nc[1]);
+            if ((int)((x & 1) | (y & 1) << 1 | (z & 1) << 2) == colour && w.cstart[c + 1] > w.cstart[c]) w.tasks[nt++] = c;
+        }
+        if (nt) lci_pool_run(e->dev->pool, (int)nt, cell_task, &w);
+        for (int k = 1; k < nw; k++) w.failed[0] |= w.failed[k];
+    }
+    if (w.failed[0]) goto oom;
+    /* the cluster errors, from the residuals */
+    for (size_t c = 0; c < e->ncl; c++) e->cl[c].sse = 0.0;
+    for (size_t j = 0; j < e->n; j++) e->cl[e->cid[j]].sse += e->r[j] * e->r[j];
+    if (changed) {
+        *changed = 0;
+        for (int k = 0; k < nw; k++) *changed += w.changed[k];
+    }
+    goto done;
+oom:
+    st = lci_error(e->dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_encode: out of memory");
+done:
+    free(tmp), free(cell), free(w.order), free(w.xs), free(w.ts), free(w.changed), free(w.failed), free(w.cstart), free(w.tasks);
+    return st;
 }
