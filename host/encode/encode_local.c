@@ -137,30 +137,44 @@ static void pick_local(const lci_enc *e, size_t q, const double *mu, double rreg
     }
 }
 
-/* Samples of the region (a sphere of radius rreg): a uniform subsample of
- * at most cap of them (selection sampling). Returns the count. */
+/* Samples of the region (a sphere of radius rreg): all of them up to cap,
+ * else a uniform subsample of cap. The cost is bounded whatever the
+ * region's size: when its bucket box holds B > 4 cap samples, only every
+ * (B / 4 cap)-th of the box's samples (from a random offset) is looked at
+ * (about 2 cap of them fall inside the sphere), and reservoir sampling
+ * keeps cap of those. Returns the count. */
 size_t lci_enc_region(const lci_enc *e, const double *mu, double rreg, size_t cap, uint64_t *rng, uint32_t **out)
 {
-    size_t n = 0;
-    double r2 = rreg * rreg;
-    {
-        LCI_FOR_SAMPLES_NEAR(e, mu, rreg, j)
-        {
-            const float *x = e->p + 3 * j;
-            n += (x[0] - mu[0]) * (x[0] - mu[0]) + (x[1] - mu[1]) * (x[1] - mu[1]) + (x[2] - mu[2]) * (x[2] - mu[2]) < r2;
+    int i0[3], i1[3];
+    lci_enc_bucket_box(e, mu, rreg, i0, i1);
+    size_t box = 0;
+    for (int z = i0[2]; z <= i1[2]; z++)
+        for (int y = i0[1]; y <= i1[1]; y++) {
+            size_t b = ((size_t)z * (size_t)e->bn[1] + (size_t)y) * (size_t)e->bn[0];
+            box += e->bstart[b + (size_t)i1[0] + 1] - e->bstart[b + (size_t)i0[0]];
         }
-    }
-    size_t want = n < cap ? n : cap, k = 0, seen = 0;
+    size_t step = box > 4 * cap ? box / (4 * cap) : 1, skip = (size_t)(lci_enc_rand01(rng) * (double)step);
+    size_t want = box < cap ? box : cap, k = 0, seen = 0;
     uint32_t *sel = malloc(sizeof(uint32_t) * (want ? want : 1));
     if (!sel) return (size_t)-1;
-    LCI_FOR_SAMPLES_NEAR(e, mu, rreg, j)
-    {
-        const float *x = e->p + 3 * j;
-        if ((x[0] - mu[0]) * (x[0] - mu[0]) + (x[1] - mu[1]) * (x[1] - mu[1]) + (x[2] - mu[2]) * (x[2] - mu[2]) >= r2)
-            continue;
-        if (k < want && (double)(n - seen) * lci_enc_rand01(rng) < (double)(want - k)) sel[k++] = (uint32_t)j;
-        seen++;
-    }
+    double r2 = rreg * rreg;
+    for (int z = i0[2]; z <= i1[2]; z++)
+        for (int y = i0[1]; y <= i1[1]; y++) {
+            size_t b = ((size_t)z * (size_t)e->bn[1] + (size_t)y) * (size_t)e->bn[0];
+            size_t j = e->bstart[b + (size_t)i0[0]] + skip, end = e->bstart[b + (size_t)i1[0] + 1];
+            for (; j < end; j += step) {
+                const float *x = e->p + 3 * j;
+                double dx = x[0] - mu[0], dy = x[1] - mu[1], dz = x[2] - mu[2];
+                if (dx * dx + dy * dy + dz * dz >= r2) continue;
+                seen++;
+                if (k < want) sel[k++] = (uint32_t)j;
+                else {
+                    size_t t = (size_t)(lci_enc_rand01(rng) * (double)seen);
+                    if (t < want) sel[t] = (uint32_t)j;
+                }
+            }
+            skip = j - end;
+        }
     *out = sel;
     return k;
 }

@@ -86,9 +86,10 @@ static inline void lci_enc_bucket_box(const lci_enc *e, const double *c, double 
  * sweeps do); returns the change of the squared error. Touches the
  * residuals inside the cut sphere only. */
 double lci_enc_apply_term(lci_enc *e, const double *c, double s, double w, double sign, int clusters);
-/* Samples within rreg of mu: a uniform subsample of at most cap of them
- * (selection sampling on the state rng) in *out (malloc'd). Returns the
- * count, or (size_t)-1 when out of memory. */
+/* Samples within rreg of mu: at most cap of them, a uniform subsample
+ * (strided from a random offset, then reservoir sampling on the state
+ * rng; cost O(cap) plus the buckets, whatever the region's size) in *out
+ * (malloc'd). Returns the count, or (size_t)-1 when out of memory. */
 size_t lci_enc_region(const lci_enc *e, const double *mu, double rreg, size_t cap, uint64_t *rng, uint32_t **out);
 
 /* One polish sweep (encode_polish.c): every RBF's weight, width and

@@ -16,7 +16,7 @@
  * radius around the old centre, so the squared error outside that region
  * does not change. LM runs on a uniform subsample of at most lm_samples of
  * the region's samples; the new term is kept only if the error over every
- * sample of the region (measured while applying it) drops. */
+ * sample of the region drops. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -110,6 +110,27 @@ static void one_lm(const one *o, double *p)
  * the region, a sphere of radius region_radius(i) around its centre. */
 static double region_radius(const lci_rbfs *R, size_t i) { return REGION_GROW * sqrt(LCI_ENC_CUT2) * R->s[i]; }
 
+/* Replaces term (c0, s0, w0) by (c1, s1, w1) in the residuals (not the
+ * cluster errors: recomputed after the sweep); returns the change of the
+ * squared error. */
+static double swap_term(lci_enc *e, const double *c0, double s0, double w0, const double *c1, double s1, double w1)
+{
+    double cut0 = LCI_ENC_CUT2 * s0 * s0, cut1 = LCI_ENC_CUT2 * s1 * s1, i0 = 0.5 / (s0 * s0), i1 = 0.5 / (s1 * s1);
+    double dc = sqrt((c1[0] - c0[0]) * (c1[0] - c0[0]) + (c1[1] - c0[1]) * (c1[1] - c0[1]) + (c1[2] - c0[2]) * (c1[2] - c0[2]));
+    double delta = 0.0;
+    LCI_FOR_SAMPLES_NEAR(e, c0, fmax(sqrt(cut0), dc + sqrt(cut1)), j)
+    {
+        const float *x = e->p + 3 * j;
+        double a0 = x[0] - c0[0], b0 = x[1] - c0[1], z0 = x[2] - c0[2], d0 = a0 * a0 + b0 * b0 + z0 * z0;
+        double a1 = x[0] - c1[0], b1 = x[1] - c1[1], z1 = x[2] - c1[2], d1 = a1 * a1 + b1 * b1 + z1 * z1;
+        if (d0 >= cut0 && d1 >= cut1) continue;
+        double r = e->r[j] + (d0 < cut0 ? w0 * exp(-d0 * i0) : 0.0) - (d1 < cut1 ? w1 * exp(-d1 * i1) : 0.0);
+        delta += r * r - e->r[j] * e->r[j];
+        e->r[j] = r;
+    }
+    return delta;
+}
+
 static lc_status polish_one(lci_enc *e, size_t i, float *xs, double *ts, uint64_t *rng, int *improved)
 {
     lci_rbfs *R = &e->R;
@@ -139,16 +160,14 @@ static lc_status polish_one(lci_enc *e, size_t i, float *xs, double *ts, uint64_
     one_lm(&o, p);
     double nc[3] = {c[0] + p[2], c[1] + p[3], c[2] + p[4]}, ns = exp(p[1]), nw = p[0];
     if (nw == w && ns == s && p[2] == 0.0 && p[3] == 0.0 && p[4] == 0.0) return LC_OK;
-    /* exact over the region: the old term back, the new one in */
-    double delta = lci_enc_apply_term(e, c, s, w, -1.0, 0) + lci_enc_apply_term(e, nc, ns, nw, 1.0, 0);
-    if (delta < 0.0) {
+    /* exact over every sample the terms reach: kept only if the error drops
+       (LM saw a subsample; rarely it does not), else swapped back */
+    if (swap_term(e, c, s, w, nc, ns, nw) < 0.0) {
         memcpy(c, nc, sizeof nc);
         R->s[i] = ns, R->w[i] = nw, R->cut[i] = sqrt(LCI_ENC_CUT2) * ns;
         *improved = 1;
-    } else {
-        lci_enc_apply_term(e, nc, ns, nw, -1.0, 0);
-        lci_enc_apply_term(e, c, s, w, 1.0, 0);
-    }
+    } else
+        swap_term(e, nc, ns, nw, c, s, w);
     return LC_OK;
 }
 
