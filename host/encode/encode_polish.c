@@ -3,7 +3,7 @@
  * residual with its own term added back (block coordinate descent on all
  * 5m parameters of the set).
  *
- * Why (docs/bench/rbf.md, "What limits the greedy fit"): the greedy step
+ * Why (docs/bench/rbf.md, "What limited the greedy fit"): the greedy step
  * fixes each centre where it was placed (the cluster's weighted mean or its
  * point of largest error) and refits only the widths and weights of a few
  * neighbours. On neghip, at 2048 RBFs, refitting every width and weight
@@ -13,7 +13,7 @@
  *
  * Each RBF's problem is exact and local: the term may move and widen only
  * as far as its cut sphere stays inside a region of radius grow * its cut
- * radius around the old centre, so the squared error outside that region
+ * radius (REGION_GROW) around the old centre, so the error outside it
  * does not change. LM runs on a uniform subsample of at most lm_samples of
  * the region's samples; the new term is kept only if the error over every
  * sample of the region drops. */
