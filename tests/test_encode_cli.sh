@@ -59,16 +59,13 @@ check "neghip, 256 RBFs, text" '[ $? -eq 0 ] && grep -q "^lanecast-rbf 1$" "$tmp
 # the full neghip to 2 % (issue 10; docs/bench/rbf.md): the report, the
 # count (at most one RBF per 36 voxels, the paper's density) in the report
 # and in the file, lower than at 256 RBFs, and the set renders.
-# LC_TEST_ENCODE_SMALL (sanitizer builds, see tests/meson.build): the
-# sampled fit of at most 2^16 voxels with a 5 % target instead.
-if [ -n "${LC_TEST_ENCODE_SMALL:-}" ]; then goal="--max-error 0.05 --fit-samples 65536" want=5.0
-else goal="" want=2.0; fi
-"$exe" encode "$data/volumes/neghip.nhdr" -o "$tmp/neghip.rbf" --centre maxerr --text $goal > "$tmp/n.txt"
-check "neghip encodes${goal:+ ($goal)}" '[ $? -eq 0 ]'
+# (about 40 s under ASan + UBSan on 2 cores)
+"$exe" encode "$data/volumes/neghip.nhdr" -o "$tmp/neghip.rbf" --centre maxerr --text > "$tmp/n.txt"
+check "neghip encodes" '[ $? -eq 0 ]'
 sed 's/^/     /' "$tmp/n.txt"
 a=$(rms "$tmp/n256.txt") b=$(rms "$tmp/n.txt")
 n=$(sed -n 's/^rbfs  *\([0-9]*\), .*target RMS [0-9.]*%: reached$/\1/p' "$tmp/n.txt")
-check "neghip: the report says reached, RMS $b% <= $want%" '[ -n "$n" ] && awk "BEGIN { exit !($b <= $want) }"'
+check "neghip: the report says reached, RMS $b% <= 2%" '[ -n "$n" ] && awk "BEGIN { exit !($b <= 2.0) }"'
 check "neghip: $n RBFs <= 7986 (287496 voxels / 36), as in the file" '[ -n "$n" ] && [ "$n" -le 7986 ] && grep -q "^count $n$" "$tmp/neghip.rbf" && [ "$(grep -c "^[-0-9]" "$tmp/neghip.rbf")" -eq "$n" ]'
 check "neghip: RMS $a% at 256 RBFs > $b% at $n" 'awk "BEGIN { exit !($a > $b) }"'
 check "neghip.rbf renders" '"$exe" render "$tmp/neghip.rbf" -o "$tmp/neghip_rbf.png" --size 64x64 --quiet && [ -s "$tmp/neghip_rbf.png" ]'
