@@ -20,7 +20,7 @@ for name, pts in curves.items():
 ax.axhline(2.0, color="gray", ls="--", lw=0.8, label="2% target")
 ax.set_xlabel("RBFs")
 ax.set_ylabel("RMS error, % of the value range")
-ax.set_title("lanecast encode --centre maxerr")
+ax.set_title("lanecast encode --centre maxerr (with polish sweeps)")
 ax.grid(True, which="both", alpha=0.3)
 ax.legend()
 fig.tight_layout()

@@ -1,7 +1,7 @@
 #!/bin/sh
-# lanecast encode: hydrogen reaches 2% RMS and renders; neghip (reduced: 256
-# and 1024 RBFs, see docs/bench/rbf.md for the full runs) improves with
-# more RBFs; the text variant; bad input gives one line, exit 1 and no file.
+# lanecast encode: hydrogen and neghip reach 2% RMS and render; neghip at
+# 256 RBFs (the text variant) is worse than at 2%; bad input gives one
+# line, exit 1 and no file.
 # Args: the lanecast executable, the shared data folder, a scratch folder.
 set -u
 exe=$1 data=$2 tmp=$3
@@ -56,9 +56,17 @@ check "hydrogen.rbf renders" '"$exe" render "$tmp/hydrogen.rbf" -o "$tmp/hydroge
 
 "$exe" encode "$data/volumes/neghip.nhdr" -o "$tmp/neghip256.rbf" --centre maxerr --max-rbfs 256 --text > "$tmp/n256.txt"
 check "neghip, 256 RBFs, text" '[ $? -eq 0 ] && grep -q "^lanecast-rbf 1$" "$tmp/neghip256.rbf" && grep -q "^count 256$" "$tmp/neghip256.rbf"'
-"$exe" encode "$data/volumes/neghip.nhdr" -o "$tmp/neghip1024.rbf" --centre maxerr --max-rbfs 1024 > "$tmp/n1024.txt"
-sed 's/^/     /' "$tmp/n1024.txt"
-a=$(rms "$tmp/n256.txt") b=$(rms "$tmp/n1024.txt")
-check "neghip: RMS $a% at 256 RBFs > $b% at 1024" 'awk "BEGIN { exit !($a > $b) }"'
-check "neghip1024.rbf renders" '"$exe" render "$tmp/neghip1024.rbf" -o "$tmp/neghip_rbf.png" --size 64x64 --quiet'
+# the full neghip to 2 % (issue 10; docs/bench/rbf.md): the report, the
+# count (at most one RBF per 36 voxels, the paper's density) in the report
+# and in the file, lower than at 256 RBFs, and the set renders.
+# (about 40 s under ASan + UBSan on 2 cores)
+"$exe" encode "$data/volumes/neghip.nhdr" -o "$tmp/neghip.rbf" --centre maxerr --text > "$tmp/n.txt"
+check "neghip encodes" '[ $? -eq 0 ]'
+sed 's/^/     /' "$tmp/n.txt"
+a=$(rms "$tmp/n256.txt") b=$(rms "$tmp/n.txt")
+n=$(sed -n 's/^rbfs  *\([0-9]*\), .*target RMS [0-9.]*%: reached$/\1/p' "$tmp/n.txt")
+check "neghip: the report says reached, RMS $b% <= 2%" '[ -n "$n" ] && awk "BEGIN { exit !($b <= 2.0) }"'
+check "neghip: $n RBFs <= 7986 (287496 voxels / 36), as in the file" '[ -n "$n" ] && [ "$n" -le 7986 ] && grep -q "^count $n$" "$tmp/neghip.rbf" && [ "$(grep -c "^[-0-9]" "$tmp/neghip.rbf")" -eq "$n" ]'
+check "neghip: RMS $a% at 256 RBFs > $b% at $n" 'awk "BEGIN { exit !($a > $b) }"'
+check "neghip.rbf renders" '"$exe" render "$tmp/neghip.rbf" -o "$tmp/neghip_rbf.png" --size 64x64 --quiet && [ -s "$tmp/neghip_rbf.png" ]'
 exit $fail

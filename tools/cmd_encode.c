@@ -18,7 +18,10 @@ static const char encode_help[] =
     "principal axis of the cluster with the largest error; each new RBF is centred in it, its\n"
     "width fitted by Levenberg-Marquardt and the weights and bias by linear least squares\n"
     "(LAPACKE), until the RMS error is at most --max-error of the value range or there are\n"
-    "--max-rbfs RBFs. The file is written under a temporary name and renamed when complete.\n"
+    "--max-rbfs RBFs. Each time the count has grown by a quarter, a polish sweep refits every\n"
+    "RBF's weight, width and centre in turn against the residual (and up to 8 sweeps more when\n"
+    "--max-rbfs is reached short of --max-error). The file is written under a temporary name and\n"
+    "renamed when complete.\n"
     "\n"
     "input:\n"
     "  a structured volume    any volume format lanecast reads (lanecast formats: .nrrd/.nhdr,\n"
@@ -40,7 +43,8 @@ static const char encode_help[] =
     "                         the field elsewhere is unconstrained)\n"
     "  --fit-samples N        fit on a fixed-seed subsample of at most N samples (default 2097152;\n"
     "                         the report is over all of them)\n"
-    "  --lm-samples N         samples Levenberg-Marquardt sees per step (default 2048)\n"
+    "  --lm-samples N         samples Levenberg-Marquardt sees per step and per RBF in a polish\n"
+    "                         sweep (default 2048)\n"
     "  --local-rbfs N         RBFs refitted per step: the new one and its nearest neighbours (default 4)\n"
     "  --seed N               subsampling seed (default 1)\n"
     "\n"
@@ -55,6 +59,7 @@ static const char encode_help[] =
     "examples:\n"
     "  lanecast encode neghip.nhdr -o neghip.rbf\n"
     "  lanecast encode hydrogen.nhdr -o h.rbf --max-error 0.01 --centre maxerr\n"
+    "  lanecast encode neghip.nhdr -o n.rbf --centre maxerr --max-rbfs 1024 --progress\n"
     "  lanecast encode shock.vtk -o shock.rbf --fit-range 0.6,1.7 --max-rbfs 3000\n"
     "  lanecast encode samples.csv -o s.rbf --text && lanecast render s.rbf -o s.png\n"
     "\n"
@@ -168,6 +173,11 @@ static int parse(eopts *o, int argc, char **argv)
 static void progress(void *user, const lc_rbf_encode_progress *p)
 {
     const eopts *o = user;
+    if (p->polish) { /* the sweeps after max_rbfs: one line each */
+        fprintf(stderr, "%sencode: %zu RBFs, polish sweep %d, RMS %.3f%% of the range (target %.3g%%), %.1f s\n",
+                o->tty ? "\r" : "", p->rbfs, p->polish, 100.0 * p->rms, 100.0 * p->target, p->seconds);
+        return;
+    }
     if (!o->tty && (p->rbfs & (p->rbfs - 1))) return; /* redirected: powers of two only */
     fprintf(stderr, "%sencode: %zu RBFs (at most %zu), RMS %.3f%% of the range (target %.3g%%), %.1f s%s",
             o->tty ? "\r" : "", p->rbfs, p->max_rbfs, 100.0 * p->rms, 100.0 * p->target, p->seconds,

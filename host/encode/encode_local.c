@@ -75,29 +75,10 @@ void lci_enc_free(lci_enc *e)
     lci_rbfs_free(&e->R);
 }
 
-/* The bucket box reached by a sphere. */
-static void bucket_box(const lci_enc *e, const double *c, double rad, int i0[3], int i1[3])
+double lci_enc_apply_term(lci_enc *e, const double *c, double s, double w, double sign, int clusters)
 {
-    for (int a = 0; a < 3; a++) {
-        double t0 = (c[a] - rad - e->lo[a]) / e->bcell, t1 = (c[a] + rad - e->lo[a]) / e->bcell;
-        i0[a] = t0 < 0.0 ? 0 : t0 >= e->bn[a] ? e->bn[a] - 1 : (int)t0;
-        i1[a] = t1 < 0.0 ? 0 : t1 >= e->bn[a] ? e->bn[a] - 1 : (int)t1;
-    }
-}
-
-#define FOR_SAMPLES_NEAR(e, c, rad, j)                                                                               \
-    int i0_[3], i1_[3];                                                                                              \
-    bucket_box(e, c, rad, i0_, i1_);                                                                                 \
-    for (int z_ = i0_[2]; z_ <= i1_[2]; z_++)                                                                        \
-        for (int y_ = i0_[1]; y_ <= i1_[1]; y_++)                                                                    \
-            for (size_t b_ = ((size_t)z_ * (size_t)e->bn[1] + (size_t)y_) * (size_t)e->bn[0], j = e->bstart[b_ + (size_t)i0_[0]]; \
-                 j < e->bstart[b_ + (size_t)i1_[0] + 1]; j++)
-
-/* r -= sign * w phi over term (c, s)'s cut sphere, keeping cluster errors. */
-static void apply_term(lci_enc *e, const double *c, double s, double w, double sign)
-{
-    double cut2 = LCI_ENC_CUT2 * s * s, inv = 1.0 / (2.0 * s * s);
-    FOR_SAMPLES_NEAR(e, c, sqrt(cut2), j)
+    double cut2 = LCI_ENC_CUT2 * s * s, inv = 1.0 / (2.0 * s * s), delta = 0.0;
+    LCI_FOR_SAMPLES_NEAR(e, c, sqrt(cut2), j)
     {
         const float *x = e->p + 3 * j;
         double dx = x[0] - c[0], dy = x[1] - c[1], dz = x[2] - c[2];
@@ -105,8 +86,10 @@ static void apply_term(lci_enc *e, const double *c, double s, double w, double s
         if (d2 >= cut2) continue;
         double old = e->r[j], r = old - sign * w * exp(-d2 * inv);
         e->r[j] = r;
-        e->cl[e->cid[j]].sse += r * r - old * old;
+        if (clusters) e->cl[e->cid[j]].sse += r * r - old * old;
+        delta += r * r - old * old;
     }
+    return delta;
 }
 
 /* ---------------------------------------------------------------- the local problem */
@@ -154,30 +137,44 @@ static void pick_local(const lci_enc *e, size_t q, const double *mu, double rreg
     }
 }
 
-/* Samples of the region (a sphere of radius rreg): a uniform subsample of
- * at most cap of them (selection sampling). Returns the count. */
-static size_t region(lci_enc *e, const double *mu, double rreg, size_t cap, uint32_t **out)
+/* Samples of the region (a sphere of radius rreg): all of them up to cap,
+ * else a uniform subsample of cap. The cost is bounded whatever the
+ * region's size: when its bucket box holds B > 4 cap samples, only every
+ * (B / 4 cap)-th of the box's samples (from a random offset) is looked at
+ * (about 2 cap of them fall inside the sphere), and reservoir sampling
+ * keeps cap of those. Returns the count. */
+size_t lci_enc_region(const lci_enc *e, const double *mu, double rreg, size_t cap, uint64_t *rng, uint32_t **out)
 {
-    size_t n = 0;
-    double r2 = rreg * rreg;
-    {
-        FOR_SAMPLES_NEAR(e, mu, rreg, j)
-        {
-            const float *x = e->p + 3 * j;
-            n += (x[0] - mu[0]) * (x[0] - mu[0]) + (x[1] - mu[1]) * (x[1] - mu[1]) + (x[2] - mu[2]) * (x[2] - mu[2]) < r2;
+    int i0[3], i1[3];
+    lci_enc_bucket_box(e, mu, rreg, i0, i1);
+    size_t box = 0;
+    for (int z = i0[2]; z <= i1[2]; z++)
+        for (int y = i0[1]; y <= i1[1]; y++) {
+            size_t b = ((size_t)z * (size_t)e->bn[1] + (size_t)y) * (size_t)e->bn[0];
+            box += e->bstart[b + (size_t)i1[0] + 1] - e->bstart[b + (size_t)i0[0]];
         }
-    }
-    size_t want = n < cap ? n : cap, k = 0, seen = 0;
+    size_t step = box > 4 * cap ? box / (4 * cap) : 1, skip = (size_t)(lci_enc_rand01(rng) * (double)step);
+    size_t want = box < cap ? box : cap, k = 0, seen = 0;
     uint32_t *sel = malloc(sizeof(uint32_t) * (want ? want : 1));
     if (!sel) return (size_t)-1;
-    FOR_SAMPLES_NEAR(e, mu, rreg, j)
-    {
-        const float *x = e->p + 3 * j;
-        if ((x[0] - mu[0]) * (x[0] - mu[0]) + (x[1] - mu[1]) * (x[1] - mu[1]) + (x[2] - mu[2]) * (x[2] - mu[2]) >= r2)
-            continue;
-        if (k < want && (double)(n - seen) * lci_enc_rand(e) < (double)(want - k)) sel[k++] = (uint32_t)j;
-        seen++;
-    }
+    double r2 = rreg * rreg;
+    for (int z = i0[2]; z <= i1[2]; z++)
+        for (int y = i0[1]; y <= i1[1]; y++) {
+            size_t b = ((size_t)z * (size_t)e->bn[1] + (size_t)y) * (size_t)e->bn[0];
+            size_t j = e->bstart[b + (size_t)i0[0]] + skip, end = e->bstart[b + (size_t)i1[0] + 1];
+            for (; j < end; j += step) {
+                const float *x = e->p + 3 * j;
+                double dx = x[0] - mu[0], dy = x[1] - mu[1], dz = x[2] - mu[2];
+                if (dx * dx + dy * dy + dz * dz >= r2) continue;
+                seen++;
+                if (k < want) sel[k++] = (uint32_t)j;
+                else {
+                    size_t t = (size_t)(lci_enc_rand01(rng) * (double)seen);
+                    if (t < want) sel[t] = (uint32_t)j;
+                }
+            }
+            skip = j - end;
+        }
     *out = sel;
     return k;
 }
@@ -265,9 +262,9 @@ static void commit(lci_enc *e, const local *L, const double *olds, const double 
     for (int a = 0; a < L->k; a++) {
         size_t i = L->id[a];
         if (olds[a] == L->s[a] && oldw[a] == L->w[a]) continue;
-        if (oldw[a] != 0.0) apply_term(e, R->c + 3 * i, olds[a], oldw[a], -1.0); /* take the old term back */
+        if (oldw[a] != 0.0) lci_enc_apply_term(e, R->c + 3 * i, olds[a], oldw[a], -1.0, 1); /* take the old term back */
         R->s[i] = L->s[a], R->w[i] = L->w[a], R->cut[i] = sqrt(LCI_ENC_CUT2) * L->s[a];
-        apply_term(e, R->c + 3 * i, L->s[a], L->w[a], 1.0);
+        lci_enc_apply_term(e, R->c + 3 * i, L->s[a], L->w[a], 1.0, 1);
     }
 }
 
@@ -285,7 +282,7 @@ lc_status lci_enc_add(lci_enc *e, const double mu[3], double s0, int *added)
     local L = {0};
     pick_local(e, q, mu, rreg, &L);
     uint32_t *sel = NULL;
-    size_t m = region(e, mu, rreg, 4 * e->d.lm_samples, &sel);
+    size_t m = lci_enc_region(e, mu, rreg, 4 * e->d.lm_samples, &e->rng, &sel);
     if (m == (size_t)-1) return lci_error(e->dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_encode: out of memory");
     if (m < (size_t)L.k + 1) L.k = m > 1 ? (int)m - 1 : 0;
     if (L.k == 0) {

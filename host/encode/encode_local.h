@@ -41,6 +41,7 @@ typedef struct lci_enc {
 } lci_enc;
 
 double lci_enc_rand(lci_enc *e); /* uniform in [0, 1) */
+double lci_enc_rand01(uint64_t *state); /* the same on a state of one's own (xorshift, not 0) */
 double lci_enc_total_sse(const lci_enc *e);
 
 /* Copies the picked samples into bucket order and sets up one cluster,
@@ -61,6 +62,40 @@ static inline double lci_enc_phi(const lci_rbfs *r, size_t i, const float *x)
     double d2 = dx * dx + dy * dy + dz * dz, s2 = r->s[i] * r->s[i];
     return d2 < LCI_ENC_CUT2 * s2 ? exp(-d2 / (2.0 * s2)) : 0.0;
 }
+
+/* The bucket box reached by a sphere. */
+static inline void lci_enc_bucket_box(const lci_enc *e, const double *c, double rad, int i0[3], int i1[3])
+{
+    for (int a = 0; a < 3; a++) {
+        double t0 = (c[a] - rad - e->lo[a]) / e->bcell, t1 = (c[a] + rad - e->lo[a]) / e->bcell;
+        i0[a] = t0 < 0.0 ? 0 : t0 >= e->bn[a] ? e->bn[a] - 1 : (int)t0;
+        i1[a] = t1 < 0.0 ? 0 : t1 >= e->bn[a] ? e->bn[a] - 1 : (int)t1;
+    }
+}
+
+#define LCI_FOR_SAMPLES_NEAR(e, c, rad, j)                                                                               \
+    int i0_[3], i1_[3];                                                                                              \
+    lci_enc_bucket_box(e, c, rad, i0_, i1_);                                                                                 \
+    for (int z_ = i0_[2]; z_ <= i1_[2]; z_++)                                                                        \
+        for (int y_ = i0_[1]; y_ <= i1_[1]; y_++)                                                                    \
+            for (size_t b_ = ((size_t)z_ * (size_t)e->bn[1] + (size_t)y_) * (size_t)e->bn[0], j = e->bstart[b_ + (size_t)i0_[0]]; \
+                 j < e->bstart[b_ + (size_t)i1_[0] + 1]; j++)
+
+/* r -= sign * w phi over term (c, s)'s cut sphere, keeping the cluster
+ * errors when clusters is 1 (0: they are recomputed later; what parallel
+ * sweeps do); returns the change of the squared error. Touches the
+ * residuals inside the cut sphere only. */
+double lci_enc_apply_term(lci_enc *e, const double *c, double s, double w, double sign, int clusters);
+/* Samples within rreg of mu: at most cap of them, a uniform subsample
+ * (strided from a random offset, then reservoir sampling on the state
+ * rng; cost O(cap) plus the buckets, whatever the region's size) in *out
+ * (malloc'd). Returns the count, or (size_t)-1 when out of memory. */
+size_t lci_enc_region(const lci_enc *e, const double *mu, double rreg, size_t cap, uint64_t *rng, uint32_t **out);
+
+/* One polish sweep (encode_polish.c): every RBF's weight, width and
+ * centre refitted in turn by LM against the residual; *changed (may be
+ * NULL) counts the RBFs that moved. */
+lc_status lci_enc_polish(lci_enc *e, size_t *changed);
 
 /* The cell of x in an RBF grid (clamped). */
 size_t lci_rbf_grid_cell(const lci_rbf_grid *g, const float x[3]);

@@ -651,6 +651,8 @@ typedef struct lc_rbf_encode_progress {
     double seconds;   /* since the start */
     double target;    /* the max_error asked for */
     size_t max_rbfs;
+    int polish;       /* 0 while adding RBFs; k >= 1 after the k-th of the polish sweeps that
+                         follow when max_rbfs is reached short of the target (lc_rbf_encode) */
 } lc_rbf_encode_progress;
 
 typedef struct lc_rbf_encode_desc {
@@ -697,7 +699,9 @@ typedef struct lc_rbf_encoded {
  * centred in it (desc->centre), widths by Levenberg-Marquardt on the mean
  * squared error, weights and the bias by linear least squares (LAPACKE),
  * until the RMS error relative to the value range is at most max_error or
- * there are max_rbfs RBFs. desc may be NULL (defaults). Fails with
+ * there are max_rbfs RBFs. Each time the count has grown by a quarter (and
+ * after max_rbfs short of the target), polish sweeps refit every RBF's
+ * weight, width and centre in turn by LM against the residual. desc may be NULL (defaults). Fails with
  * LC_ERROR_UNSUPPORTED when this build lacks LAPACKE (lc_feature_get
  * "lapacke"), LC_ERROR_INVALID_ARGUMENT for an empty fit range or fewer
  * fitted samples than max_rbfs + 1. *out is NULL on failure; report may be
