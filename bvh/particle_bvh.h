@@ -20,6 +20,10 @@ typedef struct lci_pbvh {
  * else writes a message into err. */
 int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
                    lci_pbvh *out, char *err, size_t errlen);
+/* The own builder (bvh/particle_bvh_sah.c): binned SAH straight into the
+ * flat layout, 16 bytes per particle of scratch. */
+int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, int leaf_size, lci_pbvh *out,
+                       char *err, size_t errlen);
 void lci_pbvh_free(lci_pbvh *b);
 
 #endif
