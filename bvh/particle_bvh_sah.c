@@ -12,7 +12,8 @@
  * 0.5 n A(node) <= A(node) + 0.5 (nL A(L) + nR A(R)), with A the half
  * surface of a box. Boxes are the centre bounds grown by 2 rmax (the box the
  * kernels test at the default sigma 2), so the cost sees what the traversal
- * tests. 32 bins per axis over the node's centre bounds. Where no split
+ * tests. Per axis min(32, 4 + n / 20) bins over the node's centre bounds
+ * (Embree's count). Where no split
  * separates the centres (all in one bin on every axis) or below depth 64,
  * nodes split at the object median of their longest axis (quickselect), so
  * depth <= 64 + log2(n) + 1 whatever the input. */
@@ -80,15 +81,16 @@ static double half_area(const cbox *b)
 }
 
 /* The bin of coordinate c; the same expression bins and partitions. */
-static inline int bin_of(float c, float lo, float scale)
+static inline int bin_of(float c, float lo, float scale, int nbins)
 {
     float f = (c - lo) * scale;
     int k = f > 0.0f ? (int)f : 0;
-    return k < BINS ? k : BINS - 1;
+    return k < nbins ? k : nbins - 1;
 }
 
 typedef struct split {
     int axis, bin; /* particles with bin_of(c[axis]) < bin go left */
+    int nbins;
     double cost;   /* nL A(L) + nR A(R) */
     cbox left, right;
 } split;
@@ -98,27 +100,30 @@ typedef struct split {
 static split best_split(const pt *p, uint32_t n, const cbox *b, float scale[3])
 {
     cbox bins[3][BINS];
+    /* fewer bins for small nodes, as Embree's binning: most nodes are small */
+    int nb = 4 + (int)(n / 20);
+    nb = nb < BINS ? nb : BINS;
     for (int a = 0; a < 3; a++) {
         float ext = b->hi[a] - b->lo[a];
-        scale[a] = ext > 0.0f ? (float)BINS * 0.99999f / ext : 0.0f;
+        scale[a] = ext > 0.0f ? (float)nb * 0.99999f / ext : 0.0f;
         if (!(scale[a] < 1e30f)) scale[a] = 0.0f; /* a subnormal extent: no binning on this axis */
-        for (int k = 0; k < BINS; k++) cbox_empty(&bins[a][k]);
+        for (int k = 0; k < nb; k++) cbox_empty(&bins[a][k]);
     }
     for (uint32_t i = 0; i < n; i++)
         for (int a = 0; a < 3; a++)
-            if (scale[a] > 0.0f) cbox_add_pt(&bins[a][bin_of(p[i].c[a], b->lo[a], scale[a])], &p[i]);
-    split best = {.axis = -1, .cost = 0.0};
+            if (scale[a] > 0.0f) cbox_add_pt(&bins[a][bin_of(p[i].c[a], b->lo[a], scale[a], nb)], &p[i]);
+    split best = {.axis = -1, .nbins = nb};
     for (int a = 0; a < 3; a++) {
         if (!(scale[a] > 0.0f)) continue;
         cbox right[BINS], acc;
         cbox_empty(&acc);
-        for (int k = BINS - 1; k >= 0; k--) cbox_merge(&acc, &bins[a][k]), right[k] = acc;
+        for (int k = nb - 1; k >= 0; k--) cbox_merge(&acc, &bins[a][k]), right[k] = acc;
         cbox_empty(&acc);
-        for (int k = 1; k < BINS; k++) {
+        for (int k = 1; k < nb; k++) {
             cbox_merge(&acc, &bins[a][k - 1]);
             if (!acc.n || !right[k].n) continue;
             double c = (double)acc.n * half_area(&acc) + (double)right[k].n * half_area(&right[k]);
-            if (best.axis < 0 || c < best.cost) best = (split){a, k, c, acc, right[k]};
+            if (best.axis < 0 || c < best.cost) best = (split){a, k, nb, c, acc, right[k]};
         }
     }
     return best;
@@ -170,7 +175,7 @@ static void partition(pt *p, uint32_t *id, const task *t, const split *s, const 
     float lo = t->b.lo[a], sc = scale[a];
     int64_t i = t->first, j = (int64_t)t->first + t->count - 1;
     while (i <= j) {
-        if (bin_of(p[i].c[a], lo, sc) < s->bin) i++;
+        if (bin_of(p[i].c[a], lo, sc, s->nbins) < s->bin) i++;
         else swap_pt(p, id, i, j--);
     }
 }
