@@ -173,7 +173,14 @@ int main(int argc, char **argv)
         return 1;
     }
     double build_cpu = cpu_s() - c0;
-    long hwm = status_kb("VmHWM:"), after = status_kb("VmRSS:");
+    long hwm = status_kb("VmHWM:"), after = status_kb("VmRSS:"), huge = -1;
+    {
+        char line[256];
+        FILE *f = fopen("/proc/self/smaps_rollup", "r");
+        while (f && fgets(line, sizeof line, f))
+            if (!strncmp(line, "AnonHugePages:", 14)) huge = strtol(line + 14, NULL, 10);
+        if (f) fclose(f);
+    }
     free(xyz);
     free(r);
     lc_particles_info pi;
@@ -181,9 +188,9 @@ int main(int argc, char **argv)
     const char *b = getenv("LANECAST_PBVH_BUILDER");
     double budget = 2.0 * (double)pi.data_bytes + (double)pi.bvh_bytes;
     printf("set=%s n=%zu builder=%s leaf=%d build_s=%.3f build_cpu_s=%.3f nodes=%d depth=%d bvh_mb=%.2f data_mb=%.2f "
-           "rss_before_mb=%.1f rss_after_mb=%.1f process_peak_mb=%.1f build_peak_mb=%.1f budget_mb=%.1f",
+           "huge_pages_mb=%.1f rss_before_mb=%.1f rss_after_mb=%.1f process_peak_mb=%.1f build_peak_mb=%.1f budget_mb=%.1f",
            set, pi.count, b ? b : "default", leaf, pi.build_seconds, build_cpu, pi.bvh_nodes, pi.bvh_depth,
-           (double)pi.bvh_bytes / 1e6, (double)pi.data_bytes / 1e6, before * 1024.0 / 1e6, after * 1024.0 / 1e6,
+           (double)pi.bvh_bytes / 1e6, (double)pi.data_bytes / 1e6, huge * 1024.0 / 1e6, before * 1024.0 / 1e6, after * 1024.0 / 1e6,
            hwm * 1024.0 / 1e6, (hwm - before) * 1024.0 / 1e6, budget / 1e6);
     if (renders == 0) {
         printf("\n");
@@ -218,9 +225,11 @@ int main(int argc, char **argv)
         }
         qsort(cpu, (size_t)renders, sizeof cpu[0], cmpd);
         qsort(wall, (size_t)renders, sizeof wall[0], cmpd);
-        printf("set=%s builder=%s view=%s renders=%d cpu_median_s=%.4f cpu_min_s=%.4f cpu_max_s=%.4f wall_median_s=%.4f\n",
+        printf("set=%s builder=%s view=%s renders=%d cpu_median_s=%.4f cpu_min_s=%.4f cpu_max_s=%.4f wall_median_s=%.4f "
+               "nodes_visited=%llu leaves_visited=%llu gaussians=%llu samples=%llu\n",
                set, b ? b : "default", vi ? "close" : "far", renders, cpu[renders / 2], cpu[0], cpu[renders - 1],
-               wall[renders / 2]);
+               wall[renders / 2], (unsigned long long)st.nodes, (unsigned long long)st.leaves,
+               (unsigned long long)st.kernel_evals, (unsigned long long)st.samples);
         fflush(stdout);
     }
     free(rgba);
