@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
@@ -300,7 +301,14 @@ int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, flo
         return -1;
     }
     if (builder == LCI_PBVH_DEFAULT) builder = env_builder(LCI_PBVH_SAH);
-    if (builder == LCI_PBVH_SAH) return lci_pbvh_build_sah(xyz, r, r_all, n, leaf_size, out, err, errlen);
+    if (builder == LCI_PBVH_SAH) {
+        int th = lci_embree_threads(embree_device);
+        if (th == 0) {
+            long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+            th = cpus > 1 ? 2 : 1;
+        }
+        return lci_pbvh_build_sah(xyz, r, r_all, n, leaf_size, th, out, err, errlen);
+    }
     RTCDevice dev = lci_embree_rtc(embree_device);
     if (!dev) {
         snprintf(err, errlen, "no Embree device");

@@ -29,9 +29,10 @@ typedef enum lci_pbvh_builder {
 int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
                    lci_pbvh *out, char *err, size_t errlen);
 /* The own builder (bvh/particle_bvh_sah.c): binned SAH straight into the
- * flat layout, 16 bytes per particle of scratch. */
-int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, int leaf_size, lci_pbvh *out,
-                       char *err, size_t errlen);
+ * flat layout, 16 bytes per particle of scratch; threads >= 2 builds the
+ * root's two subtrees on two threads. */
+int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, int leaf_size, int threads,
+                       lci_pbvh *out, char *err, size_t errlen);
 /* As lci_pbvh_build with a builder; chunk: particles per chunk of
  * LCI_PBVH_CHUNKED (0 = 2^20). embree_device may be NULL for LCI_PBVH_SAH. */
 int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
