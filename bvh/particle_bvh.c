@@ -1,9 +1,13 @@
-/* Particle BVH with Embree's builder (binned SAH, binary, leaves of at most
- * leaf_size particles), then flattened depth-first with siblings adjacent.
- * Embree runs the callbacks on several TBB threads: nodes come from
- * rtcThreadLocalAlloc and the callbacks only write their own node. Node boxes
- * and rmax are recomputed from the centres after the build (the builder's
- * boxes include the radius and some builders set them before children exist). */
+/* Particle BVH builds. The default is the own binned SAH builder
+ * (bvh/particle_bvh_sah.c); the Embree builds stay for A/B runs
+ * (LANECAST_PBVH_BUILDER, docs/bench/particles.md "Build peak"): MEDIUM
+ * (binned SAH, binary, leaves of at most leaf_size particles), LOW (Morton)
+ * and MEDIUM in k-d chunks under a top tree, each flattened depth-first with
+ * siblings adjacent. Embree runs the callbacks on several TBB threads: nodes
+ * come from rtcThreadLocalAlloc and the callbacks only write their own node.
+ * Node boxes and rmax are recomputed from the centres after the build (the
+ * builder's boxes include the radius and some builders set them before
+ * children exist). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

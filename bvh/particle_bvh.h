@@ -1,5 +1,6 @@
-/* The particle BVH: Embree's rtcBuildBVH over the particles' radius bounds,
- * flattened into lc_kpnode arrays (bvh/particle_bvh.c). */
+/* The particle BVH as flat lc_kpnode arrays: the own binned SAH builder
+ * (bvh/particle_bvh_sah.c) by default, Embree's rtcBuildBVH (whole, Morton or
+ * in chunks) for A/B runs (bvh/particle_bvh.c). */
 #ifndef LC_PARTICLE_BVH_H
 #define LC_PARTICLE_BVH_H
 
