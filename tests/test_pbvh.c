@@ -6,7 +6,8 @@
  * radius below, children after their parent and siblings adjacent, the
  * reported depth at least the real one, at most 2n - 1 nodes. Inputs:
  * uniform and clustered sets with mixed radii, all particles at one point,
- * one particle, particles on a plane, on a line, 2^20 + 3 particles (past
+ * one particle, particles on a plane, on a line, coordinates and radii up to
+ * the 1e18 particles.c admits, centres a few subnormals apart, 2^20 + 3 particles (past
  * one chunk of the chunked build), and chunked builds forced into many small
  * chunks (the joins). check() is shown to fail on corrupted trees first. */
 #include <math.h>
@@ -93,7 +94,8 @@ static float urand(void)
 }
 
 /* kind: 0 uniform, 1 clustered (8 tight clusters + background), 2 one point,
- * 3 plane z = 5, 4 line along x */
+ * 3 plane z = 5, 4 line along x, 5 the extremes particles.c admits (coordinates
+ * and radii up to 1e18), 6 centres a few subnormals apart (bin scales overflow) */
 static set make(const char *name, size_t n, int kind, int radii)
 {
     set s = {name, n, malloc(3 * n * sizeof(float)), radii ? malloc(n * sizeof(float)) : NULL, 0.75f};
@@ -111,7 +113,11 @@ static set make(const char *name, size_t n, int kind, int radii)
         if (kind == 2) p[0] = 3.0f, p[1] = -2.0f, p[2] = 7.0f;
         if (kind == 3) p[2] = 5.0f;
         if (kind == 4) p[1] = p[2] = 1.0f;
-        if (radii) s.r[i] = 0.2f + 2.0f * urand() * urand();
+        if (kind == 5)
+            for (int a = 0; a < 3; a++) p[a] = (i % 3 == 0 ? 1e18f : 1e16f) * (2.0f * urand() - 1.0f);
+        if (kind == 6)
+            for (int a = 0; a < 3; a++) p[a] = 1e-45f * (float)(int)(4.0f * urand());
+        if (radii) s.r[i] = kind == 5 ? (i % 5 == 0 ? 1e18f : 1e10f * urand() + 1.0f) : 0.2f + 2.0f * urand() * urand();
     }
     return s;
 }
@@ -172,7 +178,8 @@ int main(void)
                   make("one point 5000", 5000, 2, 1), make("one point, one radius 3000", 3000, 2, 0),
                   make("plane 20000", 20000, 3, 1),   make("line 20000", 20000, 4, 0),
                   make("1 particle", 1, 0, 1),        make("2 particles", 2, 0, 0),
-                  make("33 particles", 33, 1, 1)};
+                  make("33 particles", 33, 1, 1),     make("coordinates and radii to 1e18", 5000, 5, 1),
+                  make("subnormal spread", 5000, 6, 0)};
     int nsets = (int)(sizeof sets / sizeof sets[0]);
     for (int i = 0; i < nsets; i++)
         for (int bld = LCI_PBVH_EMBREE; bld <= LCI_PBVH_SAH; bld++)
