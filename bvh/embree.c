@@ -7,6 +7,7 @@
 /* The handle the host keeps: the device and where its errors go. */
 typedef struct lci_embree {
     RTCDevice device;
+    int threads;
     lci_embree_log_fn log;
     void *user;
 } lci_embree;
@@ -32,11 +33,14 @@ void *lci_embree_new(int threads, lci_embree_log_fn log, void *user, char *err, 
         free(e);
         return NULL;
     }
+    e->threads = threads > 0 ? threads : 0;
     e->log = log;
     e->user = user;
     rtcSetDeviceErrorFunction(e->device, on_error, e);
     return e;
 }
+
+int lci_embree_threads(void *handle) { return handle ? ((lci_embree *)handle)->threads : 1; }
 
 void *lci_embree_rtc(void *handle) { return handle ? ((lci_embree *)handle)->device : NULL; }
 

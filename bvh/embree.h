@@ -12,6 +12,8 @@ typedef void (*lci_embree_log_fn)(void *user, int code, const char *message);
  * NULL with a message in err. */
 void *lci_embree_new(int threads, lci_embree_log_fn log, void *user, char *err, size_t errlen);
 void lci_embree_free(void *handle);
+/* The build threads the handle was made for (0 = as many as CPUs). */
+int lci_embree_threads(void *handle);
 /* The RTCDevice inside a handle from lci_embree_new. */
 void *lci_embree_rtc(void *handle);
 

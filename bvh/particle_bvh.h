@@ -1,5 +1,6 @@
-/* The particle BVH: Embree's rtcBuildBVH over the particles' radius bounds,
- * flattened into lc_kpnode arrays (bvh/particle_bvh.c). */
+/* The particle BVH as flat lc_kpnode arrays: the own binned SAH builder
+ * (bvh/particle_bvh_sah.c) by default, Embree's rtcBuildBVH (whole, Morton or
+ * in chunks) for A/B runs (bvh/particle_bvh.c). */
 #ifndef LC_PARTICLE_BVH_H
 #define LC_PARTICLE_BVH_H
 
@@ -15,11 +16,28 @@ typedef struct lci_pbvh {
     uint32_t *order; /* order[j] = original index of the j-th particle in leaf order */
 } lci_pbvh;
 
+typedef enum lci_pbvh_builder {
+    LCI_PBVH_DEFAULT,    /* LCI_PBVH_SAH, or LANECAST_PBVH_BUILDER's choice (A/B runs) */
+    LCI_PBVH_EMBREE,     /* Embree's binned SAH (RTC_BUILD_QUALITY_MEDIUM) over all particles at once */
+    LCI_PBVH_EMBREE_LOW, /* Embree's Morton builder (RTC_BUILD_QUALITY_LOW) */
+    LCI_PBVH_CHUNKED,    /* Embree MEDIUM per k-d chunk of at most `chunk` particles, under a top tree */
+    LCI_PBVH_SAH,        /* the own binned SAH builder (bvh/particle_bvh_sah.c) */
+} lci_pbvh_builder;
+
 /* Builds over n particles (positions xyz interleaved, radii r, or r_all for
  * every particle when r is NULL). leaf_size in 1..32. Returns 0 on success,
  * else writes a message into err. */
 int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
                    lci_pbvh *out, char *err, size_t errlen);
+/* The own builder (bvh/particle_bvh_sah.c): binned SAH straight into the
+ * flat layout, 16 bytes per particle of scratch; threads >= 2 builds the
+ * root's two subtrees on two threads. */
+int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, int leaf_size, int threads,
+                       lci_pbvh *out, char *err, size_t errlen);
+/* As lci_pbvh_build with a builder; chunk: particles per chunk of
+ * LCI_PBVH_CHUNKED (0 = 2^20). embree_device may be NULL for LCI_PBVH_SAH. */
+int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
+                      lci_pbvh_builder builder, size_t chunk, lci_pbvh *out, char *err, size_t errlen);
 void lci_pbvh_free(lci_pbvh *b);
 
 #endif
