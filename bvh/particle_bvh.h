@@ -1,6 +1,6 @@
-/* The particle BVH as flat lc_kpnode arrays: the own binned SAH builder
- * (bvh/particle_bvh_sah.c) by default, Embree's rtcBuildBVH (whole, Morton or
- * in chunks) for A/B runs (bvh/particle_bvh.c). */
+/* The particle BVH as flat lc_kpnode arrays: Embree's rtcBuildBVH (MEDIUM)
+ * by default; Embree LOW, chunked Embree and the own binned SAH builder
+ * (bvh/particle_bvh_sah.c) for A/B runs (bvh/particle_bvh.c). */
 #ifndef LC_PARTICLE_BVH_H
 #define LC_PARTICLE_BVH_H
 
@@ -17,7 +17,7 @@ typedef struct lci_pbvh {
 } lci_pbvh;
 
 typedef enum lci_pbvh_builder {
-    LCI_PBVH_DEFAULT,    /* LCI_PBVH_SAH, or LANECAST_PBVH_BUILDER's choice (A/B runs) */
+    LCI_PBVH_DEFAULT,    /* LCI_PBVH_EMBREE, or LANECAST_PBVH_BUILDER's choice (A/B runs) */
     LCI_PBVH_EMBREE,     /* Embree's binned SAH (RTC_BUILD_QUALITY_MEDIUM) over all particles at once */
     LCI_PBVH_EMBREE_LOW, /* Embree's Morton builder (RTC_BUILD_QUALITY_LOW) */
     LCI_PBVH_CHUNKED,    /* Embree MEDIUM per k-d chunk of at most `chunk` particles, under a top tree */

@@ -305,7 +305,7 @@ typedef struct lc_particles_info {
 } lc_particles_info;
 
 /* Copies the particles (the caller's arrays may be freed afterwards) and
- * builds the BVH (binned SAH, bvh/particle_bvh_sah.c). Invalid particles (non-finite position or value,
+ * builds the BVH with Embree. Invalid particles (non-finite position or value,
  * radius <= 0 or non-finite, field id >= nfields) fail with
  * LC_ERROR_INVALID_ARGUMENT and a message naming the first bad index and the
  * number of bad ones, unless drop_invalid is set. count = 0 is a valid empty
@@ -473,7 +473,7 @@ typedef struct lc_rbf_info {
 } lc_rbf_info;
 
 /* Copies the RBFs (the caller's arrays may be freed afterwards) and builds
- * the BVH over their supports (as particles'). Fails with
+ * the BVH over their supports with Embree. Fails with
  * LC_ERROR_INVALID_ARGUMENT, naming the first bad index and the number of bad
  * ones, for a non-finite centre, width or weight or a width <= 0; and for a
  * non-finite bias, eps < 0 or non-finite, a domain with lo >= hi on an axis
