@@ -17,7 +17,7 @@ size=${SIZE:-1024x1024}
 
 # volume, encoder flags, box max, iso value, range (the data's units)
 cases=${CASES:-"hydrogen|--max-error 0.02|63|0.3|0,1
-neghip|--max-rbfs 2048 --max-error 0.001|65|120|0,255"}
+neghip|--max-error 0.02|65|120|0,255"}
 
 median() { sort -g | awk '{a[NR] = $1} END {if (NR) print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
 
