@@ -45,6 +45,17 @@ static const struct {
     {"hdf5", "hdf5", ".h5", 1},
 };
 
+#if defined(__SANITIZE_ADDRESS__)
+#define SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SANITIZED 1
+#endif
+#endif
+#ifndef SANITIZED
+#define SANITIZED 0
+#endif
+
 static unsigned char *slurp(const char *path, size_t *n)
 {
     FILE *f = fopen(path, "rb");
@@ -163,6 +174,13 @@ int main(int argc, char **argv)
     int seen = 0;
     for (struct dirent *e; dir && (e = readdir(dir));) {
         if (e->d_name[0] == '.' || !strcmp(e->d_name, "README.md") || !strcmp(e->d_name, "expect.txt")) continue;
+        /* "-nosan-": inputs that make libhdf5 allocate without end; the guard
+           process's address-space limit stops it, and AddressSanitizer's
+           shadow memory rules that limit out (host/formats/guard.c) */
+        if (SANITIZED && strstr(e->d_name, "-nosan-")) {
+            printf("skip %s: needs the guard's memory limit, which a sanitizer build has not\n", e->d_name);
+            continue;
+        }
         char path[4200], why[4800];
         snprintf(path, sizeof path, "%s/%s", argv[1], e->d_name);
         size_t n = 0;

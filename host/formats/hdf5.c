@@ -25,6 +25,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include "host/formats/checked.h"
 #include "host/formats/guard.h"
 #include "host/formats/plist.h"
 #include "host/formats/volume_data.h"
@@ -572,28 +574,51 @@ typedef struct gctx {
     const lci_read_args *args; /* NULL: the kind probe */
 } gctx;
 
-static void guard_child(lc_device *dev, void *ctx)
+static lc_status guard_child(lc_device *dev, void *ctx)
 {
     const gctx *g = ctx;
     lc_kind k;
     lci_loaded l;
     memset(&l, 0, sizeof l);
-    if (g->args) hdf5_read(dev, g->args, &l);
-    else hdf5_kind(dev, g->path, g->desc, &k);
+    return g->args ? hdf5_read(dev, g->args, &l) : hdf5_kind(dev, g->path, g->desc, &k);
+}
+
+/* The guard child's memory: the load's limit (max_memory, default 3/4 of
+ * RAM), and at most 64 times the file plus 512 MB (compressed datasets
+ * inflate; a damaged file must not make libhdf5 fill the machine first). */
+static uint64_t guard_limit(lc_device *dev, const char *path)
+{
+    uint64_t lim = lci_memory_limit(dev);
+    struct stat st;
+    if (stat(path, &st) == 0 && st.st_size >= 0) {
+        uint64_t f = (uint64_t)st.st_size;
+        uint64_t cap = f > (UINT64_MAX >> 8) ? UINT64_MAX : 64 * f + ((uint64_t)512 << 20);
+        lim = cap < lim ? cap : lim;
+    }
+    return lim;
 }
 
 static lc_status guard(lc_device *dev, const char *path, const lc_load_desc *desc, const lci_read_args *args)
 {
     gctx g = {path, desc, args};
-    int sig = lci_guarded(dev, "LANECAST_HDF5_GUARD", guard_child, &g);
-    if (sig <= 0) return LC_OK;
-    if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP || sig == SIGKILL)
+    lc_status cs;
+    char msg[LCI_MSG_MAX];
+    int sig = lci_guarded(dev, "LANECAST_HDF5_GUARD", guard_limit(dev, path), guard_child, &g, &cs, msg, sizeof msg);
+    if (sig < 0) return LC_OK;
+    if (sig == 0) return cs == LC_OK ? LC_OK : lci_error(dev, cs, "%s", msg);
+    if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP)
         return lci_error(dev, LC_ERROR_IO, "%s: reading stopped by signal %d", path, sig);
+    if (sig == SIGKILL) /* the kernel's OOM killer, or someone's kill -9 */
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY,
+                         "%s: libhdf5 was killed (signal 9) in lanecast's guard process, most likely out of memory: "
+                         "the file is damaged or needs more memory than this machine has", path);
     return lci_error(dev, LC_ERROR_FORMAT,
                      "%s: libhdf5 crashed on this file (signal %d: %s) in lanecast's guard process: the file is damaged "
                      "(libhdf5 1.10 trusts the sizes and layouts a file declares)", path, sig, strsignal(sig));
 }
 
+/* A file libhdf5 reads cleanly in the guard is read again here; one it
+ * fails on gets the guard's message without a second run. */
 static lc_status hdf5_read_guarded(lc_device *dev, const lci_read_args *a, lci_loaded *out)
 {
     lc_status s = guard(dev, a->path, NULL, a);
