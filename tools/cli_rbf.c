@@ -14,7 +14,7 @@ static const char help[] =
     "                        with a bias the field is w0 everywhere else, so the box bounds it\n"
     "  --rbf-leaf N          RBFs per BVH leaf, 1..32 (default 4)\n"
     "  --rbf-accel coherent|bvh|octree   what the default method renders through:\n"
-    "                        coherent (the default; the fastest in docs/bench/rbf.md, 3-4x the others\n"
+    "                        coherent (the default; the fastest in docs/bench/rbf.md, 1.6-4x the others\n"
     "                        in dvr, mip and iso on hydrogen and neghip): 8x8 ray groups walk the BVH of the supports and\n"
     "                        add each term to a buffer of samples along the rays, stepping its\n"
     "                        Gaussian without exp (the particle kernel, Knoll 2014);\n"
