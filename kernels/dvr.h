@@ -6,6 +6,7 @@
 
 #include "lane/lane.h"
 #include "shared/kframe.h"
+#include "dvr_rows.h"
 
 typedef struct vray {
     vfloat ox, oy, oz;
@@ -165,6 +166,62 @@ static inline void dvr_blend(vcolor *c, vmask m, vfloat r, vfloat g, vfloat b, v
     c->g = vf_fma(w, g, c->g);
     c->b = vf_fma(w, b, c->b);
     c->a = vf_add(c->a, w);
+}
+
+/* Classification for one step dt through the TF's step table (kframe.h
+ * lc_ktf cls): opacity a and premultiplied colour (a r, a g, a b),
+ * interpolated linearly between the entries like dvr_classify_v, with no exp
+ * per sample; one 32-byte row load per lane (dvr_rows.h) instead of 8
+ * gathers. It differs from a = 1 - exp(-tau dt) of the interpolated tau by
+ * the interpolation of a instead of tau (tests/test_grid.c: <= 2e-4 on a
+ * steep TF). */
+static inline __attribute__((always_inline)) void dvr_classify_step(const lc_ktf *tf, vfloat phi, vfloat *pr,
+                                                                    vfloat *pg, vfloat *pb, vfloat *a)
+{
+    vfloat v = vf_clamp(dvr_normalise(tf, phi), vf_zero(), vf_set1(1.0f));
+    vfloat x = vf_mul(v, vf_set1((float)(LC_TF_TABLE_SIZE - 1)));
+    vfloat xf = vf_min(vf_floor(x), vf_set1((float)(LC_TF_TABLE_SIZE - 2)));
+    vfloat w = vf_sub(x, xf);
+    vfloat e[8];
+    dvr_rows8(tf->cls, vi_sll(vf_to_vi(xf), 2), e);
+    *pr = vf_lerp(e[0], e[4], w);
+    *pg = vf_lerp(e[1], e[5], w);
+    *pb = vf_lerp(e[2], e[6], w);
+    *a = vf_lerp(e[3], e[7], w);
+}
+
+/* Does any lane in m hold a value where the TF is not exactly transparent?
+ * (Where none does, a step-table sample adds exactly nothing.) */
+static inline vmask dvr_visible(const lc_ktf *tf, vmask m, vfloat phi)
+{
+    return vm_and(m, vf_gt(dvr_normalise(tf, phi), vf_set1(tf->cls_vzero)));
+}
+
+/* SPEC.md "Shading" on a premultiplied sample (a r, a g, a b) of opacity a:
+ * rgb k + spec premultiplies to (a rgb) k + a spec. Same formulas as
+ * dvr_shade. */
+static inline __attribute__((always_inline)) void dvr_shade_pm(const lc_kframe *f, float grad_eps, const vray *ray,
+                                                               vfloat gx, vfloat gy, vfloat gz, vfloat a, vfloat *r,
+                                                               vfloat *g, vfloat *b)
+{
+    vfloat k, spec;
+    vmask lit = dvr_light(f, grad_eps, ray, gx, gy, gz, &k, &spec);
+    if (vm_none(lit)) return;
+    vfloat as = vf_mul(a, spec);
+    *r = vf_select(lit, vf_fma(*r, k, as), *r);
+    *g = vf_select(lit, vf_fma(*g, k, as), *g);
+    *b = vf_select(lit, vf_fma(*b, k, as), *b);
+}
+
+/* SPEC.md's blend of a premultiplied sample on the lanes in m:
+ * C += (1 - A) (a rgb), A += (1 - A) a. */
+static inline void dvr_blend_pm(vcolor *c, vmask m, vfloat pr, vfloat pg, vfloat pb, vfloat a)
+{
+    vfloat w = vf_select(m, vf_sub(vf_set1(1.0f), c->a), vf_zero());
+    c->r = vf_fma(w, pr, c->r);
+    c->g = vf_fma(w, pg, c->g);
+    c->b = vf_fma(w, pb, c->b);
+    c->a = vf_fma(w, a, c->a);
 }
 
 /* Pixel coordinates of lane-width packets: lanes laid out as a small 2D block

@@ -10,7 +10,6 @@
 #include "mode.h"
 #include "shared/kgrid.h"
 #include "shared/ktable.h"
-#include "grid_rows.h"
 
 /* Stage profile (bench only, docs/bench/grid.md "Stage profile"): the
  * benchmark compiles these kernels again with GRID_PROF set to a cumulative
@@ -307,41 +306,6 @@ static inline __attribute__((always_inline)) vfloat grid_sample(const lc_kgrid *
     return grid_cell_value(&c);
 }
 
-/* Post-classification through the frame's step table (kgrid.h cls): one
- * step's opacity a and premultiplied colour (a r, a g, a b), interpolated
- * linearly between the TF entries like dvr_classify_v, with no exp per
- * sample; one 32-byte row load per lane (grid_rows.h) instead of 8 gathers. */
-static inline __attribute__((always_inline)) void grid_classify_step(const lc_kgrid *g, const lc_ktf *tf, vfloat phi,
-                                                                     vfloat *pr, vfloat *pg, vfloat *pb, vfloat *a)
-{
-    vfloat v = vf_clamp(dvr_normalise(tf, phi), vf_zero(), vf_set1(1.0f));
-    vfloat x = vf_mul(v, vf_set1((float)(LC_TF_TABLE_SIZE - 1)));
-    vfloat xf = vf_min(vf_floor(x), vf_set1((float)(LC_TF_TABLE_SIZE - 2)));
-    vfloat w = vf_sub(x, xf);
-    vfloat e[8];
-    grid_rows8(g->cls, vi_sll(vf_to_vi(xf), 2), e);
-    *pr = vf_lerp(e[0], e[4], w);
-    *pg = vf_lerp(e[1], e[5], w);
-    *pb = vf_lerp(e[2], e[6], w);
-    *a = vf_lerp(e[3], e[7], w);
-}
-
-/* SPEC.md "Shading" on a premultiplied sample (a r, a g, a b) of opacity a:
- * rgb k + spec premultiplies to (a rgb) k + a spec. Same formulas as
- * dvr_shade. */
-static inline __attribute__((always_inline)) void grid_shade_pm(const lc_kframe *f, float grad_eps, const vray *ray,
-                                                                vfloat gx, vfloat gy, vfloat gz, vfloat a, vfloat *r,
-                                                                vfloat *g, vfloat *b)
-{
-    vfloat k, spec;
-    vmask lit = dvr_light(f, grad_eps, ray, gx, gy, gz, &k, &spec);
-    if (vm_none(lit)) return;
-    vfloat as = vf_mul(a, spec);
-    *r = vf_select(lit, vf_fma(*r, k, as), *r);
-    *g = vf_select(lit, vf_fma(*g, k, as), *g);
-    *b = vf_select(lit, vf_fma(*b, k, as), *b);
-}
-
 /* The post-classified dvr sample (rda off): classify through the step
  * table, take the gradient and shade only where some lane is visible
  * (a > 0), blend premultiplied: C += (1 - A) (a rgb), A += (1 - A) a.
@@ -353,18 +317,18 @@ static inline __attribute__((always_inline)) void grid_dvr_step(const lc_kgrid *
     vfloat pr, pg, pb, a;
     /* every lane at a value where the TF is exactly transparent: nothing to
      * add (a = 0), skip the table */
-    if (!(GRID_PROF & GP_CLASS) && vm_none(vm_and(m, vf_gt(dvr_normalise(tf, phi), vf_set1(g->cls_vzero))))) return;
+    if (!(GRID_PROF & GP_CLASS) && vm_none(dvr_visible(tf, m, phi))) return;
     if (GRID_PROF & GP_CLASS) {
         pr = pg = pb = phi;
         a = vf_mul(phi, vf_set1(1e-3f));
     } else {
-        grid_classify_step(g, tf, phi, &pr, &pg, &pb, &a);
+        dvr_classify_step(tf, phi, &pr, &pg, &pb, &a);
     }
     if (shade && vm_any(vm_and(m, vf_gt(a, vf_zero())))) {
         vfloat gx, gy, gz;
         grid_cell_grad(g, cell, &gx, &gy, &gz);
         if (GRID_PROF & GP_SHADE) pr = vf_add(pr, gx), pg = vf_add(pg, gy), pb = vf_add(pb, gz);
-        else grid_shade_pm(f, tf->grad_eps, &p->ray, gx, gy, gz, a, &pr, &pg, &pb);
+        else dvr_shade_pm(f, tf->grad_eps, &p->ray, gx, gy, gz, a, &pr, &pg, &pb);
     }
     if (GRID_PROF & GP_BLEND) {
         p->c.r = vf_add(p->c.r, vf_select(m, pr, vf_zero()));
@@ -373,11 +337,7 @@ static inline __attribute__((always_inline)) void grid_dvr_step(const lc_kgrid *
         p->c.a = vf_add(p->c.a, vf_select(m, a, vf_zero()));
         return;
     }
-    vfloat w = vf_select(m, vf_sub(vf_set1(1.0f), p->c.a), vf_zero());
-    p->c.r = vf_fma(w, pr, p->c.r);
-    p->c.g = vf_fma(w, pg, p->c.g);
-    p->c.b = vf_fma(w, pb, p->c.b);
-    p->c.a = vf_fma(w, a, p->c.a);
+    dvr_blend_pm(&p->c, m, pr, pg, pb, a);
 }
 
 /* Pre-integrated classification (eq. 4) of the segment from the previous
@@ -497,7 +457,7 @@ static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgr
     const int shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
     vfloat astop = vf_set1(f->alpha_stop);
     /* post-classified dvr without differential sampling: the step table */
-    const int fast = mode == LC_KMODE_DVR && !g->use_preint && g->rda == 0.0f && g->cls;
+    const int fast = mode == LC_KMODE_DVR && !g->use_preint && g->rda == 0.0f && f->tf[0].cls;
     vmask start = vm_and(p->live, vm_not(vi_gt(ka, kb)));
     vmask m = start;
     vint k = ka;

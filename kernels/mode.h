@@ -144,7 +144,9 @@ static inline void iso_sample(const lc_kframe *f, int fi, vcolor *c, vmask m, vf
 }
 
 /* One sample of field fi with value phi on the lanes in m, in mode `mode`
- * (f->mode; hot loops pass it as a constant so each mode gets its own loop):
+ * (f->mode; hot loops pass it as a constant so each mode gets its own loop);
+ * dvr samples a step of dt through the TF's step table (dvr_classify_step),
+ * other steps (step_scale) through the TF and exp:
  * lattice index k at t on the ray (iso pairs consecutive samples), probe the
  * kind's point evaluation (iso refines through it). dvr and mip use neither. */
 static inline __attribute__((always_inline)) void mode_sample_as(const lc_kframe *f, int mode, int fi, vcolor *c,
@@ -160,8 +162,19 @@ static inline __attribute__((always_inline)) void mode_sample_as(const lc_kframe
         iso_sample(f, fi, c, m, phi, k, t, ray, probe);
         return;
     }
+    const lc_ktf *tf = &f->tf[fi];
+    if (!step_scale && tf->cls) {
+        /* a step of dt: the frame's step table, premultiplied, no exp; nothing
+           to add where every lane is exactly transparent */
+        if (vm_none(dvr_visible(tf, m, phi))) return;
+        vfloat pr, pg, pb, a;
+        dvr_classify_step(tf, phi, &pr, &pg, &pb, &a);
+        if (grad) dvr_shade_pm(f, tf->grad_eps, ray, grad->x, grad->y, grad->z, a, &pr, &pg, &pb);
+        dvr_blend_pm(c, m, pr, pg, pb, a);
+        return;
+    }
     vfloat r, g, b, tau;
-    dvr_classify(&f->tf[fi], phi, &r, &g, &b, &tau);
+    dvr_classify(tf, phi, &r, &g, &b, &tau);
     mode_sample_rgbt(f, fi, c, m, r, g, b, tau, grad, ray, step_scale);
 }
 

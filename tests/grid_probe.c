@@ -17,18 +17,18 @@ void LC_KFN(lc_test_grid_sample)(const lc_kgrid *g, const float *xyz, int n, flo
     }
 }
 
-/* Test-only: the step-table classification (grid_classify_step) of n values
+/* Test-only: the step-table classification (dvr.h dvr_classify_step) of n values
  * phi, LC_W distinct lanes at a time (so the row-load transpose is exercised
  * with a different table row per lane): out[4 i ..] = (a r, a g, a b, a). */
-void LC_KFN(lc_test_grid_classify)(const lc_kgrid *g, const lc_ktf *tf, const float *phi, int n, float *out);
+void LC_KFN(lc_test_classify_step)(const lc_ktf *tf, const float *phi, int n, float *out);
 
-void LC_KFN(lc_test_grid_classify)(const lc_kgrid *g, const lc_ktf *tf, const float *phi, int n, float *out)
+void LC_KFN(lc_test_classify_step)(const lc_ktf *tf, const float *phi, int n, float *out)
 {
     for (int base = 0; base < n; base += LC_W) {
         float p[LC_W];
         for (int l = 0; l < LC_W; l++) p[l] = phi[base + l < n ? base + l : n - 1];
         vfloat r, gg, b, a;
-        grid_classify_step(g, tf, vf_load(p), &r, &gg, &b, &a);
+        dvr_classify_step(tf, vf_load(p), &r, &gg, &b, &a);
         for (int l = 0; l < LC_W && base + l < n; l++) {
             float *o = out + 4 * (base + l);
             o[0] = vf_lane(r, l), o[1] = vf_lane(gg, l), o[2] = vf_lane(b, l), o[3] = vf_lane(a, l);

@@ -20,22 +20,22 @@
 
 typedef void (*probe_fn)(const lc_kgrid *, const float *, int, float *, float *);
 void lc_test_grid_sample_scalar(const lc_kgrid *, const float *, int, float *, float *);
-void lc_test_grid_classify_scalar(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
+void lc_test_classify_step_scalar(const lc_ktf *, const float *, int, float *);
 #ifdef LC_HAVE_SSE4
 void lc_test_grid_sample_sse4(const lc_kgrid *, const float *, int, float *, float *);
-void lc_test_grid_classify_sse4(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
+void lc_test_classify_step_sse4(const lc_ktf *, const float *, int, float *);
 #endif
 #ifdef LC_HAVE_AVX2
 void lc_test_grid_sample_avx2(const lc_kgrid *, const float *, int, float *, float *);
-void lc_test_grid_classify_avx2(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
+void lc_test_classify_step_avx2(const lc_ktf *, const float *, int, float *);
 #endif
 #ifdef LC_HAVE_AVX512
 void lc_test_grid_sample_avx512(const lc_kgrid *, const float *, int, float *, float *);
-void lc_test_grid_classify_avx512(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
+void lc_test_classify_step_avx512(const lc_ktf *, const float *, int, float *);
 #endif
 #ifdef LC_HAVE_AVX512_8
 void lc_test_grid_sample_avx512_8(const lc_kgrid *, const float *, int, float *, float *);
-void lc_test_grid_classify_avx512_8(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
+void lc_test_classify_step_avx512_8(const lc_ktf *, const float *, int, float *);
 #endif
 
 static probe_fn probe_of(lc_target t)
@@ -58,22 +58,22 @@ static probe_fn probe_of(lc_target t)
     }
 }
 
-typedef void (*classify_fn)(const lc_kgrid *, const lc_ktf *, const float *, int, float *);
+typedef void (*classify_fn)(const lc_ktf *, const float *, int, float *);
 static classify_fn classify_of(lc_target t)
 {
     switch (t) {
-    case LC_TARGET_SCALAR: return lc_test_grid_classify_scalar;
+    case LC_TARGET_SCALAR: return lc_test_classify_step_scalar;
 #ifdef LC_HAVE_SSE4
-    case LC_TARGET_SSE4: return lc_test_grid_classify_sse4;
+    case LC_TARGET_SSE4: return lc_test_classify_step_sse4;
 #endif
 #ifdef LC_HAVE_AVX2
-    case LC_TARGET_AVX2: return lc_test_grid_classify_avx2;
+    case LC_TARGET_AVX2: return lc_test_classify_step_avx2;
 #endif
 #ifdef LC_HAVE_AVX512
-    case LC_TARGET_AVX512: return lc_test_grid_classify_avx512;
+    case LC_TARGET_AVX512: return lc_test_classify_step_avx512;
 #endif
 #ifdef LC_HAVE_AVX512_8
-    case LC_TARGET_AVX512_8: return lc_test_grid_classify_avx512_8;
+    case LC_TARGET_AVX512_8: return lc_test_classify_step_avx512_8;
 #endif
     default: return NULL;
     }
@@ -203,7 +203,8 @@ static void test_linear(lc_device *dev, lc_target t)
     free(data);
 }
 
-/* The step table (kgrid.h cls, built as host/kinds/grid.c prepare does)
+/* The step table (kframe.h lc_ktf cls, built here as host/api/tf.c
+ * lci_tf_step_table does, from SPEC.md's formula)
  * against direct classification, SPEC.md's a = 1 - exp(-tau dt) of the
  * interpolated TF entry times its interpolated colour: (1) the lookup is
  * exactly the interpolation of the table rows (1e-6: proves every lane read
@@ -230,13 +231,10 @@ static void test_classify(lc_target t)
         cls[4 * e + 3] = a, bad[4 * e + 3] = ab;
     }
     for (int i = 0; i < NS; i++) phi[i] = lo - 0.5f + (float)(urand() * (hi - lo + 1.0));
-    lc_ktf tf = {rgbt, lo, 1.0f / (hi - lo), 0, 0};
-    lc_kgrid g;
-    memset(&g, 0, sizeof g);
-    g.cls = cls;
-    fn(&g, &tf, phi, NS, out);
-    g.cls = bad;
-    fn(&g, &tf, phi, NS, outb);
+    lc_ktf tf = {rgbt, cls, lo, 1.0f / (hi - lo), -1.0f, 0};
+    fn(&tf, phi, NS, out);
+    tf.cls = bad;
+    fn(&tf, phi, NS, outb);
     double e_rows = 0, e_direct = 0, e_bad = 0;
     for (int i = 0; i < NS; i++) {
         double v = fmin(fmax((phi[i] - lo) / (hi - lo), 0.0), 1.0), x = v * (NT - 1);

@@ -48,8 +48,10 @@ static lc_status mode_params(lc_device *dev, const lc_render_desc *d, int nfield
 }
 
 /* Everything in lc_kframe from the desc, the data's frame info and the TF;
- * the TF tables go into `tables` (LC_MAX_FIELDS * LC_TF_TABLE_SIZE * 4
- * floats). One implementation for every kind and mode. */
+ * the TF tables go into `tables` (FRAME_TABLE_FLOATS: per field the TF and
+ * its step table for dt). One implementation for every kind and mode. */
+#define FRAME_TABLE_FLOATS ((size_t)LC_MAX_FIELDS * (LC_TF_TABLE_SIZE * 4 + (LC_TF_TABLE_SIZE + 1) * 4))
+
 static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_frame_info *info, const lc_tf *tf,
                              float *tables, lc_kframe *f)
 {
@@ -105,6 +107,8 @@ static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_
         if (!(hi > lo)) hi = lo + 1.0f;
         lci_tf_fill(tf, src, lo, hi, tables + (size_t)k * LC_TF_TABLE_SIZE * 4, &f->tf[k]);
         f->tf[k].grad_eps = 1e-6f * (hi - lo) / f->dt;
+        lci_tf_step_table(f->dt, tables + (size_t)LC_MAX_FIELDS * LC_TF_TABLE_SIZE * 4 +
+                                     (size_t)k * (LC_TF_TABLE_SIZE + 1) * 4, &f->tf[k]);
         /* extinction at value 0, interpolated as the kernels do */
         float x = fminf(fmaxf((0.0f - lo) * f->tf[k].inv_range, 0.0f), 1.0f) * (LC_TF_TABLE_SIZE - 1);
         int i0 = (int)fminf(floorf(x), LC_TF_TABLE_SIZE - 2);
@@ -186,7 +190,7 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
         if (s != LC_OK) return s;
         tf = own_tf;
     }
-    float *tables = lci_aligned_alloc(64, sizeof(float) * LC_MAX_FIELDS * LC_TF_TABLE_SIZE * 4);
+    float *tables = lci_aligned_alloc(64, sizeof(float) * FRAME_TABLE_FLOATS);
     lc_kframe *frame = lci_aligned_alloc(64, sizeof *frame);
     lci_prepared prep;
     memset(&prep, 0, sizeof prep);

@@ -163,8 +163,45 @@ void lci_tf_fill(const lc_tf *tf, int field, float lo, float hi, float *table, l
     out->rgbt = table;
     out->lo = lo;
     out->inv_range = 1.0f / (hi - lo);
-    out->pad = 0.0f;
+    out->cls = NULL;
+    out->cls_vzero = -1.0f;
     out->grad_eps = 0.0f;
+}
+
+/* The largest field value a dvr sample may have and still be fully
+ * transparent in this TF (tau = 0 at every value at or below it; the table
+ * is clamped below v = 0), or -inf. dvr_classify_v interpolates entries i and
+ * i + 1 at x = v (N - 1): with entries 0..j at tau = 0, any x <= j gives 0;
+ * the bound keeps 1% of an entry from j against the normalisation's
+ * round-off. */
+float lci_tf_clear_below(const lc_ktf *tf)
+{
+    int j = -1;
+    while (j + 1 < LC_TF_TABLE_SIZE && tf->rgbt[4 * (j + 1) + 3] == 0.0f) j++;
+    if (j < 0 || !(tf->inv_range > 0.0f) || !isfinite(tf->inv_range)) return -INFINITY;
+    if (j == LC_TF_TABLE_SIZE - 1) return INFINITY;
+    if (j == 0) return tf->lo; /* v <= 0 exactly: x = 0, weight 0 */
+    return tf->lo + ((float)j - 0.01f) / ((float)(LC_TF_TABLE_SIZE - 1) * tf->inv_range);
+}
+
+/* One step's classification of a kernel TF for the frame's dt (kframe.h
+ * lc_ktf cls): opacity a = 1 - exp(-tau dt) and the colour premultiplied by
+ * it at each entry, plus a copy of the last entry, into cls ((LC_TF_TABLE_SIZE
+ * + 1) * 4 floats), and the largest normalised value at and below which tau
+ * is 0 (the table's entries 0..e0-1 are 0, and interpolating between entries
+ * e0-1 and e0 gives 0 only at e0-1). */
+void lci_tf_step_table(float dt, float *cls, lc_ktf *tf)
+{
+    const float *t = tf->rgbt;
+    for (int e = 0; e <= LC_TF_TABLE_SIZE; e++) {
+        const float *q = t + 4 * (e < LC_TF_TABLE_SIZE ? e : LC_TF_TABLE_SIZE - 1);
+        float a = 1.0f - expf(-q[3] * dt);
+        cls[4 * e] = a * q[0], cls[4 * e + 1] = a * q[1], cls[4 * e + 2] = a * q[2], cls[4 * e + 3] = a;
+    }
+    int e0 = 0;
+    while (e0 < LC_TF_TABLE_SIZE && t[4 * e0 + 3] == 0.0f) e0++;
+    tf->cls = cls;
+    tf->cls_vzero = e0 == 0 ? -1.0f : e0 == LC_TF_TABLE_SIZE ? 2.0f : (float)(e0 - 1) / (float)(LC_TF_TABLE_SIZE - 1);
 }
 
 /* ---- JSON */

@@ -25,6 +25,12 @@ void lci_tf_eval(const lc_tf *tf, int field, double v, double rgb[3], double *ta
 /* Fills a kernel TF (LC_TF_TABLE_SIZE x rgbt table into `table`) for field f
  * with the value range [lo, hi]. */
 void lci_tf_fill(const lc_tf *tf, int field, float lo, float hi, float *table, lc_ktf *out);
+/* Builds the TF's step table for step dt into cls ((LC_TF_TABLE_SIZE + 1) * 4
+ * floats) and points tf->cls at it (kframe.h lc_ktf). */
+void lci_tf_step_table(float dt, float *cls, lc_ktf *tf);
+/* The largest field value a dvr sample may have and still be fully
+ * transparent in the TF, or -inf (+inf: transparent everywhere). */
+float lci_tf_clear_below(const lc_ktf *tf);
 
 /* The control points [v, r, g, b] of a built-in colour map by name (the
  * lc_tf_preset names); an unknown name fails, listing the known ones. */

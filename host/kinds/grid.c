@@ -364,7 +364,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grids render with method bvh or brute, not %d", (int)m);
     lc_status s = check_params(dev, "lc_render", p);
     if (s != LC_OK) return s;
-    size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * (LC_PREINT_N * LC_PREINT_N * 5 + (LC_TF_TABLE_SIZE + 1) * 4) +
+    size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * (LC_PREINT_N * LC_PREINT_N * 5) +
                    (size_t)g->kg.nnodes;
     unsigned char *mem = malloc(bytes);
     if (!mem) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the pre-integrated table");
@@ -376,21 +376,6 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     float *alpha = table + (size_t)LC_PREINT_N * LC_PREINT_N * 4;
     for (size_t i = 0; i < (size_t)LC_PREINT_N * LC_PREINT_N; i++) alpha[i] = 1.0f - expf(-table[4 * i + 3] * frame->dt);
     k->preint_alpha = alpha;
-    /* one step's opacity and premultiplied colour per TF entry (the
-     * post-classified dvr loop: no exp per sample) */
-    float *cls = alpha + (size_t)LC_PREINT_N * LC_PREINT_N;
-    const float *tf = frame->tf[0].rgbt;
-    for (int e = 0; e <= LC_TF_TABLE_SIZE; e++) {
-        const float *q = tf + 4 * (e < LC_TF_TABLE_SIZE ? e : LC_TF_TABLE_SIZE - 1);
-        float a = 1.0f - expf(-q[3] * frame->dt);
-        cls[4 * e] = a * q[0], cls[4 * e + 1] = a * q[1], cls[4 * e + 2] = a * q[2], cls[4 * e + 3] = a;
-    }
-    k->cls = cls;
-    /* tau is 0 on [0, cls_vzero]: entries 0..e-1 are 0, and the linear
-     * interpolation between entries e-1 and e is 0 only at entry e-1 */
-    int e0 = 0;
-    while (e0 < LC_TF_TABLE_SIZE && tf[4 * e0 + 3] == 0.0f) e0++;
-    k->cls_vzero = e0 == 0 ? -1.0f : e0 == LC_TF_TABLE_SIZE ? 2.0f : (float)(e0 - 1) / (float)(LC_TF_TABLE_SIZE - 1);
     k->run_max = 48;
     /* nodes narrower than two packet footprints are leaves (exact; measured
      * best of 0, 0.5, 1, 2, 4 on engine and embryo: 1.2-1.9x fewer-node wins) */
@@ -403,7 +388,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     k->bvh_flags = (k->delta_c >= 0.0f ? LC_KGRID_CULL : 0) | (k->delta_p >= 0.0f ? LC_KGRID_PRUNE : 0) |
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
     /* eq. 5 per node for this frame (kgrid.h node_transparent) */
-    uint8_t *tr = (uint8_t *)(cls + 4 * (LC_TF_TABLE_SIZE + 1));
+    uint8_t *tr = (uint8_t *)(alpha + (size_t)LC_PREINT_N * LC_PREINT_N);
     for (int32_t i = 0; m != LC_METHOD_BRUTE && i < k->nnodes; i++) { /* brute force: unused */
         int qa, qb;
         lc_kgrid_node_quant(k->nodes[i].vmin, k->nodes[i].vmax, frame->tf[0].lo, frame->tf[0].inv_range, &qa, &qb);

@@ -64,9 +64,5 @@ void *lci_volume_as(const lc_volume *v, lc_kind k, const char *fn);
 lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int height, const lc_box3 *bounds,
                            lc_kcamera *out);
 
-/* host/kinds/particles.c: the largest value a dvr sample may have and still be
- * fully transparent in the kernel TF tf (tau = 0 at it and below), or -inf;
- * the particle kind's and the RBF kind's transparent-space skipping. */
-float lci_tf_clear_below(const lc_ktf *tf);
 
 #endif

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "host/kinds/kind.h"
+#include "host/api/tf.h"
 #include "bvh/particle_bvh.h"
 
 typedef struct particles {
@@ -466,22 +467,6 @@ static void kscene(const particles *p, lc_kparticles *k)
     lc_box3 b = grown_bounds(p);
     k->lo[0] = b.lo.x, k->lo[1] = b.lo.y, k->lo[2] = b.lo.z, k->lo[3] = 0.0f;
     k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;
-}
-
-/* The largest field value a dvr sample may have and still be fully
- * transparent in this TF (tau = 0 at every value at or below it; the table
- * is clamped below v = 0), or -inf. dvr_classify_v interpolates entries i and
- * i + 1 at x = v (N - 1): with entries 0..j at tau = 0, any x <= j gives 0;
- * the bound keeps 1% of an entry from j against the normalisation's
- * round-off. */
-float lci_tf_clear_below(const lc_ktf *tf)
-{
-    int j = -1;
-    while (j + 1 < LC_TF_TABLE_SIZE && tf->rgbt[4 * (j + 1) + 3] == 0.0f) j++;
-    if (j < 0 || !(tf->inv_range > 0.0f) || !isfinite(tf->inv_range)) return -INFINITY;
-    if (j == LC_TF_TABLE_SIZE - 1) return INFINITY;
-    if (j == 0) return tf->lo; /* v <= 0 exactly: x = 0, weight 0 */
-    return tf->lo + ((float)j - 0.01f) / ((float)(LC_TF_TABLE_SIZE - 1) * tf->inv_range);
 }
 
 /* This frame's node flags: 1 where every field present below the node has

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "host/kinds/kind.h"
+#include "host/api/tf.h"
 #include "bvh/particle_bvh.h"
 #include "bvh/rbf_octree.h"
 #include "kernels/shared/krbf.h"

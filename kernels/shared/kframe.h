@@ -30,15 +30,22 @@ _Static_assert(sizeof(lc_kcamera) == 80, "lc_kcamera layout");
 
 /* A transfer function sampled into LC_TF_TABLE_SIZE entries of (r, g, b, tau)
  * over the normalised value v = (phi - lo) / (hi - lo) in [0, 1]; lookups
- * interpolate linearly between entries (SPEC.md allows >= 1024 entries). */
+ * interpolate linearly between entries (SPEC.md allows >= 1024 entries).
+ * The step table is the same TF classified for one step of the frame's dt
+ * (built per frame by lci_tf_step_table, host/api/tf.c): cls[4 e ..] =
+ * (a r, a g, a b, a) at entry e with a = 1 - exp(-tau dt), premultiplied,
+ * LC_TF_TABLE_SIZE + 1 entries (the last repeats the one before, so a lookup
+ * reads two entries from any index); the dvr sample loop of every kind
+ * interpolates it instead of taking an exp per sample (mode.h). */
 typedef struct lc_ktf {
     const float *rgbt; /* LC_TF_TABLE_SIZE * 4 floats */
+    const float *cls;  /* (LC_TF_TABLE_SIZE + 1) * 4 floats, or NULL: classify with rgbt and exp */
     float lo;
     float inv_range; /* 1 / (hi - lo) */
-    float pad;
+    float cls_vzero; /* tau = 0 at every v <= cls_vzero (-1: nowhere, 2: everywhere) */
     float grad_eps;  /* no shading where |grad| < 1e-6 (hi - lo) / dt (SPEC.md) */
 } lc_ktf;
-_Static_assert(sizeof(lc_ktf) == 24, "lc_ktf layout");
+_Static_assert(sizeof(lc_ktf) == 32, "lc_ktf layout");
 
 enum { LC_KSHADE_NONE = 0, LC_KSHADE_DIFFUSE = 1, LC_KSHADE_PHONG = 2 };
 
@@ -77,7 +84,7 @@ typedef struct lc_kframe {
     int32_t pad2[2];
     lc_kplane planes[LC_KMAX_PLANES];
 } lc_kframe;
-_Static_assert(sizeof(lc_kframe) == 80 + 24 * LC_KMAX_FIELDS + 64 + 32 * LC_KMAX_PLANES, "lc_kframe layout");
+_Static_assert(sizeof(lc_kframe) == 80 + 32 * LC_KMAX_FIELDS + 64 + 32 * LC_KMAX_PLANES, "lc_kframe layout");
 
 /* A rectangle of pixels [x0, x1) x [y0, y1) and where its result goes: the
  * kernel writes premultiplied (C, A) into rgba[(y * stride + x) * 4 ...] and,

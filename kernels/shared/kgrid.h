@@ -69,11 +69,6 @@ typedef struct lc_kgrid {
      * element e (byte 2e) holds v(i, j), v(i, j+1), v(i+1, j), v(i+1, j+1)
      * of plane k: two loads per trilinear sample instead of eight. */
     const uint16_t *pairs;
-    /* per-frame classification for one step dt of field 0 (NULL: none):
-     * cls[4 e ..] = (a r, a g, a b, a) at TF entry e, a = 1 - exp(-tau dt),
-     * LC_TF_TABLE_SIZE + 1 entries (the last repeats the one before, so a
-     * lookup can read two entries from any index) */
-    const float *cls;
     int32_t pair_ystride, pair_zstride;
     /* per frame, one byte per BVH node: 1 where the node's value range is
      * skipped as transparent (eq. 5: pre-integrated mean extinction over the
@@ -82,13 +77,8 @@ typedef struct lc_kgrid {
      * stay in cache) instead of each child's node and the 1 MiB
      * pre-integrated table (cache misses: ~15% of a BVH frame). */
     const uint8_t *node_transparent;
-    /* per frame: the TF of field 0 is exactly transparent at every
-     * normalised value v <= cls_vzero (-1: nowhere); the sample loop skips
-     * classification when no lane is above it */
-    float cls_vzero;
-    int32_t pad2;
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8 + 8, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 

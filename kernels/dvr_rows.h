@@ -1,19 +1,20 @@
-/* Row gathers for the structured-grid kernels: out[c] lane l = base[idx_l + c]
- * for c = 0..7, i.e. 8 consecutive floats per lane. On Zen 4 a zmm gather
+/* Row gathers for table lookups (the TF step table, kframe.h lc_ktf cls):
+ * out[c] lane l = base[idx_l + c] for c = 0..7, i.e. 8 consecutive floats
+ * per lane. On Zen 4 a zmm gather
  * costs about 16 scalar loads (../shared/NOTES.md "This CPU's ceilings"), so
  * the 8 gathers a lerped RGBA table lookup needs (two entries x four
  * channels) cost ~150 cycles per 16 lanes; one 32-byte load per lane and an
  * 8x8 transpose in registers cost ~16 loads and ~32 shuffles. The rows must
  * be readable (8 floats from every idx). */
-#ifndef LC_GRID_ROWS_H
-#define LC_GRID_ROWS_H
+#ifndef LC_DVR_ROWS_H
+#define LC_DVR_ROWS_H
 
 #include "lane/lane.h"
 
 #if defined(LC_TARGET_AVX2) || defined(LC_TARGET_AVX512_8) || defined(LC_TARGET_AVX512)
 #include <immintrin.h>
 /* 8x8 transpose of ymm rows r[0..7] (row l = lane l) into columns. */
-static inline __attribute__((always_inline)) void grid_transpose8(__m256 r[8])
+static inline __attribute__((always_inline)) void dvr_transpose8(__m256 r[8])
 {
     __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
     __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
@@ -34,22 +35,22 @@ static inline __attribute__((always_inline)) void grid_transpose8(__m256 r[8])
 }
 #endif
 
-static inline __attribute__((always_inline)) void grid_rows8(const float *base, vint idx, vfloat out[8])
+static inline __attribute__((always_inline)) void dvr_rows8(const float *base, vint idx, vfloat out[8])
 {
 #if defined(LC_TARGET_AVX2) || defined(LC_TARGET_AVX512_8)
     int32_t ix[8];
     vi_store(ix, idx);
     __m256 r[8];
     for (int l = 0; l < 8; l++) r[l] = _mm256_loadu_ps(base + ix[l]);
-    grid_transpose8(r);
+    dvr_transpose8(r);
     for (int c = 0; c < 8; c++) out[c] = r[c];
 #elif defined(LC_TARGET_AVX512)
     int32_t ix[16];
     vi_store(ix, idx);
     __m256 lo[8], hi[8];
     for (int l = 0; l < 8; l++) lo[l] = _mm256_loadu_ps(base + ix[l]), hi[l] = _mm256_loadu_ps(base + ix[l + 8]);
-    grid_transpose8(lo);
-    grid_transpose8(hi);
+    dvr_transpose8(lo);
+    dvr_transpose8(hi);
     for (int c = 0; c < 8; c++) out[c] = _mm512_insertf32x8(_mm512_castps256_ps512(lo[c]), hi[c], 1);
 #else
     int32_t ix[LC_W];
