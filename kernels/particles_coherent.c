@@ -35,7 +35,38 @@ typedef struct cscratch {
     float *buf;                                        /* [field][row][comp][ray] */
     int32_t *touched;                                  /* per vector: deposits this pass */
     int32_t *stack;
+    struct gent *list;                                 /* the group's particle list (NULL: none) */
+    int32_t cap;                                       /* its capacity in entries */
 } cscratch;
+
+/* One walk per group (issue 8). Instead of walking the BVH for every pass of
+ * K samples, the group walks it once per window of passes (a "chunk": 2 passes,
+ * then twice as many after every chunk that fitted, up to GL_MAX_PASSES) and
+ * lists the leaf particles whose support reaches any live ray in the window,
+ * with their lattice range [ka, kb] over the group and a bit per vector (or
+ * per run of 2^vshift vectors) that the support reaches. Each pass then
+ * deposits the entries overlapping it, in list order, into the vectors of
+ * their bits, and drops those that end in it. List order is the walk's
+ * depth-first order, the order a walk per pass deposits in, and a pass's
+ * walk and deposits reach no particle the chunk's list lacks (its windows lie
+ * inside the chunk's, its live rays among the chunk's), so every sample sums
+ * the same terms in the same order: images are bit-identical to a walk per
+ * pass. Lists are bounded by the scratch (cap entries); a chunk whose list
+ * does not fit falls back to a walk per pass and the next chunk halves. */
+typedef struct gent {
+    int32_t i, ka, kb, pad;
+    uint64_t vbits;
+} gent;
+_Static_assert(sizeof(gent) == 24, "gent layout");
+
+#define GL_DEFAULT_CAP 8192 /* entries (192 KB per worker) */
+#define GL_FIRST_PASSES 2
+#define GL_MAX_PASSES 16
+
+static int32_t list_cap(const lc_kparticles *s)
+{
+    return s->group_list_cap < 0 ? 0 : s->group_list_cap > 0 ? s->group_list_cap : GL_DEFAULT_CAP;
+}
 
 static uint64_t align64(uint64_t b) { return (b + 63) & ~(uint64_t)63; }
 
@@ -61,6 +92,10 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     off += align64((uint64_t)g.nv * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
+    c->cap = list_cap(s);
+    c->list = NULL;
+    if (base && c->cap > 0) c->list = (gent *)(base + off);
+    off += align64((uint64_t)c->cap * sizeof(gent));
     return off;
 }
 
@@ -77,7 +112,7 @@ uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kf
  * g(k+1) = g(k) q(k), q(k+1) = q(k) c, c = exp(-dt^2 / r^2) (pgauss_step),
  * re-anchored by a direct evaluation every PG_ANCHOR samples. */
 static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
-                           int32_t i, float cstep, lc_kstats *st)
+                           int32_t i, float cstep, uint64_t vbits, int vshift, lc_kstats *st)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
@@ -87,6 +122,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     for (int v = 0; v < nv; v++) {
+        if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the group list found the support misses it */
         int o = v * LC_W;
         vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
         vmask m = vf_le(w0, w1);
@@ -170,34 +206,88 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
     return period;
 }
 
-/* Listing 2, lines 3-10: coherent traversal filling the buffer for samples
- * kp..kend. Node and stack are uniform, rays varying. */
-static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscratch *c, int nv, int kp, int kend,
-                          float dt, int comps, lc_kstats *st)
+/* The group's leaf particle i against the rays' windows w0..w1 for the list
+ * (one walk per group): a conservative test, wider than deposit's chord (no
+ * sqrt per vector: the chord's half-length is at most R), appended with its
+ * lattice range clipped to [kp, kend] and its vector bits when the support
+ * reaches any live ray. Returns 0 when the list is full. */
+static inline int list_particle(const lc_kparticles *s, const cscratch *c, int nv, int vshift, uint64_t leaf_bits,
+                                int kp, int kend, float dt, int32_t i, int *n)
+{
+    float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
+    float rs = s->sigma * s->r[i], x2 = rs * rs * 1.001f + 1e-12f;
+    /* >= deposit's half = sqrt(x2 - d2) + 1e-4 rs on every lane (monotone roundings) */
+    vfloat R = vf_set1(sqrtf(x2) * 1.0001f + 1e-4f * rs), X2 = vf_set1(x2);
+    vfloat lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
+    uint64_t bits = 0;
+    for (int v = 0; v < nv; v++) {
+        if (!((leaf_bits >> (v >> vshift)) & 1u)) continue;
+        int o = v * LC_W;
+        vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
+        vmask m = vf_le(w0, w1);
+        if (vm_none(m)) continue;
+        vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
+        vfloat ocx = vf_sub(vf_set1(cx), vf_load(c->ox + o)), ocy = vf_sub(vf_set1(cy), vf_load(c->oy + o)),
+               ocz = vf_sub(vf_set1(cz), vf_load(c->oz + o));
+        vfloat tc = vf_madd(ocx, dx, vf_madd(ocy, dy, vf_mul(ocz, dz)));
+        vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
+        vfloat ta = vf_max(vf_sub(tc, R), w0), tb = vf_min(vf_add(tc, R), w1);
+        m = vm_and(m, vm_and(vf_ge(vf_sub(X2, d2), vf_zero()), vf_le(ta, tb)));
+        if (vm_none(m)) continue;
+        bits |= (uint64_t)1 << (v >> vshift);
+        lo = vf_min(lo, vf_select(m, ta, vf_set1(INFINITY)));
+        hi = vf_max(hi, vf_select(m, tb, vf_set1(-INFINITY)));
+    }
+    if (!bits) return 1;
+    int ka = (int)__builtin_floorf(vf_reduce_min(lo) / dt);
+    int kb = (int)__builtin_ceilf(vf_reduce_max(hi) / dt);
+    ka = ka < kp ? kp : ka;
+    kb = kb > kend ? kend : kb;
+    if (ka > kb) return 1;
+    if (*n >= c->cap) return 0;
+    c->list[*n] = (gent){i, ka, kb, 0, bits};
+    ++*n;
+    return 1;
+}
+
+/* Listing 2, lines 3-10: coherent traversal for samples kp..kend (node and
+ * stack uniform, rays varying), either depositing every leaf particle
+ * (collect 0: a walk per pass) or listing them (collect 1, the group list:
+ * returns the entries, or -1 when they do not fit). Both visit the leaves
+ * in the same depth-first order. */
+static inline __attribute__((always_inline)) int walk_group(const lc_kparticles *s, const lc_kframe *f,
+                                                            const cscratch *c, int nv, int vshift, int kp, int kend,
+                                                            float dt, int comps, int collect, lc_kstats *st)
 {
     int32_t *stack = c->stack;
-    int sp = 0;
+    int sp = 0, n = 0;
     float cnir = 1.0f, cstep = 0.0f; /* nir < 0: the first particle computes c */
     stack[sp++] = 0;
     while (sp > 0) {
-        int32_t n = stack[--sp];
-        const lc_kpnode *node = &s->nodes[n];
-        float g = grow(s->sigma * s->node_rmax[n]);
+        int32_t nd = stack[--sp];
+        const lc_kpnode *node = &s->nodes[nd];
+        float g = grow(s->sigma * s->node_rmax[nd]);
         st->nodes++;
         /* the mode's test on the node's own contribution (dvr: always) */
-        float vb = s->kappa * s->node_ksum[n];
-        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, n), -INFINITY};
+        float vb = s->kappa * s->node_ksum[nd];
+        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, nd), -INFINITY};
         if (!mode_node_matters(f, &mn)) continue;
-        int hit = 0;
-        for (int v = 0; v < nv && !hit; v++) {
+        /* inner nodes: any vector's rays reach the grown box; leaves: which
+           vectors' (their bits: only those vectors meet its particles) */
+        uint64_t bits = 0;
+        for (int v = 0; v < nv; v++) {
+            if ((bits >> (v >> vshift)) & 1u) continue;
             int o = v * LC_W;
             vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
             vfloat tn, tf;
             dvr_slab(vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o), vf_load(c->ix + o), vf_load(c->iy + o),
                  vf_load(c->iz + o), node->lo, node->hi, g, &tn, &tf);
-            hit = vm_any(vf_le(vf_max(tn, w0), vf_min(tf, w1)));
+            if (vm_any(vf_le(vf_max(tn, w0), vf_min(tf, w1)))) {
+                bits |= (uint64_t)1 << (v >> vshift);
+                if (node->count == 0) break;
+            }
         }
-        if (!hit) continue;
+        if (!bits) continue;
         if (node->count == 0) {
             stack[sp++] = node->first + 1;
             stack[sp++] = node->first;
@@ -205,11 +295,48 @@ static void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscr
         }
         st->leaves++;
         for (int32_t i = node->first; i < node->first + node->count; i++) {
+            if (collect) {
+                if (!list_particle(s, c, nv, vshift, bits, kp, kend, dt, i, &n)) return -1;
+                continue;
+            }
             /* c = exp(-dt^2 / r^2) once per radius: neighbours mostly share it */
             if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
-            deposit(s, c, nv, kp, kend, dt, comps, i, cstep, st);
+            deposit(s, c, nv, kp, kend, dt, comps, i, cstep, bits, vshift, st);
         }
     }
+    return n;
+}
+
+static __attribute__((noinline)) void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
+                                                    int nv, int kp, int kend, float dt, int comps, lc_kstats *st)
+{
+    walk_group(s, f, c, nv, 0, kp, kend, dt, comps, 0, st);
+}
+
+static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
+                                                   int nv, int vshift, int kp, int kend, float dt, lc_kstats *st)
+{
+    return walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, st);
+}
+
+/* One pass from the group list: deposits the n entries overlapping kp..kend
+ * in list order and keeps, in order, those reaching past kend. Returns the
+ * entries kept. */
+static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const cscratch *c, int nv, int vshift,
+                                                  int n, int kp, int kend, float dt, int comps, lc_kstats *st)
+{
+    float cnir = 1.0f, cstep = 0.0f;
+    int kept = 0;
+    for (int j = 0; j < n; j++) {
+        gent e = c->list[j];
+        if (e.ka <= kend && e.kb >= kp) {
+            int32_t i = e.i;
+            if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+            deposit(s, c, nv, kp, kend, dt, comps, i, cstep, e.vbits, vshift, st);
+        }
+        if (e.kb > kend) c->list[kept++] = e;
+    }
+    return kept;
 }
 
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
@@ -275,6 +402,26 @@ static inline __attribute__((always_inline)) void finish_group(const lc_kframe *
     }
 }
 
+/* Each ray's window in t for the samples kp..kend (live rays: not opaque and
+ * with samples there; others get w0 > w1), padded by half a step against
+ * round-off. Returns whether any ray is live. */
+static int set_windows(const lc_kframe *f, const cscratch *c, int nv, int kp, int kend)
+{
+    const float dt = f->dt;
+    int any = 0;
+    for (int v = 0; v < nv; v++) {
+        int o = v * LC_W;
+        vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
+        vmask live = vm_and(vf_lt(vf_load(c->ca + o), vf_set1(f->alpha_stop)),
+                            vm_and(vi_lt(kf, vi_set1(kend + 1)), vi_gt(kl, vi_set1(kp - 1))));
+        vfloat a = vi_to_vf(vi_max(kf, vi_set1(kp))), b = vi_to_vf(vi_min(kl, vi_set1(kend)));
+        vf_store(c->w0 + o, vf_select(live, vf_mul(vf_sub(a, vf_set1(0.5f)), vf_set1(dt)), vf_set1(1.0f)));
+        vf_store(c->w1 + o, vf_select(live, vf_mul(vf_add(b, vf_set1(0.5f)), vf_set1(dt)), vf_set1(-1.0f)));
+        any |= vm_any(live);
+    }
+    return any;
+}
+
 /* One tile in mode `mode` (a constant); only iso uses the probe. Each mode
  * gets its own function below: with iso's integration, probe and finishing
  * inlined into the same function as the dvr loops, GCC compiled those loops
@@ -289,6 +436,8 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     const int nv = g.nv, rays = nv * LC_W, K = s->buffer_k, nf = s->nfields;
     const int comps = mode_needs_grad(f) ? 4 : 1;
     const int vpr = g.gw / DVR_PW; /* vectors per group row */
+    int vshift = 0; /* list bit of vector v: v >> vshift, < 64 */
+    while (((nv - 1) >> vshift) >= 64) vshift++;
     const float dt = f->dt;
     const pprobe pc = {s, c.stack, st};
     const mprobe probe = {particles_probe, &pc};
@@ -328,44 +477,49 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     kmax = c.kl[o + l] > kmax ? c.kl[o + l] : kmax;
                 }
             }
-            /* Listing 3, lines 4-6: passes of K samples until every ray is opaque */
-            for (int kp = kmin; kp <= kmax; kp += K) {
-                int kend = kp + K - 1 < kmax ? kp + K - 1 : kmax;
-                int any = 0;
-                for (int v = 0; v < nv; v++) {
-                    int o = v * LC_W;
-                    vint kf = vi_load(c.kf + o), kl = vi_load(c.kl + o);
-                    vmask live = vm_and(vf_lt(vf_load(c.ca + o), vf_set1(f->alpha_stop)),
-                                        vm_and(vi_lt(kf, vi_set1(kend + 1)), vi_gt(kl, vi_set1(kp - 1))));
-                    vfloat a = vi_to_vf(vi_max(kf, vi_set1(kp))), b = vi_to_vf(vi_min(kl, vi_set1(kend)));
-                    /* window in t, padded by half a step against round-off */
-                    vf_store(c.w0 + o, vf_select(live, vf_mul(vf_sub(a, vf_set1(0.5f)), vf_set1(dt)), vf_set1(1.0f)));
-                    vf_store(c.w1 + o, vf_select(live, vf_mul(vf_add(b, vf_set1(0.5f)), vf_set1(dt)), vf_set1(-1.0f)));
-                    any |= vm_any(live);
-                }
-                if (!any) {
-                    int alive = 0;
-                    for (int v = 0; v < nv && !alive; v++) {
-                        int o = v * LC_W;
-                        alive = vm_any(vm_and(vf_lt(vf_load(c.ca + o), vf_set1(f->alpha_stop)),
-                                              vi_gt(vi_load(c.kl + o), vi_set1(kend))));
+            /* Listing 3, lines 4-6: passes of K samples until every ray is opaque,
+               in chunks of passes that share one BVH walk (the group list) */
+            int chunk = GL_FIRST_PASSES, done = 0;
+            for (int kc = kmin; kc <= kmax && !done;) {
+                int kc1 = kc + chunk * K - 1 < kmax ? kc + chunk * K - 1 : kmax;
+                int n = -1; /* entries in the list; -1: a walk per pass */
+                if (c.list && set_windows(f, &c, nv, kc, kc1)) n = collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
+                int fits = n >= 0;
+                for (int kp = kc; kp <= kc1; kp += K) {
+                    int kend = kp + K - 1 < kc1 ? kp + K - 1 : kc1;
+                    if (!set_windows(f, &c, nv, kp, kend)) {
+                        int alive = 0;
+                        for (int v = 0; v < nv && !alive; v++) {
+                            int o = v * LC_W;
+                            alive = vm_any(vm_and(vf_lt(vf_load(c.ca + o), vf_set1(f->alpha_stop)),
+                                                  vi_gt(vi_load(c.kl + o), vi_set1(kend))));
+                        }
+                        if (!alive) {
+                            done = 1;
+                            break;
+                        }
+                        continue;
                     }
-                    if (!alive) break;
-                    continue;
+                    st->passes++;
+                    int nrows = kend - kp + 1;
+                    /* every sample starts at the bias (0 for particles), its gradient at 0 */
+                    for (int fi = 0; fi < nf; fi++)
+                        for (int row = 0; row < nrows; row++) {
+                            float *p = c.buf + ((size_t)fi * (size_t)K + (size_t)row) * (size_t)comps * (size_t)rays;
+                            for (int q = 0; q < rays; q += LC_W) vf_store(p + q, vbias);
+                            for (int q = rays; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
+                        }
+                    for (int v = 0; v < nv; v++) c.touched[v] = 0;
+                    if (n >= 0)
+                        n = deposit_list(s, &c, nv, vshift, n, kp, kend, dt, comps, st);
+                    else
+                        traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);
+                    /* Listing 2, lines 11-13: integrate the buffer front to back */
+                    integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
                 }
-                st->passes++;
-                int nrows = kend - kp + 1;
-                /* every sample starts at the bias (0 for particles), its gradient at 0 */
-                for (int fi = 0; fi < nf; fi++)
-                    for (int row = 0; row < nrows; row++) {
-                        float *p = c.buf + ((size_t)fi * (size_t)K + (size_t)row) * (size_t)comps * (size_t)rays;
-                        for (int q = 0; q < rays; q += LC_W) vf_store(p + q, vbias);
-                        for (int q = rays; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
-                    }
-                for (int v = 0; v < nv; v++) c.touched[v] = 0;
-                traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);
-                /* Listing 2, lines 11-13: integrate the buffer front to back */
-                integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
+                if (c.list) chunk = fits ? (chunk * 2 < GL_MAX_PASSES ? chunk * 2 : GL_MAX_PASSES)
+                                         : (chunk > 1 ? chunk / 2 : 1);
+                kc = kc1 + 1;
             }
             finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }
