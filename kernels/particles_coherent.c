@@ -105,24 +105,84 @@ uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kf
     return coherent_layout(scene, f, NULL, &c);
 }
 
-/* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
- * of the group it overlaps (Listing 2, lines 6-8). Exp-free (SPEC.md
- * "Fields"): along a ray, d^2 = d_perp^2 + u^2 with u = t - tc, and the
- * Gaussian at consecutive lattice samples follows the ratio recurrence
+/* The samples ka..kb of one vector's rays from particle i's Gaussian (and
+ * gradient), on the lanes in m that lie within its support. Exp-free
+ * (SPEC.md "Fields"): along a ray, d^2 = d_perp^2 + u^2 with u = t - tc, and
+ * the Gaussian at consecutive lattice samples follows the ratio recurrence
  * g(k+1) = g(k) q(k), q(k+1) = q(k) c, c = exp(-dt^2 / r^2) (pgauss_step),
- * re-anchored by a direct evaluation every PG_ANCHOR samples. */
+ * re-anchored by a direct evaluation every PG_ANCHOR samples. The value at a
+ * sample depends only on the ray, the particle and k, not on [ka, kb] (which
+ * only has to hold every sample of the support in m's lanes): blocks of
+ * PG_ANCHOR samples no lane's support reaches (|u| > reach on every lane,
+ * reach >= the support's half chord) are skipped. Returns the terms added. */
+static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int rays, int o, int comps, int kp, int ka,
+                                       int kb, float dt, float r2s, float gscale, float reach, vfloat tc, vfloat d2,
+                                       vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vmask m)
+{
+    uint64_t evals = 0;
+    /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
+    vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
+    vfloat rr = vf_set1(r2s), vr = vf_set1(reach), vnr = vf_set1(-reach);
+    /* branch-free within a run: [ka, kb] is the union of the lanes' chords,
+       so almost every step has active lanes */
+    /* anchors on the lattice indices that are multiples of PG_ANCHOR, not
+       at ka: ka depends on which rays share the vector and on the pass,
+       and the image must not depend on tiles, packets or threads */
+    const int kal = ka - ((ka % PG_ANCHOR) + PG_ANCHOR) % PG_ANCHOR;
+    for (int k0 = kal; k0 <= kb; k0 += PG_ANCHOR) {
+        int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
+        vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
+        vfloat ue = vf_sub(vf_set1((float)k1 * dt), tc);
+        if (vm_none(vm_and(m, vm_and(vf_le(u, vr), vf_ge(ue, vnr))))) continue;
+        vfloat g, q;
+        pgauss_anchor(gc, d2, u, m, &g, &q);
+        for (int k = k0; k <= k1; k++) {
+            if (k < ka) { /* before this pass or chord: stepped, not stored */
+                pgauss_step(gc, &g, &q);
+                u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
+                continue;
+            }
+            vfloat a = vf_madd(u, u, d2);
+            vmask in = vm_and(m, vf_lt(a, rr));
+            evals += (uint64_t)vm_popcnt(in);
+            vfloat phi = vf_select(in, g, vf_zero());
+            float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
+            vf_store(row, vf_add(vf_load(row), phi));
+            if (comps == 4) {
+                vfloat gp = vf_mul(phi, vf_set1(gscale));
+                vfloat ex = vf_fms(u, dx, qx), ey = vf_fms(u, dy, qy), ez = vf_fms(u, dz, qz);
+                vf_store(row + rays, vf_fma(ex, gp, vf_load(row + rays)));
+                vf_store(row + 2 * rays, vf_fma(ey, gp, vf_load(row + 2 * rays)));
+                vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
+            }
+            pgauss_step(gc, &g, &q);
+            u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
+        }
+    }
+    return evals;
+}
+
+/* The largest half chord of particle i's (conservative) support on any ray:
+ * >= deposit's half = sqrt(x2 - d2) + 1e-4 rs on every lane (monotone
+ * roundings), x2 = rs^2 * 1.001 + 1e-12. */
+static inline float support_reach(float rs, float x2) { return sqrtf(x2) * 1.0001f + 1e-4f * rs; }
+
+/* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
+ * of the group it overlaps (Listing 2, lines 6-8), on the vectors of vbits
+ * (bit v >> vshift): the walk per pass. */
 static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
                            int32_t i, float cstep, uint64_t vbits, int vshift, lc_kstats *st)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
+    float x2 = r2s * 1.001f + 1e-12f, reach = support_reach(rs, x2);
     int rays = nv * LC_W;
     int K = s->buffer_k;
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     for (int v = 0; v < nv; v++) {
-        if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the group list found the support misses it */
+        if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the leaf's box misses these rays */
         int o = v * LC_W;
         vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
         vmask m = vf_le(w0, w1);
@@ -133,7 +193,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         vfloat tc = vf_madd(ocx, dx, vf_madd(ocy, dy, vf_mul(ocz, dz)));
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         /* conservative chord: the per-sample test below is the exact one */
-        vfloat h2 = vf_sub(vf_set1(r2s * 1.001f + 1e-12f), d2);
+        vfloat h2 = vf_sub(vf_set1(x2), d2);
         m = vm_and(m, vf_ge(h2, vf_zero()));
         if (vm_none(m)) continue;
         vfloat half = vf_add(vf_sqrt(vf_max(h2, vf_zero())), vf_set1(1e-4f * rs));
@@ -146,45 +206,43 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         kb = kb > kend ? kend : kb;
         if (ka > kb) continue;
         c->touched[v] = 1;
-        uint64_t evals = 0;
-        /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
-        vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
-        vfloat rr = vf_set1(r2s);
-        /* branch-free within a run: [ka, kb] is the union of the lanes' chords,
-           so almost every step has active lanes */
-        /* anchors on the lattice indices that are multiples of PG_ANCHOR, not
-           at ka: ka depends on which rays share the vector and on the pass,
-           and the image must not depend on tiles, packets or threads */
-        const int kal = ka - ((ka % PG_ANCHOR) + PG_ANCHOR) % PG_ANCHOR;
-        for (int k0 = kal; k0 <= kb; k0 += PG_ANCHOR) {
-            int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
-            vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
-            vfloat g, q;
-            pgauss_anchor(&gc, d2, u, m, &g, &q);
-            for (int k = k0; k <= k1; k++) {
-                if (k < ka) { /* before this pass or chord: stepped, not stored */
-                    pgauss_step(&gc, &g, &q);
-                    u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
-                    continue;
-                }
-                vfloat a = vf_madd(u, u, d2);
-                vmask in = vm_and(m, vf_lt(a, rr));
-                evals += (uint64_t)vm_popcnt(in);
-                vfloat phi = vf_select(in, g, vf_zero());
-                float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
-                vf_store(row, vf_add(vf_load(row), phi));
-                if (comps == 4) {
-                    vfloat gp = vf_mul(phi, vf_set1(gscale));
-                    vfloat ex = vf_fms(u, dx, qx), ey = vf_fms(u, dy, qy), ez = vf_fms(u, dz, qz);
-                    vf_store(row + rays, vf_fma(ex, gp, vf_load(row + rays)));
-                    vf_store(row + 2 * rays, vf_fma(ey, gp, vf_load(row + 2 * rays)));
-                    vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
-                }
-                pgauss_step(&gc, &g, &q);
-                u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
-            }
-        }
-        st->kernel_evals += evals;
+        st->kernel_evals += deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, reach, tc, d2, ocx,
+                                            ocy, ocz, dx, dy, dz, m);
+    }
+}
+
+/* The same from a group list entry (one walk per group): samples ka..kb
+ * (the entry's range over the group, clipped to the pass) on the vectors of
+ * vbits. No chord per vector: every live lane whose ray passes within the
+ * support takes part. That may add terms at samples outside a lane's own
+ * window (the same happens above wherever the range is another lane's), which
+ * the integration never reads (it takes a ray's samples kf..kl of the pass),
+ * and every sample within a lane's window that deposit above fills is
+ * filled here with the same value: the used samples sum the same terms. */
+static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv, int kp, int ka, int kb, float dt,
+                                 int comps, int32_t i, float cstep, uint64_t vbits, int vshift, lc_kstats *st)
+{
+    float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
+    float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
+    float x2 = r2s * 1.001f + 1e-12f, reach = support_reach(rs, x2);
+    int rays = nv * LC_W;
+    float *fb = c->buf + (size_t)s->field[i] * (size_t)s->buffer_k * (size_t)comps * (size_t)rays;
+    pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
+    for (int v = 0; v < nv; v++) {
+        if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the list found the support misses these rays */
+        int o = v * LC_W;
+        vmask m = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
+        if (vm_none(m)) continue;
+        vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
+        vfloat ocx = vf_sub(vf_set1(cx), vf_load(c->ox + o)), ocy = vf_sub(vf_set1(cy), vf_load(c->oy + o)),
+               ocz = vf_sub(vf_set1(cz), vf_load(c->oz + o));
+        vfloat tc = vf_madd(ocx, dx, vf_madd(ocy, dy, vf_mul(ocz, dz)));
+        vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
+        m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
+        if (vm_none(m)) continue;
+        c->touched[v] = 1;
+        st->kernel_evals += deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, reach, tc, d2,
+                                            ocx, ocy, ocz, dx, dy, dz, m);
     }
 }
 
@@ -216,8 +274,7 @@ static inline int list_particle(const lc_kparticles *s, const cscratch *c, int n
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], x2 = rs * rs * 1.001f + 1e-12f;
-    /* >= deposit's half = sqrt(x2 - d2) + 1e-4 rs on every lane (monotone roundings) */
-    vfloat R = vf_set1(sqrtf(x2) * 1.0001f + 1e-4f * rs), X2 = vf_set1(x2);
+    vfloat R = vf_set1(support_reach(rs, x2)), X2 = vf_set1(x2);
     vfloat lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
     uint64_t bits = 0;
     for (int v = 0; v < nv; v++) {
@@ -332,7 +389,8 @@ static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const 
         if (e.ka <= kend && e.kb >= kp) {
             int32_t i = e.i;
             if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
-            deposit(s, c, nv, kp, kend, dt, comps, i, cstep, e.vbits, vshift, st);
+            deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep, e.vbits,
+                          vshift, st);
         }
         if (e.kb > kend) c->list[kept++] = e;
     }
