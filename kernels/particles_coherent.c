@@ -60,7 +60,12 @@ typedef struct gent {
 _Static_assert(sizeof(gent) == 24, "gent layout");
 
 #define GL_DEFAULT_CAP 8192 /* entries (192 KB per worker) */
+#ifndef GL_LEAF_ENTRIES
+#define GL_LEAF_ENTRIES 1
+#endif
+#ifndef GL_FIRST_PASSES
 #define GL_FIRST_PASSES 2
+#endif
 #define GL_MAX_PASSES 16
 
 static int32_t list_cap(const lc_kparticles *s)
@@ -332,16 +337,23 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
         /* inner nodes: any vector's rays reach the grown box; leaves: which
            vectors' (their bits: only those vectors meet its particles) */
         uint64_t bits = 0;
+        vfloat lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
         for (int v = 0; v < nv; v++) {
-            if ((bits >> (v >> vshift)) & 1u) continue;
+            if (!(GL_LEAF_ENTRIES && collect) && ((bits >> (v >> vshift)) & 1u)) continue;
             int o = v * LC_W;
             vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
             vfloat tn, tf;
             dvr_slab(vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o), vf_load(c->ix + o), vf_load(c->iy + o),
                  vf_load(c->iz + o), node->lo, node->hi, g, &tn, &tf);
-            if (vm_any(vf_le(vf_max(tn, w0), vf_min(tf, w1)))) {
+            vfloat ta = vf_max(tn, w0), tb = vf_min(tf, w1);
+            vmask h = vf_le(ta, tb);
+            if (vm_any(h)) {
                 bits |= (uint64_t)1 << (v >> vshift);
                 if (node->count == 0) break;
+                if (GL_LEAF_ENTRIES && collect) {
+                    lo = vf_min(lo, vf_select(h, ta, vf_set1(INFINITY)));
+                    hi = vf_max(hi, vf_select(h, tb, vf_set1(-INFINITY)));
+                }
             }
         }
         if (!bits) continue;
@@ -351,6 +363,16 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
             continue;
         }
         st->leaves++;
+        if (GL_LEAF_ENTRIES && collect) {
+            int ka = (int)__builtin_floorf(vf_reduce_min(lo) / dt);
+            int kb = (int)__builtin_ceilf(vf_reduce_max(hi) / dt);
+            ka = ka < kp ? kp : ka;
+            kb = kb > kend ? kend : kb;
+            if (ka > kb) continue;
+            if (n >= c->cap) return -1;
+            c->list[n++] = (gent){node->first, ka, kb, node->count, bits};
+            continue;
+        }
         for (int32_t i = node->first; i < node->first + node->count; i++) {
             if (collect) {
                 if (!list_particle(s, c, nv, vshift, bits, kp, kend, dt, i, &n)) return -1;
@@ -387,10 +409,11 @@ static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const 
     for (int j = 0; j < n; j++) {
         gent e = c->list[j];
         if (e.ka <= kend && e.kb >= kp) {
-            int32_t i = e.i;
-            if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
-            deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep, e.vbits,
-                          vshift, st);
+            for (int32_t i = e.i; i < e.i + (GL_LEAF_ENTRIES ? e.pad : 1); i++) {
+                if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+                deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
+                              e.vbits, vshift, st);
+            }
         }
         if (e.kb > kend) c->list[kept++] = e;
     }
