@@ -40,32 +40,32 @@ typedef struct cscratch {
 } cscratch;
 
 /* One walk per group (issue 8). Instead of walking the BVH for every pass of
- * K samples, the group walks it once per window of passes (a "chunk": 2 passes,
- * then twice as many after every chunk that fitted, up to GL_MAX_PASSES) and
- * lists the leaf particles whose support reaches any live ray in the window,
- * with their lattice range [ka, kb] over the group and a bit per vector (or
- * per run of 2^vshift vectors) that the support reaches. Each pass then
- * deposits the entries overlapping it, in list order, into the vectors of
- * their bits, and drops those that end in it. List order is the walk's
- * depth-first order, the order a walk per pass deposits in, and a pass's
- * walk and deposits reach no particle the chunk's list lacks (its windows lie
- * inside the chunk's, its live rays among the chunk's), so every sample sums
- * the same terms in the same order: images are bit-identical to a walk per
- * pass. Lists are bounded by the scratch (cap entries); a chunk whose list
- * does not fit falls back to a walk per pass and the next chunk halves. */
+ * K samples, the group walks it once per window of passes (a "chunk": 2
+ * passes, then twice as many after every chunk whose list fitted, up to
+ * GL_MAX_PASSES; half as many after one that did not) and lists the leaves
+ * its live rays reach in that window, each with its lattice range [ka, kb]
+ * over the group (from the slab test of its grown box, clipped to the chunk)
+ * and a bit per vector (or per run of 2^vshift vectors) whose rays reach it.
+ * Each pass then deposits the particles of the entries overlapping it, in
+ * list order, into the vectors of their bits, and drops the entries that end
+ * in it. List order is the walk's depth-first order, the order a walk per
+ * pass deposits in, and no term a pass's walk would deposit is missing (the
+ * pass's windows lie inside the chunk's, its live rays among the chunk's,
+ * and a particle's support inside its leaf's grown box), so every sample a
+ * ray integrates sums the same terms in the same order: images are
+ * bit-identical to a walk per pass (tests/test_particles_group.c). A
+ * chunk's walk costs what the early end of the passes (every ray opaque) may
+ * waste; growing chunks bound that. Lists live in the worker's scratch (cap
+ * entries, 24 B each); a chunk whose list does not fit falls back to a walk
+ * per pass (deposit). */
 typedef struct gent {
-    int32_t i, ka, kb, pad;
+    int32_t first, count, ka, kb; /* the leaf's particles, its lattice range */
     uint64_t vbits;
 } gent;
 _Static_assert(sizeof(gent) == 24, "gent layout");
 
 #define GL_DEFAULT_CAP 8192 /* entries (192 KB per worker) */
-#ifndef GL_LEAF_ENTRIES
-#define GL_LEAF_ENTRIES 1
-#endif
-#ifndef GL_FIRST_PASSES
 #define GL_FIRST_PASSES 2
-#endif
 #define GL_MAX_PASSES 16
 
 static int32_t list_cap(const lc_kparticles *s)
@@ -269,54 +269,14 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
     return period;
 }
 
-/* The group's leaf particle i against the rays' windows w0..w1 for the list
- * (one walk per group): a conservative test, wider than deposit's chord (no
- * sqrt per vector: the chord's half-length is at most R), appended with its
- * lattice range clipped to [kp, kend] and its vector bits when the support
- * reaches any live ray. Returns 0 when the list is full. */
-static inline int list_particle(const lc_kparticles *s, const cscratch *c, int nv, int vshift, uint64_t leaf_bits,
-                                int kp, int kend, float dt, int32_t i, int *n)
-{
-    float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
-    float rs = s->sigma * s->r[i], x2 = rs * rs * 1.001f + 1e-12f;
-    vfloat R = vf_set1(support_reach(rs, x2)), X2 = vf_set1(x2);
-    vfloat lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
-    uint64_t bits = 0;
-    for (int v = 0; v < nv; v++) {
-        if (!((leaf_bits >> (v >> vshift)) & 1u)) continue;
-        int o = v * LC_W;
-        vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
-        vmask m = vf_le(w0, w1);
-        if (vm_none(m)) continue;
-        vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
-        vfloat ocx = vf_sub(vf_set1(cx), vf_load(c->ox + o)), ocy = vf_sub(vf_set1(cy), vf_load(c->oy + o)),
-               ocz = vf_sub(vf_set1(cz), vf_load(c->oz + o));
-        vfloat tc = vf_madd(ocx, dx, vf_madd(ocy, dy, vf_mul(ocz, dz)));
-        vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
-        vfloat ta = vf_max(vf_sub(tc, R), w0), tb = vf_min(vf_add(tc, R), w1);
-        m = vm_and(m, vm_and(vf_ge(vf_sub(X2, d2), vf_zero()), vf_le(ta, tb)));
-        if (vm_none(m)) continue;
-        bits |= (uint64_t)1 << (v >> vshift);
-        lo = vf_min(lo, vf_select(m, ta, vf_set1(INFINITY)));
-        hi = vf_max(hi, vf_select(m, tb, vf_set1(-INFINITY)));
-    }
-    if (!bits) return 1;
-    int ka = (int)__builtin_floorf(vf_reduce_min(lo) / dt);
-    int kb = (int)__builtin_ceilf(vf_reduce_max(hi) / dt);
-    ka = ka < kp ? kp : ka;
-    kb = kb > kend ? kend : kb;
-    if (ka > kb) return 1;
-    if (*n >= c->cap) return 0;
-    c->list[*n] = (gent){i, ka, kb, 0, bits};
-    ++*n;
-    return 1;
-}
-
 /* Listing 2, lines 3-10: coherent traversal for samples kp..kend (node and
- * stack uniform, rays varying), either depositing every leaf particle
- * (collect 0: a walk per pass) or listing them (collect 1, the group list:
- * returns the entries, or -1 when they do not fit). Both visit the leaves
- * in the same depth-first order. */
+ * stack uniform, rays varying), either depositing every leaf's particles
+ * (collect 0: a walk per pass) or listing the leaves (collect 1, the group
+ * list: returns the entries, or -1 when they do not fit). Both visit the
+ * leaves in the same depth-first order. A leaf's vector bits name the
+ * vectors whose rays reach its grown box (a particle's support lies in it);
+ * its range is the hull over those rays of box interval within the window,
+ * so it holds every sample of its particles' supports on a live ray. */
 static inline __attribute__((always_inline)) int walk_group(const lc_kparticles *s, const lc_kframe *f,
                                                             const cscratch *c, int nv, int vshift, int kp, int kend,
                                                             float dt, int comps, int collect, lc_kstats *st)
@@ -334,12 +294,12 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
         float vb = s->kappa * s->node_ksum[nd];
         mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, nd), -INFINITY};
         if (!mode_node_matters(f, &mn)) continue;
-        /* inner nodes: any vector's rays reach the grown box; leaves: which
-           vectors' (their bits: only those vectors meet its particles) */
+        /* inner nodes: does any vector's rays reach the grown box; leaves:
+           which vectors' (and, listed, over which t) */
         uint64_t bits = 0;
         vfloat lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
         for (int v = 0; v < nv; v++) {
-            if (!(GL_LEAF_ENTRIES && collect) && ((bits >> (v >> vshift)) & 1u)) continue;
+            if (!collect && ((bits >> (v >> vshift)) & 1u)) continue;
             int o = v * LC_W;
             vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
             vfloat tn, tf;
@@ -350,7 +310,7 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
             if (vm_any(h)) {
                 bits |= (uint64_t)1 << (v >> vshift);
                 if (node->count == 0) break;
-                if (GL_LEAF_ENTRIES && collect) {
+                if (collect) {
                     lo = vf_min(lo, vf_select(h, ta, vf_set1(INFINITY)));
                     hi = vf_max(hi, vf_select(h, tb, vf_set1(-INFINITY)));
                 }
@@ -363,21 +323,17 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
             continue;
         }
         st->leaves++;
-        if (GL_LEAF_ENTRIES && collect) {
+        if (collect) {
             int ka = (int)__builtin_floorf(vf_reduce_min(lo) / dt);
             int kb = (int)__builtin_ceilf(vf_reduce_max(hi) / dt);
             ka = ka < kp ? kp : ka;
             kb = kb > kend ? kend : kb;
             if (ka > kb) continue;
             if (n >= c->cap) return -1;
-            c->list[n++] = (gent){node->first, ka, kb, node->count, bits};
+            c->list[n++] = (gent){node->first, node->count, ka, kb, bits};
             continue;
         }
         for (int32_t i = node->first; i < node->first + node->count; i++) {
-            if (collect) {
-                if (!list_particle(s, c, nv, vshift, bits, kp, kend, dt, i, &n)) return -1;
-                continue;
-            }
             /* c = exp(-dt^2 / r^2) once per radius: neighbours mostly share it */
             if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
             deposit(s, c, nv, kp, kend, dt, comps, i, cstep, bits, vshift, st);
@@ -409,7 +365,7 @@ static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const 
     for (int j = 0; j < n; j++) {
         gent e = c->list[j];
         if (e.ka <= kend && e.kb >= kp) {
-            for (int32_t i = e.i; i < e.i + (GL_LEAF_ENTRIES ? e.pad : 1); i++) {
+            for (int32_t i = e.first; i < e.first + e.count; i++) {
                 if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
                 deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
                               e.vbits, vshift, st);
