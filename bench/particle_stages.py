@@ -10,7 +10,9 @@ shares of perf samples by stage, from the inline chain of each sampled address
   nm BUILD/bench/bench_particles | grep -E ' (traverse_pass|collect_group|deposit_list|coherent_dvr.isra.0)$'
   python3 bench/particle_stages.py BUILD/bench/bench_particles p.sym traverse_pass=ADDR ...
 
-NAME=ADDR picks the copy of each function of the target profiled (one per
+--deposit-loop-from LINE (first): for sources before deposit_samples existed
+(main at 4046397: the `for (int k0 = kal` line of deposit), deposit's lines
+from LINE on count as the deposit loop. NAME=ADDR picks the copy of each function of the target profiled (one per
 compiled target; `objdump -d` shows which uses zmm). Stages: traversal (node
 tests, leaf lists), chord setup (per particle and ray vector), anchor (the
 direct exp every 8 samples), deposit loop (recurrence and buffer adds),
@@ -20,7 +22,12 @@ import subprocess
 import sys
 
 
+LOOP_FROM = None  # --deposit-loop-from LINE: before the split into deposit_samples, deposit's lines from LINE on
+
+
 def stage(fn, f, ln):
+    if fn == "deposit" and LOOP_FROM is not None and ln >= LOOP_FROM:
+        return "deposit loop"
     if fn == "pgauss_anchor":
         return "anchor"
     if fn in ("pgauss_step", "deposit_samples"):
@@ -37,8 +44,12 @@ def stage(fn, f, ln):
 
 
 def main():
-    binary, symfile = sys.argv[1], sys.argv[2]
-    base = dict((a.split("=")[0], int(a.split("=")[1], 16)) for a in sys.argv[3:])
+    global LOOP_FROM
+    args = sys.argv[1:]
+    if args[0] == "--deposit-loop-from":
+        LOOP_FROM, args = int(args[1]), args[2:]
+    binary, symfile = args[0], args[1]
+    base = dict((a.split("=")[0], int(a.split("=")[1], 16)) for a in args[2:])
     counts = collections.Counter()
     for line in open(symfile):
         c, so = line.split()
@@ -57,14 +68,15 @@ def main():
         elif not out[i]:
             i += 1
         else:
-            frames[cur].append((out[i], out[i + 1].split("/")[-1].split(" ")[0]))
+            frames[cur].append((out[i], out[i + 1].split("/")[-1].split(" ")[0]))  # (function, file:line)
             i += 2
     st = collections.Counter()
     for a in addrs:
         k = None
         for fn, loc in frames[a]:  # innermost first: the first frame of the kernel files decides
             if loc.startswith("particles_co") or loc.startswith("particles_common"):
-                k = stage(fn, loc, 0)
+                ln = loc.split(":")[1] if ":" in loc else "0"
+                k = stage(fn, loc, int(ln) if ln.isdigit() else 0)
                 if k:
                     break
         st[k or "other"] += counts[a]
