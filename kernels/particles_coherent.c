@@ -245,9 +245,12 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
-        c->touched[v] = 1;
-        st->kernel_evals += deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, reach, tc, d2,
-                                            ocx, ocy, ocz, dx, dy, dz, m);
+        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, reach, tc, d2, ocx,
+                                     ocy, ocz, dx, dy, dz, m);
+        /* integrate only where some term landed (lanes without a chord in
+           their window would otherwise mark it) */
+        if (e) c->touched[v] = 1;
+        st->kernel_evals += e;
     }
 }
 
