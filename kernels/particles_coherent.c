@@ -4,7 +4,8 @@
  * adds its Gaussian to every buffered sample it overlaps (the uniform sample
  * range is the min/max over the packet's lanes); then the buffer of K samples
  * per ray is integrated front to back through the mode. Multi-pass over the
- * ray segment, stopping when every ray of the group reached alpha_stop. */
+ * ray segment, stopping when every ray of the group reached alpha_stop. The
+ * walk serves a window of passes (the group list, below), not each pass. */
 #include "particles_common.h"
 
 #define MAX_GROUP_RAYS 4096
@@ -462,6 +463,61 @@ static int set_windows(const lc_kframe *f, const cscratch *c, int nv, int kp, in
     return any;
 }
 
+/* The group's rays at (gx, gy): origins, directions and their inverses, the
+ * lattice ranges [kf, kl] (empty outside the tile or the data), colour 0 and
+ * the opaque surface behind; [*kmin, *kmax] the hull of the ranges. */
+static inline __attribute__((always_inline)) void setup_group(const lc_kparticles *s, const lc_kframe *f,
+                                                              const lc_ktile *t, const cscratch *cs, int gx, int gy,
+                                                              int nv, int vpr, int *kmin, int *kmax, lc_kstats *st)
+{
+    const cscratch c = *cs;
+    *kmin = 1 << 30, *kmax = -(1 << 30);
+    for (int v = 0; v < nv; v++) {
+        int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
+        vray r;
+        vint kf, kl;
+        vcolor surf;
+        if (s->nnodes == 0) {
+            vint px, py;
+            dvr_packet_pixels(x, y, &px, &py);
+            r = dvr_camera_rays(&f->cam, px, py);
+            kf = vi_set1(1), kl = vi_set1(0);
+            surf.r = surf.g = surf.b = surf.a = vf_zero();
+        } else {
+            setup_vector(s, f, t, x, y, c.stack, &r, &kf, &kl, &surf, st);
+        }
+        vf_store(c.ox + o, r.ox), vf_store(c.oy + o, r.oy), vf_store(c.oz + o, r.oz);
+        vf_store(c.dx + o, r.dx), vf_store(c.dy + o, r.dy), vf_store(c.dz + o, r.dz);
+        vf_store(c.ix + o, dvr_inv_dir(r.dx));
+        vf_store(c.iy + o, dvr_inv_dir(r.dy));
+        vf_store(c.iz + o, dvr_inv_dir(r.dz));
+        vi_store(c.kf + o, kf), vi_store(c.kl + o, kl);
+        vf_store(c.cr + o, vf_zero()), vf_store(c.cg + o, vf_zero());
+        vf_store(c.cb + o, vf_zero()), vf_store(c.ca + o, vf_zero());
+        vf_store(c.sr + o, surf.r), vf_store(c.sg + o, surf.g);
+        vf_store(c.sb + o, surf.b), vf_store(c.sa + o, surf.a);
+        for (int l = 0; l < LC_W; l++) {
+            if (c.kf[o + l] > c.kl[o + l]) continue;
+            *kmin = c.kf[o + l] < *kmin ? c.kf[o + l] : *kmin;
+            *kmax = c.kl[o + l] > *kmax ? c.kl[o + l] : *kmax;
+        }
+    }
+}
+
+/* Every sample of the pass's nrows rows starts at the bias (0 for
+ * particles), its gradient at 0. */
+static inline void clear_buffer(const lc_kparticles *s, const cscratch *c, int rays, int nf, int K, int comps,
+                                int nrows)
+{
+    const vfloat vbias = vf_set1(s->bias);
+    for (int fi = 0; fi < nf; fi++)
+        for (int row = 0; row < nrows; row++) {
+            float *p = c->buf + ((size_t)fi * (size_t)K + (size_t)row) * (size_t)comps * (size_t)rays;
+            for (int q = 0; q < rays; q += LC_W) vf_store(p + q, vbias);
+            for (int q = rays; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
+        }
+}
+
 /* One tile in mode `mode` (a constant); only iso uses the probe. Each mode
  * gets its own function below: with iso's integration, probe and finishing
  * inlined into the same function as the dvr loops, GCC compiled those loops
@@ -482,41 +538,11 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     const pprobe pc = {s, c.stack, st};
     const mprobe probe = {particles_probe, &pc};
     const mprobe *pr = mode == LC_KMODE_ISO ? &probe : NULL;
-    const vfloat vbias = vf_set1(s->bias);
     for (int gy = t->y0; gy < t->y1; gy += g.gh) {
         for (int gx = t->x0; gx < t->x1; gx += g.gw) {
             /* Listing 3, line 3: rays, their box interval and lattice range */
-            int kmin = 1 << 30, kmax = -(1 << 30);
-            for (int v = 0; v < nv; v++) {
-                int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
-                vray r;
-                vint kf, kl;
-                vcolor surf;
-                if (s->nnodes == 0) {
-                    vint px, py;
-                    dvr_packet_pixels(x, y, &px, &py);
-                    r = dvr_camera_rays(&f->cam, px, py);
-                    kf = vi_set1(1), kl = vi_set1(0);
-                    surf.r = surf.g = surf.b = surf.a = vf_zero();
-                } else {
-                    setup_vector(s, f, t, x, y, c.stack, &r, &kf, &kl, &surf, st);
-                }
-                vf_store(c.ox + o, r.ox), vf_store(c.oy + o, r.oy), vf_store(c.oz + o, r.oz);
-                vf_store(c.dx + o, r.dx), vf_store(c.dy + o, r.dy), vf_store(c.dz + o, r.dz);
-                vf_store(c.ix + o, dvr_inv_dir(r.dx));
-                vf_store(c.iy + o, dvr_inv_dir(r.dy));
-                vf_store(c.iz + o, dvr_inv_dir(r.dz));
-                vi_store(c.kf + o, kf), vi_store(c.kl + o, kl);
-                vf_store(c.cr + o, vf_zero()), vf_store(c.cg + o, vf_zero());
-                vf_store(c.cb + o, vf_zero()), vf_store(c.ca + o, vf_zero());
-                vf_store(c.sr + o, surf.r), vf_store(c.sg + o, surf.g);
-                vf_store(c.sb + o, surf.b), vf_store(c.sa + o, surf.a);
-                for (int l = 0; l < LC_W; l++) {
-                    if (c.kf[o + l] > c.kl[o + l]) continue;
-                    kmin = c.kf[o + l] < kmin ? c.kf[o + l] : kmin;
-                    kmax = c.kl[o + l] > kmax ? c.kl[o + l] : kmax;
-                }
-            }
+            int kmin, kmax;
+            setup_group(s, f, t, &c, gx, gy, nv, vpr, &kmin, &kmax, st);
             /* Listing 3, lines 4-6: passes of K samples until every ray is opaque,
                in chunks of passes that share one BVH walk (the group list) */
             int chunk = GL_FIRST_PASSES, done = 0;
@@ -541,14 +567,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                         continue;
                     }
                     st->passes++;
-                    int nrows = kend - kp + 1;
-                    /* every sample starts at the bias (0 for particles), its gradient at 0 */
-                    for (int fi = 0; fi < nf; fi++)
-                        for (int row = 0; row < nrows; row++) {
-                            float *p = c.buf + ((size_t)fi * (size_t)K + (size_t)row) * (size_t)comps * (size_t)rays;
-                            for (int q = 0; q < rays; q += LC_W) vf_store(p + q, vbias);
-                            for (int q = rays; q < comps * rays; q += LC_W) vf_store(p + q, vf_zero());
-                        }
+                    clear_buffer(s, &c, rays, nf, K, comps, kend - kp + 1);
                     for (int v = 0; v < nv; v++) c.touched[v] = 0;
                     if (n >= 0)
                         n = deposit_list(s, &c, nv, vshift, n, kp, kend, dt, comps, st);
