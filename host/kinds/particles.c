@@ -441,6 +441,19 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
 }
 
 /* The kernel view of the particles under the current parameters. */
+/* LANECAST_PARTICLE_GROUP_LIST (tests and A/B runs): the coherent kernel's
+ * group list capacity in entries, 0 for no lists (a BVH walk per pass);
+ * unset or invalid: the kernel's default. */
+static int32_t group_list_cap(void)
+{
+    const char *e = getenv("LANECAST_PARTICLE_GROUP_LIST");
+    if (!e || !*e) return 0;
+    char *end;
+    long v = strtol(e, &end, 10);
+    if (*end || v < 0 || v > (1L << 24)) return 0;
+    return v == 0 ? -1 : (int32_t)v;
+}
+
 static void kscene(const particles *p, lc_kparticles *k)
 {
     const lc_particle_params *q = &p->info.params;
@@ -464,6 +477,7 @@ static void kscene(const particles *p, lc_kparticles *k)
     int nf = p->info.nfields;
     k->buffer_k = q->buffer_samples == 0 ? (nf > 1 ? 64 / nf : 32) : q->buffer_samples;
     k->sphere_scale = q->sphere_scale;
+    k->group_list_cap = group_list_cap();
     lc_box3 b = grown_bounds(p);
     k->lo[0] = b.lo.x, k->lo[1] = b.lo.y, k->lo[2] = b.lo.z, k->lo[3] = 0.0f;
     k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;

@@ -57,7 +57,13 @@ typedef struct lc_kparticles {
        in this frame's TF). */
     float bias;
     int32_t bias_clear;
+    /* coherent: entries of a group's particle list (particles_coherent.c
+       "one walk per group"); 0: the kernel's default, < 0: no lists (a BVH
+       walk per pass). The host sets it only for tests and A/B runs
+       (LANECAST_PARTICLE_GROUP_LIST); scratch sizing reads it. */
+    int32_t group_list_cap;
+    int32_t pad_;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 8, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 16, "lc_kparticles layout");
 
 #endif
