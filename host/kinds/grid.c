@@ -354,6 +354,33 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
 
 static float param(float v, float def) { return v == 0.0f ? def : v; }
 
+/* The frame's per-node TF tests (kgrid.h LC_KGRID_NODE_*), the formulas the
+ * BVH kernel used per visit (eqs. 5-7) on the pre-integrated table and its
+ * one-step opacity alpha. */
+static void node_flags(const lc_kgrid *k, const lc_ktf *tf, const float *table, const float *alpha, uint8_t *out)
+{
+    for (int32_t i = 0; i < k->nnodes; i++) {
+        const lc_kgrid_node *n = &k->nodes[i];
+        int qa, qb;
+        lc_kgrid_node_quant(n->vmin, n->vmax, tf->lo, tf->inv_range, &qa, &qb);
+        size_t q = (size_t)qa * LC_PREINT_N + (size_t)qb;
+        uint8_t fl = 0;
+        if (table[4 * q + 3] == 0.0f || ((k->bvh_flags & LC_KGRID_CULL) && alpha[q] <= k->delta_c))
+            fl |= LC_KGRID_NODE_EMPTY;
+        if ((k->bvh_flags & LC_KGRID_PRUNE) && alpha[q] * k->diag_volume > k->delta_p * lc_kgrid_node_diag(n))
+            fl |= LC_KGRID_NODE_DENSE;
+        if (k->bvh_flags & LC_KGRID_CONST) {
+            /* eq. 7 with the colour condition (kernels/grid_bvh.c node_constant) */
+            size_t ql = (size_t)qa * LC_PREINT_N + (size_t)qa, qh = (size_t)qb * LC_PREINT_N + (size_t)qb;
+            float r = alpha[q], rl = alpha[ql], rh = alpha[qh];
+            const float *cl = table + 4 * ql, *ch = table + 4 * qh;
+            float dc = fmaxf(fmaxf(fabsf(cl[0] - ch[0]), fabsf(cl[1] - ch[1])), fabsf(cl[2] - ch[2]));
+            if (fmaxf(fabsf(r - rl), fabsf(r - rh)) < k->delta_sv && dc * r < k->delta_sv) fl |= LC_KGRID_NODE_CONST;
+        }
+        out[i] = fl;
+    }
+}
+
 static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *desc, const lc_kframe *frame,
                          lci_prepared *out)
 {
@@ -404,12 +431,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
     /* eq. 5 per node for this frame (kgrid.h node_transparent) */
     uint8_t *tr = (uint8_t *)(cls + 4 * (LC_TF_TABLE_SIZE + 1));
-    for (int32_t i = 0; m != LC_METHOD_BRUTE && i < k->nnodes; i++) { /* brute force: unused */
-        int qa, qb;
-        lc_kgrid_node_quant(k->nodes[i].vmin, k->nodes[i].vmax, frame->tf[0].lo, frame->tf[0].inv_range, &qa, &qb);
-        size_t q = (size_t)qa * LC_PREINT_N + (size_t)qb;
-        tr[i] = table[4 * q + 3] == 0.0f || ((k->bvh_flags & LC_KGRID_CULL) && alpha[q] <= k->delta_c);
-    }
+    if (m != LC_METHOD_BRUTE) node_flags(k, &frame->tf[0], table, alpha, tr); /* brute force: unused */
     k->node_transparent = tr;
     int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_GRID];

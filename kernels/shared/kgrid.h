@@ -75,12 +75,11 @@ typedef struct lc_kgrid {
      * lookup can read two entries from any index) */
     const float *cls;
     int32_t pair_ystride, pair_zstride;
-    /* per frame, one byte per BVH node: 1 where the node's value range is
-     * skipped as transparent (eq. 5: pre-integrated mean extinction over the
-     * range exactly 0, or with culling on an opacity over one step <=
-     * delta_c). The traversal reads a byte per child (nnodes bytes, which
-     * stay in cache) instead of each child's node and the 1 MiB
-     * pre-integrated table (cache misses: ~15% of a BVH frame). */
+    /* per frame, one byte per BVH node: LC_KGRID_NODE_* bits, the node's
+     * tests against the frame's TF (the traversal reads a byte per child,
+     * nnodes bytes that stay in cache, instead of each child's node and the
+     * 1 MiB pre-integrated table: cache misses, ~15% of a BVH frame, then
+     * ~8% of grid_bvh for the eq. 6 and 7 table reads). */
     const uint8_t *node_transparent;
     /* per frame: the TF of field 0 is exactly transparent at every
      * normalised value v <= cls_vzero (-1: nowhere); the sample loop skips
@@ -91,6 +90,22 @@ typedef struct lc_kgrid {
 _Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8 + 8, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
+
+/* lc_kgrid.node_transparent bits, per node and frame:
+ * EMPTY: eq. 5, skipped as transparent (pre-integrated mean extinction over
+ *   the range exactly 0, or with culling on an opacity over one step <= delta_c);
+ * CONST: eq. 7's TF test over [vmin, vmax] passes (with LC_KGRID_CONST; the
+ *   kernel adds the mode and shading conditions);
+ * DENSE: eq. 6's opacity test passes, rho diag_volume > delta_p |box|
+ *   (with LC_KGRID_PRUNE; the kernel adds the footprint test). */
+enum { LC_KGRID_NODE_EMPTY = 1, LC_KGRID_NODE_CONST = 2, LC_KGRID_NODE_DENSE = 4 };
+
+/* |box| of eq. 6, the same float expression on host and kernels */
+static inline float lc_kgrid_node_diag(const lc_kgrid_node *n)
+{
+    float dx = n->hi[0] - n->lo[0], dy = n->hi[1] - n->lo[1], dz = n->hi[2] - n->lo[2];
+    return __builtin_sqrtf(dx * dx + dy * dy + dz * dz);
+}
 
 /* A node's value range [vmin, vmax] as indices into the pre-integrated table
  * of a TF over [lo, lo + 1 / inv_range]: quantised bounds, widened by one
