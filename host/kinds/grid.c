@@ -4,11 +4,20 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include "host/kinds/grid.h"
 
 /* kernels index voxels with int32 element offsets */
 #define MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
 #define GATHER_PAD 64
+/* uint8 grids up to this many voxels keep the y-pair-packed copy
+ * (lc_kgrid.pairs). Measured at 1024^2 (docs/bench/grid.md, issue 9 second
+ * round): 512^3 1.2-1.3x less CPU per frame with it, 1024^3 1.07-1.25x more
+ * (a ray visits a new line of the linear copy every plane, one of the 4^3
+ * bricks every fourth; with about one ray per voxel there is little reuse
+ * between neighbouring rays to hide that) and 2 GiB more memory. The bound
+ * lies between; sizes in between were not measured. */
+#define PAIRS_MAX ((int64_t)1 << 28)
 /* nodes per axis: every index up to size - 2 is exact in float32 */
 #define MAX_AXIS (1 << 24)
 
@@ -58,6 +67,25 @@ static void linear_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t 
 }
 
 static void destroy(lc_volume *v);
+
+/* Zeroed voxel storage, freed with lci_aligned_free. Arrays of 4 MiB or more
+ * are 2 MiB aligned and asked to be backed by transparent huge pages before
+ * they are touched: rays cross a z plane every step or two (a plane of the
+ * linear pair copy is 2 MiB at 1024^2), so with 4 KiB pages nearly every
+ * sample missed the TLB (proc1024 medium: 25% more CPU per frame with the
+ * pair copy than without, before; see docs/bench/grid.md). */
+static void *voxel_alloc(size_t bytes)
+{
+    const size_t huge = (size_t)2 << 20;
+    if (bytes < 2 * huge) return lci_aligned_alloc(64, bytes);
+    void *p = NULL;
+    if (posix_memalign(&p, huge, bytes) != 0) return NULL;
+#ifdef MADV_HUGEPAGE
+    (void)madvise(p, bytes, MADV_HUGEPAGE); /* advice only: 4 KiB pages if refused */
+#endif
+    memset(p, 0, bytes);
+    return p;
+}
 
 /* What create decides from a valid desc. */
 typedef struct shape {
@@ -196,7 +224,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     }
     const void *data = src;
     if (!borrow) {
-        g->owned = lci_aligned_alloc(64, (size_t)elements * (size_t)es + GATHER_PAD);
+        g->owned = voxel_alloc((size_t)elements * (size_t)es + GATHER_PAD);
         if (!g->owned) goto oom;
         if (layout == LC_LAYOUT_LINEAR) {
             memcpy(g->owned, src, (size_t)count * (size_t)es);
@@ -216,8 +244,8 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         }
         data = g->owned;
         /* uint8: the y-pair-packed copy the kernels sample (2 bytes a voxel) */
-        if (d->type == LC_VALUE_UINT8 && count <= MAX_ELEMENTS) {
-            g->pairs = lci_aligned_alloc(64, (size_t)count * 2 + GATHER_PAD);
+        if (d->type == LC_VALUE_UINT8 && count <= PAIRS_MAX) {
+            g->pairs = voxel_alloc((size_t)count * 2 + GATHER_PAD);
             if (!g->pairs) goto oom;
             build_pairs(src, n, g->pairs);
         }
