@@ -10,14 +10,14 @@
 /* kernels index voxels with int32 element offsets */
 #define MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
 #define GATHER_PAD 64
-/* uint8 grids up to this many voxels keep the y-pair-packed copy
+/* uint8 grids up to lci_grid_pairs_max voxels keep the y-pair-packed copy
  * (lc_kgrid.pairs). Measured at 1024^2 (docs/bench/grid.md, issue 9 second
  * round): 512^3 1.2-1.3x less CPU per frame with it, 1024^3 1.07-1.25x more
  * (a ray visits a new line of the linear copy every plane, one of the 4^3
  * bricks every fourth; with about one ray per voxel there is little reuse
  * between neighbouring rays to hide that) and 2 GiB more memory. The bound
  * lies between; sizes in between were not measured. */
-#define PAIRS_MAX ((int64_t)1 << 28)
+int64_t lci_grid_pairs_max = (int64_t)1 << 28; /* tests lower it (tests/test_grid_nopairs.c) */
 /* nodes per axis: every index up to size - 2 is exact in float32 */
 #define MAX_AXIS (1 << 24)
 
@@ -244,7 +244,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         }
         data = g->owned;
         /* uint8: the y-pair-packed copy the kernels sample (2 bytes a voxel) */
-        if (d->type == LC_VALUE_UINT8 && count <= PAIRS_MAX) {
+        if (d->type == LC_VALUE_UINT8 && count <= lci_grid_pairs_max) {
             g->pairs = voxel_alloc((size_t)count * 2 + GATHER_PAD);
             if (!g->pairs) goto oom;
             build_pairs(src, n, g->pairs);
