@@ -70,8 +70,14 @@ typedef struct view {
 static void render(lc_device *dev, lc_volume *g, const lc_tf *tf, const view *vw, lc_method m, int heur, int preint,
                    float *out)
 {
-    lc_render_desc d = {.width = W, .height = H, .tf = tf, .volume = g, .dt = 0.4f, .alpha_stop = 1.0f,
-                        .shading = (lc_shading)vw->shade, .method = m};
+    lc_render_desc d = {.width = W,
+                        .height = H,
+                        .tf = tf,
+                        .volume = g,
+                        .dt = 0.4f,
+                        .alpha_stop = 1.0f,
+                        .shading = (lc_shading)vw->shade,
+                        .method = m};
     d.camera.eye = (lc_vec3){(float)vw->eye[0], (float)vw->eye[1], (float)vw->eye[2]};
     d.camera.at = (lc_vec3){(float)vw->at[0], (float)vw->at[1], (float)vw->at[2]};
     d.camera.up = (lc_vec3){0, 1, 0};
@@ -87,16 +93,18 @@ static void render(lc_device *dev, lc_volume *g, const lc_tf *tf, const view *vw
 static void ref_image(const vol *v, const view *vw, float *out)
 {
     double dc[12], dop[8];
-    for (int i = 0; i < 12; i++) dc[i] = tf_color[i];
-    for (int i = 0; i < 8; i++) dop[i] = tf_opacity[i];
+    for (int i = 0; i < 12; i++)
+        dc[i] = tf_color[i];
+    for (int i = 0; i < 8; i++)
+        dop[i] = tf_opacity[i];
     ref_tf rtf = {0, 255, dc, 3, dop, 4};
     ref_grid_field rg = {{v->n[0], v->n[1], v->n[2]}, {0, 0, 0}, {1, 1, 1}, v->ref};
     ref_source src;
     CHECK_QUIET(ref_grid_source(&rg, &src) == 0, "reference grid source");
     ref_params p = {0};
     p.width = W, p.height = H;
-    p.camera = (ref_camera){REF_PERSPECTIVE, {vw->eye[0], vw->eye[1], vw->eye[2]}, {vw->at[0], vw->at[1], vw->at[2]},
-                            {0, 1, 0}, 40.0, 0.0};
+    p.camera = (ref_camera){
+        REF_PERSPECTIVE, {vw->eye[0], vw->eye[1], vw->eye[2]}, {vw->at[0], vw->at[1], vw->at[2]}, {0, 1, 0}, 40.0, 0.0};
     p.mode = REF_MODE_DVR;
     p.tf = &rtf;
     p.dt = 0.4;
@@ -122,12 +130,14 @@ typedef struct grids {
  * without the pair copy, against the reference and one another. */
 static void check_volume(const vol *v, const view *views, int nviews, int show)
 {
-    float *a = malloc(sizeof(float) * W * H * 4), *b = malloc(sizeof(float) * W * H * 4), *r = malloc(sizeof(float) * W * H * 4);
+    float *a = malloc(sizeof(float) * W * H * 4), *b = malloc(sizeof(float) * W * H * 4),
+          *r = malloc(sizeof(float) * W * H * 4);
     float *refs = malloc(sizeof(float) * W * H * 4 * (size_t)nviews);
     for (int e = 0; e < nviews; e++) {
         ref_image(v, &views[e], refs + (size_t)e * W * H * 4);
         double amax = 0;
-        for (int i = 0; i < W * H; i++) amax = fmax(amax, refs[(size_t)e * W * H * 4 + 4 * i + 3]);
+        for (int i = 0; i < W * H; i++)
+            amax = fmax(amax, refs[(size_t)e * W * H * 4 + 4 * i + 3]);
         CHECK_QUIET(amax > 0.3, "view %d: reference image nearly empty (max alpha %g)", e, amax);
     }
     for (int t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++) {
@@ -143,7 +153,9 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
         for (int pairs = 0; pairs < 2; pairs++)
             for (int lay = 0; lay < 2; lay++) {
                 lci_grid_pairs_max = pairs ? (int64_t)1 << 40 : 1000;
-                lc_grid_desc gd = {.size = {v->n[0], v->n[1], v->n[2]}, .type = LC_VALUE_UINT8, .data = v->data,
+                lc_grid_desc gd = {.size = {v->n[0], v->n[1], v->n[2]},
+                                   .type = LC_VALUE_UINT8,
+                                   .data = v->data,
                                    .layout = lay ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED};
                 gs.g[pairs][lay] = NULL;
                 CHECK_QUIET(lc_grid_create(dev, &gd, &gs.g[pairs][lay]) == LC_OK, "create: %s", lc_last_error());
@@ -202,7 +214,8 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
             free(p.ref);
         }
         for (int pairs = 0; pairs < 2; pairs++)
-            for (int lay = 0; lay < 2; lay++) lc_volume_destroy(gs.g[pairs][lay]);
+            for (int lay = 0; lay < 2; lay++)
+                lc_volume_destroy(gs.g[pairs][lay]);
         lc_tf_destroy(tf);
         lc_device_destroy(dev);
     }
@@ -218,7 +231,8 @@ int main(int argc, char **argv)
     /* odd sizes: outside, inside the volume, and an axis-aligned view down z */
     vol s;
     vol_make(&s, 37, 29, 41);
-    view vs[3] = {{{48, 42.5, 86}, {18, 14, 20}, 2}, {{20.3, 16.1, 14.7}, {18, 14, 20}, 1}, {{18, 14, 95}, {18, 14, 20}, 0}};
+    view vs[3] = {
+        {{48, 42.5, 86}, {18, 14, 20}, 2}, {{20.3, 16.1, 14.7}, {18, 14, 20}, 1}, {{18, 14, 95}, {18, 14, 20}, 0}};
     check_volume(&s, vs, 3, 1);
     free(s.data), free(s.ref);
     /* 4 MiB of pairs and more: the huge-page voxel allocation */
