@@ -457,9 +457,11 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     while (e0 < LC_TF_TABLE_SIZE && tf[4 * e0 + 3] == 0.0f) e0++;
     k->cls_vzero = e0 == 0 ? -1.0f : e0 == LC_TF_TABLE_SIZE ? 2.0f : (float)(e0 - 1) / (float)(LC_TF_TABLE_SIZE - 1);
     k->run_max = 48;
-    /* nodes narrower than two packet footprints are leaves (exact; measured
-     * best of 0, 0.5, 1, 2, 4 on engine and embryo: 1.2-1.9x fewer-node wins) */
-    k->prune_footprint = 2.0f;
+    /* nodes narrower than three packet footprints at 512 rows (at least two
+     * at the frame's rows) are leaves (exact; docs/bench/grid.md, issue 9
+     * second round: 3 best of 1-3 at 512^2, 6 of 2-12 at 1024^2, i.e. the same
+     * node size; at 256^2 two of the frame's footprints) */
+    k->prune_footprint = 3.0f;
     k->use_preint = p->preintegrated != 0;
     k->rda = p->rda;
     k->delta_c = param(p->delta_c, 1e-3f);

@@ -39,7 +39,9 @@ typedef struct lc_kgrid {
      * linear:  i + j*ystride + k*zstride */
     int32_t bricked;
     int32_t ystride, zstride;
-    float prune_footprint; /* prune nodes narrower than this many packet footprints (0: off) */
+    float prune_footprint; /* prune nodes narrower than this many packet footprints at
+                            * LC_KGRID_PRUNE_ROWS image rows, at least LC_KGRID_PRUNE_MIN
+                            * at the frame's rows (0: off) */
     float origin[4];
     float spacing[4];
     float inv_spacing[4];
@@ -91,6 +93,11 @@ typedef struct lc_kgrid {
 _Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8 + 8, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
+
+/* image height at which prune_footprint counts packet footprints, and the
+ * fewest footprints at the frame's own height (kernels/grid_bvh.c traverse) */
+#define LC_KGRID_PRUNE_ROWS 512
+#define LC_KGRID_PRUNE_MIN 2.0f
 
 /* lc_kgrid.node_transparent bits, per node and frame:
  * EMPTY: eq. 5, skipped as transparent (pre-integrated mean extinction over
