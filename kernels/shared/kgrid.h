@@ -78,11 +78,12 @@ typedef struct lc_kgrid {
      * lookup can read two entries from any index) */
     const float *cls;
     int32_t pair_ystride, pair_zstride;
-    /* per frame, one byte per BVH node: LC_KGRID_NODE_* bits, the node's
-     * tests against the frame's TF (the traversal reads a byte per child,
-     * nnodes bytes that stay in cache, instead of each child's node and the
-     * 1 MiB pre-integrated table: cache misses, ~15% of a BVH frame, then
-     * ~8% of grid_bvh for the eq. 6 and 7 table reads). */
+    /* per frame, one byte per BVH node: 1 where the node's value range is
+     * skipped as transparent (eq. 5: pre-integrated mean extinction over the
+     * range exactly 0, or with culling on an opacity over one step <=
+     * delta_c). The traversal reads a byte per child (nnodes bytes, which
+     * stay in cache) instead of each child's node and the 1 MiB
+     * pre-integrated table (cache misses: ~15% of a BVH frame). */
     const uint8_t *node_transparent;
     /* per frame: the TF of field 0 is exactly transparent at every
      * normalised value v <= cls_vzero (-1: nowhere); the sample loop skips
@@ -99,7 +100,8 @@ enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 #define LC_KGRID_PRUNE_ROWS 512
 #define LC_KGRID_PRUNE_MIN 2.0f
 
-/* lc_kgrid.node_transparent bits, per node and frame:
+/* lc_kgrid.node_transparent bits, per node and frame (the "1 where ...
+ * transparent" of its comment is EMPTY):
  * EMPTY: eq. 5, skipped as transparent (pre-integrated mean extinction over
  *   the range exactly 0, or with culling on an opacity over one step <= delta_c);
  * CONST: eq. 7's TF test over [vmin, vmax] passes (with LC_KGRID_CONST; the
