@@ -4,11 +4,20 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include "host/kinds/grid.h"
 
 /* kernels index voxels with int32 element offsets */
 #define MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
 #define GATHER_PAD 64
+/* uint8 grids up to lci_grid_pairs_max voxels keep the y-pair-packed copy
+ * (lc_kgrid.pairs). Measured at 1024^2 (docs/bench/grid.md, issue 9 second
+ * round): 512^3 1.2-1.3x less CPU per frame with it, 1024^3 1.07-1.25x more
+ * (a ray visits a new line of the linear copy every plane, one of the 4^3
+ * bricks every fourth; with about one ray per voxel there is little reuse
+ * between neighbouring rays to hide that) and 2 GiB more memory. The bound
+ * lies between; sizes in between were not measured. */
+int64_t lci_grid_pairs_max = (int64_t)1 << 28; /* tests lower it (tests/test_grid_nopairs.c) */
 /* nodes per axis: every index up to size - 2 is exact in float32 */
 #define MAX_AXIS (1 << 24)
 
@@ -58,6 +67,25 @@ static void linear_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t 
 }
 
 static void destroy(lc_volume *v);
+
+/* Zeroed voxel storage, freed with lci_aligned_free. Arrays of 4 MiB or more
+ * are 2 MiB aligned and asked to be backed by transparent huge pages before
+ * they are touched: rays cross a z plane every step or two (a plane of the
+ * linear pair copy is 2 MiB at 1024^2), so with 4 KiB pages nearly every
+ * sample missed the TLB (proc1024 medium: 25% more CPU per frame with the
+ * pair copy than without, before; see docs/bench/grid.md). */
+static void *voxel_alloc(size_t bytes)
+{
+    const size_t huge = (size_t)2 << 20;
+    if (bytes < 2 * huge) return lci_aligned_alloc(64, bytes);
+    void *p = NULL;
+    if (posix_memalign(&p, huge, bytes) != 0) return NULL;
+#ifdef MADV_HUGEPAGE
+    (void)madvise(p, bytes, MADV_HUGEPAGE); /* advice only: 4 KiB pages if refused */
+#endif
+    memset(p, 0, bytes);
+    return p;
+}
 
 /* What create decides from a valid desc. */
 typedef struct shape {
@@ -196,7 +224,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     }
     const void *data = src;
     if (!borrow) {
-        g->owned = lci_aligned_alloc(64, (size_t)elements * (size_t)es + GATHER_PAD);
+        g->owned = voxel_alloc((size_t)elements * (size_t)es + GATHER_PAD);
         if (!g->owned) goto oom;
         if (layout == LC_LAYOUT_LINEAR) {
             memcpy(g->owned, src, (size_t)count * (size_t)es);
@@ -216,8 +244,8 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         }
         data = g->owned;
         /* uint8: the y-pair-packed copy the kernels sample (2 bytes a voxel) */
-        if (d->type == LC_VALUE_UINT8 && count <= MAX_ELEMENTS) {
-            g->pairs = lci_aligned_alloc(64, (size_t)count * 2 + GATHER_PAD);
+        if (d->type == LC_VALUE_UINT8 && count <= lci_grid_pairs_max) {
+            g->pairs = voxel_alloc((size_t)count * 2 + GATHER_PAD);
             if (!g->pairs) goto oom;
             build_pairs(src, n, g->pairs);
         }
@@ -354,6 +382,43 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
 
 static float param(float v, float def) { return v == 0.0f ? def : v; }
 
+/* The frame's per-node TF tests (kgrid.h LC_KGRID_NODE_*), the formulas the
+ * BVH kernel used per visit (eqs. 5-7) on the pre-integrated table and its
+ * one-step opacity alpha. Only the bits the kernel can read are computed
+ * (this loop is ~4% of a blob256 medium frame): a dvr traversal never visits
+ * an EMPTY node, and reads CONST only on unshaded dvr frames. */
+static void node_flags(const lc_kgrid *k, const lc_kframe *f, const float *table, const float *alpha, uint8_t *out)
+{
+    const lc_ktf *tf = &f->tf[0];
+    const int dvr = f->mode == LC_KMODE_DVR;
+    const int want_const = (k->bvh_flags & LC_KGRID_CONST) && dvr && f->shade == LC_KSHADE_NONE;
+    const int want_dense = (k->bvh_flags & LC_KGRID_PRUNE) != 0;
+    for (int32_t i = 0; i < k->nnodes; i++) {
+        const lc_kgrid_node *n = &k->nodes[i];
+        int qa, qb;
+        lc_kgrid_node_quant(n->vmin, n->vmax, tf->lo, tf->inv_range, &qa, &qb);
+        size_t q = (size_t)qa * LC_PREINT_N + (size_t)qb;
+        uint8_t fl = 0;
+        if (table[4 * q + 3] == 0.0f || ((k->bvh_flags & LC_KGRID_CULL) && alpha[q] <= k->delta_c)) {
+            fl = LC_KGRID_NODE_EMPTY;
+            if (dvr) {
+                out[i] = fl;
+                continue;
+            }
+        }
+        if (want_dense && alpha[q] * k->diag_volume > k->delta_p * lc_kgrid_node_diag(n)) fl |= LC_KGRID_NODE_DENSE;
+        if (want_const && n->vmin != n->vmax) {
+            /* eq. 7 with the colour condition (kernels/grid_bvh.c node_constant) */
+            size_t ql = (size_t)qa * LC_PREINT_N + (size_t)qa, qh = (size_t)qb * LC_PREINT_N + (size_t)qb;
+            float r = alpha[q], rl = alpha[ql], rh = alpha[qh];
+            const float *cl = table + 4 * ql, *ch = table + 4 * qh;
+            float dc = fmaxf(fmaxf(fabsf(cl[0] - ch[0]), fabsf(cl[1] - ch[1])), fabsf(cl[2] - ch[2]));
+            if (fmaxf(fabsf(r - rl), fabsf(r - rh)) < k->delta_sv && dc * r < k->delta_sv) fl |= LC_KGRID_NODE_CONST;
+        }
+        out[i] = fl;
+    }
+}
+
 static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *desc, const lc_kframe *frame,
                          lci_prepared *out)
 {
@@ -377,9 +442,11 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     for (size_t i = 0; i < (size_t)LC_PREINT_N * LC_PREINT_N; i++) alpha[i] = 1.0f - expf(-table[4 * i + 3] * frame->dt);
     k->preint_alpha = alpha;
     k->run_max = 48;
-    /* nodes narrower than two packet footprints are leaves (exact; measured
-     * best of 0, 0.5, 1, 2, 4 on engine and embryo: 1.2-1.9x fewer-node wins) */
-    k->prune_footprint = 2.0f;
+    /* nodes narrower than three packet footprints at 512 rows (at least two
+     * at the frame's rows) are leaves (exact; docs/bench/grid.md, issue 9
+     * second round: 3 best of 1-3 at 512^2, 6 of 2-12 at 1024^2, i.e. the same
+     * node size; at 256^2 two of the frame's footprints) */
+    k->prune_footprint = 3.0f;
     k->use_preint = p->preintegrated != 0;
     k->rda = p->rda;
     k->delta_c = param(p->delta_c, 1e-3f);
@@ -389,12 +456,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
     /* eq. 5 per node for this frame (kgrid.h node_transparent) */
     uint8_t *tr = (uint8_t *)(alpha + (size_t)LC_PREINT_N * LC_PREINT_N);
-    for (int32_t i = 0; m != LC_METHOD_BRUTE && i < k->nnodes; i++) { /* brute force: unused */
-        int qa, qb;
-        lc_kgrid_node_quant(k->nodes[i].vmin, k->nodes[i].vmax, frame->tf[0].lo, frame->tf[0].inv_range, &qa, &qb);
-        size_t q = (size_t)qa * LC_PREINT_N + (size_t)qb;
-        tr[i] = table[4 * q + 3] == 0.0f || ((k->bvh_flags & LC_KGRID_CULL) && alpha[q] <= k->delta_c);
-    }
+    if (m != LC_METHOD_BRUTE) node_flags(k, frame, table, alpha, tr); /* brute force: unused */
     k->node_transparent = tr;
     int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_GRID];

@@ -39,7 +39,9 @@ typedef struct lc_kgrid {
      * linear:  i + j*ystride + k*zstride */
     int32_t bricked;
     int32_t ystride, zstride;
-    float prune_footprint; /* prune nodes narrower than this many packet footprints (0: off) */
+    float prune_footprint; /* prune nodes narrower than this many packet footprints at
+                            * LC_KGRID_PRUNE_ROWS image rows, at least LC_KGRID_PRUNE_MIN
+                            * at the frame's rows (0: off) */
     float origin[4];
     float spacing[4];
     float inv_spacing[4];
@@ -64,7 +66,8 @@ typedef struct lc_kgrid {
     float diag_volume;  /* |D_volume| of eq. 6 */
     int32_t run_max;    /* BVH: longest run of lattice samples deferred before integrating */
     /* y-pair-packed copy of uint8 voxels (NULL: none), built when the grid owns
-     * its voxels: pairs[i + j ystride + k zstride of the linear layout]
+     * its voxels and has at most 2^28 of them (host/kinds/grid.c
+     * lci_grid_pairs_max): pairs[i + j ystride + k zstride of the linear layout]
      * = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8, so one 32-bit load at
      * element e (byte 2e) holds v(i, j), v(i, j+1), v(i+1, j), v(i+1, j+1)
      * of plane k: two loads per trilinear sample instead of eight. */
@@ -81,6 +84,28 @@ typedef struct lc_kgrid {
 _Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
+
+/* image height at which prune_footprint counts packet footprints, and the
+ * fewest footprints at the frame's own height (kernels/grid_bvh.c traverse) */
+#define LC_KGRID_PRUNE_ROWS 512
+#define LC_KGRID_PRUNE_MIN 2.0f
+
+/* lc_kgrid.node_transparent bits, per node and frame (the "1 where ...
+ * transparent" of its comment is EMPTY):
+ * EMPTY: eq. 5, skipped as transparent (pre-integrated mean extinction over
+ *   the range exactly 0, or with culling on an opacity over one step <= delta_c);
+ * CONST: eq. 7's TF test over [vmin, vmax] passes (with LC_KGRID_CONST; the
+ *   kernel adds the mode and shading conditions);
+ * DENSE: eq. 6's opacity test passes, rho diag_volume > delta_p |box|
+ *   (with LC_KGRID_PRUNE; the kernel adds the footprint test). */
+enum { LC_KGRID_NODE_EMPTY = 1, LC_KGRID_NODE_CONST = 2, LC_KGRID_NODE_DENSE = 4 };
+
+/* |box| of eq. 6, the same float expression on host and kernels */
+static inline float lc_kgrid_node_diag(const lc_kgrid_node *n)
+{
+    float dx = n->hi[0] - n->lo[0], dy = n->hi[1] - n->lo[1], dz = n->hi[2] - n->lo[2];
+    return __builtin_sqrtf(dx * dx + dy * dy + dz * dz);
+}
 
 /* A node's value range [vmin, vmax] as indices into the pre-integrated table
  * of a TF over [lo, lo + 1 / inv_range]: quantised bounds, widened by one
