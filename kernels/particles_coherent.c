@@ -347,9 +347,10 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
 }
 
 static __attribute__((noinline)) void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
-                                                    int nv, int kp, int kend, float dt, int comps, lc_kstats *st)
+                                                    int nv, int vshift, int kp, int kend, float dt, int comps,
+                                                    lc_kstats *st)
 {
-    walk_group(s, f, c, nv, 0, kp, kend, dt, comps, 0, st);
+    walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, st);
 }
 
 static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
@@ -572,7 +573,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     if (n >= 0)
                         n = deposit_list(s, &c, nv, vshift, n, kp, kend, dt, comps, st);
                     else
-                        traverse_pass(s, f, &c, nv, kp, kend, dt, comps, st);
+                        traverse_pass(s, f, &c, nv, vshift, kp, kend, dt, comps, st);
                     /* Listing 2, lines 11-13: integrate the buffer front to back */
                     integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
                 }
