@@ -31,7 +31,8 @@ int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float 
                    lci_pbvh *out, char *err, size_t errlen);
 /* The own builder (bvh/particle_bvh_sah.c): binned SAH straight into the
  * flat layout, 16 bytes per particle of scratch; threads >= 2 builds the
- * root's two subtrees on two threads. */
+ * root's two subtrees on two threads. Called by lci_pbvh_build_ex, which
+ * checks the arguments and handles n = 0. */
 int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, int leaf_size, int threads,
                        lci_pbvh *out, char *err, size_t errlen);
 /* As lci_pbvh_build with a builder; chunk: particles per chunk of

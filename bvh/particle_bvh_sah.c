@@ -304,13 +304,7 @@ static void close_gap(lci_pbvh *o, subtree *left, const subtree *right)
 int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, int leaf_size, int threads,
                        lci_pbvh *out, char *err, size_t errlen)
 {
-    memset(out, 0, sizeof *out);
-    if (n == 0) return 0;
-    if (n > (size_t)INT32_MAX / 2 || leaf_size < 1 || leaf_size > 32) {
-        snprintf(err, errlen, "%zu particles with leaves of %d: at most %d particles, leaves of 1 to 32", n, leaf_size,
-                 INT32_MAX / 2);
-        return -1;
-    }
+    memset(out, 0, sizeof *out); /* n >= 1 and leaf_size in 1..32: lci_pbvh_build_ex checked */
     size_t cap = 2 * n - 1; /* a binary tree over n leaves' worth of particles */
     pt *p = malloc(n * sizeof *p);
     out->order = malloc(n * sizeof *out->order);
