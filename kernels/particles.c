@@ -54,9 +54,6 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
                     for (int fi = 0; fi < nf; fi++) {
                         /* tau(bias) = 0 and this field is the bias on every lane: it blends to exactly nothing */
                         if (skip && vm_none(vm_and(m, vf_ne(phi[fi], vbias)))) continue;
-                        /* dvr: every lane fully transparent in this TF: exactly nothing */
-                        if (mode == LC_KMODE_DVR && vm_none(vm_and(m, vf_gt(phi[fi], vf_set1(s->clear_below[fi])))))
-                            continue;
                         vgrad gr = {gx[fi], gy[fi], gz[fi]};
                         mode_sample_as(f, mode, fi, &col, m, phi[fi], shade ? &gr : NULL, &r, NULL, vi_set1(k), tk,
                                        &probe);

@@ -413,8 +413,6 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kpar
                                              (size_t)rays + (size_t)o;
                 vfloat phi = vf_load(p);
                 if (skip && vm_none(vm_and(m, vf_ne(phi, vbias)))) continue;
-                /* dvr: every lane fully transparent in this TF blends to exactly nothing */
-                if (mode == LC_KMODE_DVR && vm_none(vm_and(m, vf_gt(phi, vf_set1(s->clear_below[fi]))))) continue;
                 vgrad gr;
                 if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
                 mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL, vi_set1(k),

@@ -48,7 +48,8 @@ typedef struct lc_kparticles {
     float max_radius;
     float lo[4], hi[4];    /* centre bounds grown by max(sigma, sphere_scale) * max radius */
     float clear_below[LC_KMAX_FIELDS]; /* dvr: field values at or below this are fully transparent
-                                          in this frame's TF (-inf: skip nothing) */
+                                          in this frame's TF (-inf: skip nothing); the host flags nodes
+                                          with it, samples are skipped by mode.h's step table test */
     /* A constant added to every field at every sample inside lo/hi, also where
        no particle reaches (RBF sets: w0; particles: 0). Samples a traversal
        found no particle for hold exactly bias; they are skipped as blending to
