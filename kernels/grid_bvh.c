@@ -94,7 +94,7 @@ static inline int first_hit(const gpk *pk, int fa, int npk, const frustum *fr, c
 
 /* The frame's TF tests of node id (kgrid.h LC_KGRID_NODE_*): one byte the
  * host computed per node from the pre-integrated table. */
-static inline int node_bits(const lc_kgrid *g, int32_t id) { return g->node_transparent[id]; }
+static inline int node_bits(const lc_kgrid *g, int32_t id) { return g->node_tf_bits[id]; }
 
 /* A node is skipped when the mode says it cannot matter; the grid tells it
  * the node's value range (which bounds the field) and eq. 5's transparency

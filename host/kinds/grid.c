@@ -454,10 +454,10 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     k->delta_sv = param(p->delta_sv, 1e-4f);
     k->bvh_flags = (k->delta_c >= 0.0f ? LC_KGRID_CULL : 0) | (k->delta_p >= 0.0f ? LC_KGRID_PRUNE : 0) |
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
-    /* eq. 5 per node for this frame (kgrid.h node_transparent) */
+    /* eq. 5 per node for this frame (kgrid.h node_tf_bits) */
     uint8_t *tr = (uint8_t *)(alpha + (size_t)LC_PREINT_N * LC_PREINT_N);
     if (m != LC_METHOD_BRUTE) node_flags(k, frame, table, alpha, tr); /* brute force: unused */
-    k->node_transparent = tr;
+    k->node_tf_bits = tr;
     int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_GRID];
     out->tile = kk->render[km];
