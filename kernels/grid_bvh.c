@@ -181,6 +181,9 @@ static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int f
         if (vm_none(q->live)) continue;
         vfloat t0, t1;
         grid_box_t(q, n->lo, n->hi, &t0, &t1);
+        /* a packlet of the group that misses the leaf (most, with 32x32
+         * groups): no lattice indices (two divisions) to compute */
+        if (vm_none(vm_and(q->live, vf_le(t0, t1)))) continue;
         vint kf, kl;
         grid_lattice(g, f->dt, t0, t1, &kf, &kl);
         if (pairs) {
