@@ -13,12 +13,12 @@ for l in open(f):
         continue
     if not l.startswith('grid '): continue
     kv = dict(re.findall(r'(\w+)=(\S+)', l))
-    key = (kv['volume'], kv['view'], kv['shade'])
+    key = (kv['volume'], kv['size'], kv['view'], kv['shade'])
     d.setdefault(key, {}).setdefault(cur, []).append((float(kv['cpu_ms']), kv['msamples'], kv.get('nodes', '')))
-print('| volume | view | shading | base CPU ms (min-max) | new CPU ms (min-max) | new vs base | M samples base/new | nodes base/new |')
-print('|---|---|---|---|---|---|---|---|')
+print('| volume | size | view | shading | base CPU ms (min-max) | new CPU ms (min-max) | new vs base | M samples base/new | nodes base/new |')
+print('|---|---|---|---|---|---|---|---|---|')
 for k, v in d.items():
     if base not in v or new not in v: continue
     b = [x[0] for x in v[base]]; n = [x[0] for x in v[new]]
     mb, mn = statistics.median(b), statistics.median(n)
-    print('| %s | %s | %s | %.0f (%.0f-%.0f) | %.0f (%.0f-%.0f) | %.3fx | %s/%s | %s/%s |' % (k[0], k[1], k[2], mb, min(b), max(b), mn, min(n), max(n), mb / mn, v[base][0][1], v[new][0][1], v[base][0][2], v[new][0][2]))
+    print('| %s | %s | %s | %s | %.0f (%.0f-%.0f) | %.0f (%.0f-%.0f) | %.3fx | %s/%s | %s/%s |' % (k[0], k[1], k[2], k[3], mb, min(b), max(b), mn, min(n), max(n), mb / mn, v[base][0][1], v[new][0][1], v[base][0][2], v[new][0][2]))
