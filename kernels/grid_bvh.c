@@ -311,6 +311,12 @@ static void grid_bvh(const void *scene, const lc_kframe *f, const lc_ktile *t, l
     const lc_kgrid *g = scene;
     int pw, ph;
     grid_packet_dims(f, &pw, &ph);
+    /* groups no larger than the tile (rounded up to whole packlets): the
+       rest of a larger group would be dead packlets (measured: 64x64 groups
+       in 32-pixel tiles, 0.85-0.95x of 32x32) */
+    int tw = (t->x1 - t->x0 + DVR_PW - 1) / DVR_PW * DVR_PW, th = (t->y1 - t->y0 + DVR_PH - 1) / DVR_PH * DVR_PH;
+    pw = pw < tw ? pw : tw;
+    ph = ph < th ? ph : th;
     int nx = pw / DVR_PW, ny = ph / DVR_PH, npk = nx * ny;
     uintptr_t base = ((uintptr_t)scratch->mem + 63) & ~(uintptr_t)63;
     gpk *pk = (gpk *)base;
