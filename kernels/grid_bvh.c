@@ -94,7 +94,7 @@ static inline int first_hit(const gpk *pk, int fa, int npk, const frustum *fr, c
 
 /* The frame's TF tests of node id (kgrid.h LC_KGRID_NODE_*): one byte the
  * host computed per node from the pre-integrated table. */
-static inline int node_bits(const lc_kgrid *g, int32_t id) { return g->node_transparent[id]; }
+static inline int node_bits(const lc_kgrid *g, int32_t id) { return g->node_tf_bits[id]; }
 
 /* A node is skipped when the mode says it cannot matter; the grid tells it
  * the node's value range (which bounds the field) and eq. 5's transparency
@@ -181,6 +181,9 @@ static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int f
         if (vm_none(q->live)) continue;
         vfloat t0, t1;
         grid_box_t(q, n->lo, n->hi, &t0, &t1);
+        /* a packlet of the group that misses the leaf (most, with 32x32
+         * groups): no lattice indices (two divisions) to compute */
+        if (vm_none(vm_and(q->live, vf_le(t0, t1)))) continue;
         vint kf, kl;
         grid_lattice(g, f->dt, t0, t1, &kf, &kl);
         if (pairs) {
@@ -308,6 +311,12 @@ static void grid_bvh(const void *scene, const lc_kframe *f, const lc_ktile *t, l
     const lc_kgrid *g = scene;
     int pw, ph;
     grid_packet_dims(f, &pw, &ph);
+    /* groups no larger than the tile (rounded up to whole packlets): the
+       rest of a larger group would be dead packlets (measured: 64x64 groups
+       in 32-pixel tiles, 0.85-0.95x of 32x32) */
+    int tw = (t->x1 - t->x0 + DVR_PW - 1) / DVR_PW * DVR_PW, th = (t->y1 - t->y0 + DVR_PH - 1) / DVR_PH * DVR_PH;
+    pw = pw < tw ? pw : tw;
+    ph = ph < th ? ph : th;
     int nx = pw / DVR_PW, ny = ph / DVR_PH, npk = nx * ny;
     uintptr_t base = ((uintptr_t)scratch->mem + 63) & ~(uintptr_t)63;
     gpk *pk = (gpk *)base;

@@ -238,7 +238,8 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
 done:
     lci_aligned_free(ws);
     lci_aligned_free(scratch);
-    free(prep.owned);
+    if (prep.release) prep.release(prep.owned);
+    else free(prep.owned);
     lci_aligned_free(frame);
     lci_aligned_free(tables);
     lc_tf_destroy(own_tf);

@@ -211,6 +211,8 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     g->base.ops = &lci_grid_ops;
     g->base.device = dev;
     g->info.params = d->params;
+    if (pthread_mutex_init(&g->tables_mu, NULL) != 0) goto oom;
+    g->tables_mu_init = 1;
     g->offsets = malloc(sizeof(int32_t) * ((size_t)n[0] + (size_t)n[1] + (size_t)n[2]));
     if (!g->offsets) goto oom;
     int32_t *xo = g->offsets, *yo = xo + n[0], *zo = yo + n[1];
@@ -331,6 +333,8 @@ static void destroy(lc_volume *v)
 {
     grid *g = (grid *)v;
     if (!g) return;
+    lci_grid_tables_release(g->tables);
+    if (g->tables_mu_init) pthread_mutex_destroy(&g->tables_mu);
     lci_grid_bvh_free(&g->bvh);
     lci_aligned_free(g->owned);
     lci_aligned_free(g->pairs);
@@ -382,41 +386,18 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
 
 static float param(float v, float def) { return v == 0.0f ? def : v; }
 
-/* The frame's per-node TF tests (kgrid.h LC_KGRID_NODE_*), the formulas the
- * BVH kernel used per visit (eqs. 5-7) on the pre-integrated table and its
- * one-step opacity alpha. Only the bits the kernel can read are computed
- * (this loop is ~4% of a blob256 medium frame): a dvr traversal never visits
- * an EMPTY node, and reads CONST only on unshaded dvr frames. */
-static void node_flags(const lc_kgrid *k, const lc_kframe *f, const float *table, const float *alpha, uint8_t *out)
+/* A grid's frame: its kernel scene and a reference to the tables it reads. */
+typedef struct prep_block {
+    lc_kgrid k;
+    lci_grid_tables *t;
+} prep_block;
+
+static void prep_release(void *owned)
 {
-    const lc_ktf *tf = &f->tf[0];
-    const int dvr = f->mode == LC_KMODE_DVR;
-    const int want_const = (k->bvh_flags & LC_KGRID_CONST) && dvr && f->shade == LC_KSHADE_NONE;
-    const int want_dense = (k->bvh_flags & LC_KGRID_PRUNE) != 0;
-    for (int32_t i = 0; i < k->nnodes; i++) {
-        const lc_kgrid_node *n = &k->nodes[i];
-        int qa, qb;
-        lc_kgrid_node_quant(n->vmin, n->vmax, tf->lo, tf->inv_range, &qa, &qb);
-        size_t q = (size_t)qa * LC_PREINT_N + (size_t)qb;
-        uint8_t fl = 0;
-        if (table[4 * q + 3] == 0.0f || ((k->bvh_flags & LC_KGRID_CULL) && alpha[q] <= k->delta_c)) {
-            fl = LC_KGRID_NODE_EMPTY;
-            if (dvr) {
-                out[i] = fl;
-                continue;
-            }
-        }
-        if (want_dense && alpha[q] * k->diag_volume > k->delta_p * lc_kgrid_node_diag(n)) fl |= LC_KGRID_NODE_DENSE;
-        if (want_const && n->vmin != n->vmax) {
-            /* eq. 7 with the colour condition (kernels/grid_bvh.c node_constant) */
-            size_t ql = (size_t)qa * LC_PREINT_N + (size_t)qa, qh = (size_t)qb * LC_PREINT_N + (size_t)qb;
-            float r = alpha[q], rl = alpha[ql], rh = alpha[qh];
-            const float *cl = table + 4 * ql, *ch = table + 4 * qh;
-            float dc = fmaxf(fmaxf(fabsf(cl[0] - ch[0]), fabsf(cl[1] - ch[1])), fabsf(cl[2] - ch[2]));
-            if (fmaxf(fabsf(r - rl), fabsf(r - rh)) < k->delta_sv && dc * r < k->delta_sv) fl |= LC_KGRID_NODE_CONST;
-        }
-        out[i] = fl;
-    }
+    prep_block *pb = owned;
+    if (!pb) return;
+    lci_grid_tables_release(pb->t);
+    free(pb);
 }
 
 static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *desc, const lc_kframe *frame,
@@ -429,18 +410,10 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grids render with method bvh or brute, not %d", (int)m);
     lc_status s = check_params(dev, "lc_render", p);
     if (s != LC_OK) return s;
-    size_t bytes = sizeof(lc_kgrid) + 64 + sizeof(float) * (LC_PREINT_N * LC_PREINT_N * 5) +
-                   (size_t)g->kg.nnodes;
-    unsigned char *mem = malloc(bytes);
-    if (!mem) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the pre-integrated table");
-    lc_kgrid *k = (lc_kgrid *)mem;
+    prep_block *pb = malloc(sizeof *pb);
+    if (!pb) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the grid's frame");
+    lc_kgrid *k = &pb->k;
     *k = g->kg;
-    float *table = (float *)(mem + ((sizeof(lc_kgrid) + 63) & ~(size_t)63));
-    lci_grid_preint(frame->tf[0].rgbt, table);
-    k->preint = table;
-    float *alpha = table + (size_t)LC_PREINT_N * LC_PREINT_N * 4;
-    for (size_t i = 0; i < (size_t)LC_PREINT_N * LC_PREINT_N; i++) alpha[i] = 1.0f - expf(-table[4 * i + 3] * frame->dt);
-    k->preint_alpha = alpha;
     k->run_max = 48;
     /* nodes narrower than three packet footprints at 512 rows (at least two
      * at the frame's rows) are leaves (exact; docs/bench/grid.md, issue 9
@@ -454,16 +427,23 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     k->delta_sv = param(p->delta_sv, 1e-4f);
     k->bvh_flags = (k->delta_c >= 0.0f ? LC_KGRID_CULL : 0) | (k->delta_p >= 0.0f ? LC_KGRID_PRUNE : 0) |
                    (k->delta_sv >= 0.0f ? LC_KGRID_CONST : 0);
-    /* eq. 5 per node for this frame (kgrid.h node_transparent) */
-    uint8_t *tr = (uint8_t *)(alpha + (size_t)LC_PREINT_N * LC_PREINT_N);
-    if (m != LC_METHOD_BRUTE) node_flags(k, frame, table, alpha, tr); /* brute force: unused */
-    k->node_transparent = tr;
+    /* the pre-integrated table and eqs. 5-7 per node for this frame (kgrid.h
+     * node_tf_bits; brute force reads no node bits), cached on the volume
+     * while the TF, dt and parameters stay the same (grid_tables.c). The
+     * cache is the volume's internal state behind its own lock. */
+    pb->t = lci_grid_tables_get((grid *)g, k, frame, m != LC_METHOD_BRUTE);
+    if (!pb->t) {
+        free(pb);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the pre-integrated table");
+    }
+    lci_grid_tables_fill(pb->t, k);
     int km = m == LC_METHOD_BRUTE ? LC_KMETHOD_BASE : LC_KMETHOD_FAST;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_GRID];
     out->tile = kk->render[km];
     out->kscene = k;
     out->scratch_bytes = kk->scratch_bytes[km](k, frame);
-    out->owned = mem;
+    out->owned = pb;
+    out->release = prep_release;
     return LC_OK;
 }
 

@@ -3,6 +3,7 @@
 #ifndef LC_HOST_GRID_H
 #define LC_HOST_GRID_H
 
+#include <pthread.h>
 #include "host/kinds/kind.h"
 #include "bvh/grid_bvh.h"
 #include "kernels/shared/kgrid.h"
@@ -15,7 +16,22 @@ typedef struct grid {
     int32_t *offsets;     /* xoff | yoff | zoff */
     lci_grid_bvh bvh;
     lc_kgrid kg;          /* template: per-frame fields filled by prepare */
+    /* the per-frame tables of the last frame (host/kinds/grid_tables.c) */
+    pthread_mutex_t tables_mu;
+    int tables_mu_init;
+    struct lci_grid_tables *tables;
 } grid;
+
+/* The pre-integrated table, its one-step opacity and (with_nodes) the
+ * per-node TF bits for frame f under k's parameters (host/kinds/grid_tables.c):
+ * the volume's cached entry when its key matches, else a new one that
+ * replaces it. The caller holds a reference (NULL: out of memory) until
+ * lci_grid_tables_release; lci_grid_tables_fill points k's preint,
+ * preint_alpha and node_tf_bits at it. */
+typedef struct lci_grid_tables lci_grid_tables;
+lci_grid_tables *lci_grid_tables_get(grid *g, const lc_kgrid *k, const lc_kframe *f, int with_nodes);
+void lci_grid_tables_fill(const lci_grid_tables *t, lc_kgrid *k);
+void lci_grid_tables_release(lci_grid_tables *t);
 
 /* Fills the LC_PREINT_N^2 x (r, g, b, tau_mean) table (eq. 4) from a kernel
  * TF table of LC_TF_TABLE_SIZE x (r, g, b, tau), integrating its piecewise

@@ -23,7 +23,8 @@ typedef struct lci_prepared {
     lc_ktile_fn tile;
     const void *kscene;
     uint64_t scratch_bytes; /* per worker */
-    void *owned;            /* freed with free() after the frame */
+    void *owned;            /* freed with free() after the frame, or */
+    void (*release)(void *owned); /* if not NULL, passed to this instead */
 } lci_prepared;
 
 typedef struct lci_kind_ops {

@@ -73,13 +73,12 @@ typedef struct lc_kgrid {
      * of plane k: two loads per trilinear sample instead of eight. */
     const uint16_t *pairs;
     int32_t pair_ystride, pair_zstride;
-    /* per frame, one byte per BVH node: 1 where the node's value range is
-     * skipped as transparent (eq. 5: pre-integrated mean extinction over the
-     * range exactly 0, or with culling on an opacity over one step <=
-     * delta_c). The traversal reads a byte per child (nnodes bytes, which
-     * stay in cache) instead of each child's node and the 1 MiB
-     * pre-integrated table (cache misses: ~15% of a BVH frame). */
-    const uint8_t *node_transparent;
+    /* per frame, one byte per BVH node: the node's TF test bits
+     * LC_KGRID_NODE_EMPTY / CONST / DENSE (below), which the host computes
+     * from the pre-integrated table (eqs. 5-7). The traversal reads a byte per
+     * child (nnodes bytes, which stay in cache) instead of each child's node
+     * and the 1 MiB pre-integrated table (cache misses: ~15% of a BVH frame). */
+    const uint8_t *node_tf_bits;
 } lc_kgrid;
 _Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8, "lc_kgrid layout");
 
@@ -90,8 +89,7 @@ enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 #define LC_KGRID_PRUNE_ROWS 512
 #define LC_KGRID_PRUNE_MIN 2.0f
 
-/* lc_kgrid.node_transparent bits, per node and frame (the "1 where ...
- * transparent" of its comment is EMPTY):
+/* lc_kgrid.node_tf_bits, per node and frame:
  * EMPTY: eq. 5, skipped as transparent (pre-integrated mean extinction over
  *   the range exactly 0, or with culling on an opacity over one step <= delta_c);
  * CONST: eq. 7's TF test over [vmin, vmax] passes (with LC_KGRID_CONST; the
