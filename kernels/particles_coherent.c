@@ -9,6 +9,16 @@
 #include "particles_common.h"
 
 #define MAX_GROUP_RAYS 4096
+#ifdef PSTAT
+#include <stdio.h>
+unsigned long long LC_KFN(pst_exec), LC_KFN(pst_m), LC_KFN(pst_in), LC_KFN(pst_blk), LC_KFN(pst_blkrun), LC_KFN(pst_hm), LC_KFN(pst_vp);
+unsigned long long LC_KFN(pg_n), LC_KFN(pg_done), LC_KFN(pg_span), LC_KFN(pg_cov), LC_KFN(pg_passes), LC_KFN(pg_hist)[10], LC_KFN(pg_fb), LC_KFN(pg_chunks), LC_KFN(pg_over), LC_KFN(pg_ent);
+__attribute__((destructor)) static void pg_dump(void) { if (!LC_KFN(pg_n)) return; fprintf(stderr, "PGRP groups %llu done %.3f span %.1f covered %.1f passes %.2f hist(done depth /16):", LC_KFN(pg_n), (double)LC_KFN(pg_done)/LC_KFN(pg_n), (double)LC_KFN(pg_span)/LC_KFN(pg_n), (double)LC_KFN(pg_cov)/LC_KFN(pg_n), (double)LC_KFN(pg_passes)/LC_KFN(pg_n)); for (int i=0;i<10;i++) fprintf(stderr, " %llu", LC_KFN(pg_hist)[i]); fprintf(stderr, " fallback passes %llu chunks %llu overflow %llu entries/chunk %.0f", LC_KFN(pg_fb), LC_KFN(pg_chunks), LC_KFN(pg_over), (double)LC_KFN(pg_ent)/LC_KFN(pg_chunks)); fprintf(stderr, "\n"); }
+__attribute__((destructor)) static void pst_dump(void) { if (LC_KFN(pst_exec)) fprintf(stderr, "PSTAT exec %llu m %llu (%.3f) hm %llu (%.3f) in %llu (%.3f) blocks %llu run %llu vp %llu\n", LC_KFN(pst_exec), LC_KFN(pst_m), (double)LC_KFN(pst_m)/LC_KFN(pst_exec), LC_KFN(pst_hm), (double)LC_KFN(pst_hm)/LC_KFN(pst_exec), LC_KFN(pst_in), (double)LC_KFN(pst_in)/LC_KFN(pst_exec), LC_KFN(pst_blk), LC_KFN(pst_blkrun), LC_KFN(pst_vp)); }
+#define PST(x) (x)
+#else
+#define PST(x) ((void)0)
+#endif
 
 typedef struct pgroup {
     int gw, gh; /* group size in pixels, multiples of DVR_PW x DVR_PH */
@@ -74,6 +84,12 @@ static int32_t list_cap(const lc_kparticles *s)
     return s->group_list_cap < 0 ? 0 : s->group_list_cap > 0 ? s->group_list_cap : GL_DEFAULT_CAP;
 }
 
+/* Floats between two rows (sample k, component) of the sample buffer: the
+ * group's rays and 64 bytes more, so the rows a vector touches at one
+ * position (a block of PG_ANCHOR samples, the gradient components) do not all
+ * fall on one L1 set (a power-of-two stride of 4 KB or more would). */
+static inline int buf_stride(int nv) { return nv * LC_W + 16; }
+
 static uint64_t align64(uint64_t b) { return (b + 63) & ~(uint64_t)63; }
 
 static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsigned char *base, cscratch *c)
@@ -93,7 +109,8 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     if (base) c->kl = (int32_t *)(base + off);
     off += align64(rays * 4);
     if (base) c->buf = (float *)(base + off);
-    off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)s->buffer_k * comps * rays * 4);
+    off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)s->buffer_k * comps *
+                   (uint64_t)buf_stride(g.nv) * 4);
     if (base) c->touched = (int32_t *)(base + off);
     off += align64((uint64_t)g.nv * 4);
     if (base) c->stack = (int32_t *)(base + off);
@@ -139,7 +156,9 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
         int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
         vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
         vfloat ue = vf_sub(vf_set1((float)k1 * dt), tc);
+        PST(LC_KFN(pst_blk)++);
         if (vm_none(vm_and(m, vm_and(vf_le(u, vr), vf_ge(ue, vnr))))) continue;
+        PST(LC_KFN(pst_blkrun)++);
         vfloat g, q;
         pgauss_anchor(gc, d2, u, m, &g, &q);
         for (int k = k0; k <= k1; k++) {
@@ -151,6 +170,11 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
             vfloat a = vf_madd(u, u, d2);
             vmask in = vm_and(m, vf_lt(a, rr));
             evals += (uint64_t)vm_popcnt(in);
+            PST((LC_KFN(pst_exec) += LC_W, LC_KFN(pst_m) += vm_popcnt(m), LC_KFN(pst_in) += vm_popcnt(in)));
+#ifdef PSTAT
+            { vfloat hh = vf_sqrt(vf_max(vf_sub(rr, d2), vf_zero())); vfloat u0 = vf_sub(vf_set1((float)k0 * dt), tc), u1 = vf_sub(vf_set1((float)k1 * dt), tc);
+              LC_KFN(pst_hm) += vm_popcnt(vm_and(m, vm_and(vf_le(u0, hh), vf_ge(u1, vf_sub(vf_zero(), hh))))); }
+#endif
             vfloat phi = vf_select(in, g, vf_zero());
             float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
             vf_store(row, vf_add(vf_load(row), phi));
@@ -182,7 +206,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
     float x2 = r2s * 1.001f + 1e-12f, reach = support_reach(rs, x2);
-    int rays = nv * LC_W;
+    int rays = buf_stride(nv);
     int K = s->buffer_k;
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
@@ -231,7 +255,7 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
     float x2 = r2s * 1.001f + 1e-12f, reach = support_reach(rs, x2);
-    int rays = nv * LC_W;
+    int rays = buf_stride(nv);
     float *fb = c->buf + (size_t)s->field[i] * (size_t)s->buffer_k * (size_t)comps * (size_t)rays;
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     for (int v = 0; v < nv; v++) {
@@ -246,6 +270,7 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
+        PST(LC_KFN(pst_vp)++);
         uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, reach, tc, d2, ocx,
                                      ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
@@ -389,7 +414,7 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kpar
                                                                    int nv, int K, int nf, int kp, int kend, int comps,
                                                                    const mprobe *probe, lc_kstats *st)
 {
-    const int rays = nv * LC_W;
+    const int rays = buf_stride(nv);
     const int skip = skip_base(s, f);
     const vfloat vbias = vf_set1(s->bias);
     for (int v = 0; v < nv; v++) {
@@ -517,6 +542,19 @@ static inline void clear_buffer(const lc_kparticles *s, const cscratch *c, int r
         }
 }
 
+/* The last sample of a pass (or chunk) of up to len samples from kp, at most
+ * kmax. Boundaries fall on multiples of PG_ANCHOR when len is one: a block
+ * of PG_ANCHOR samples split between two passes costs each of them its
+ * anchor (two exps) per particle and vector, and the later one the steps up
+ * to its first sample. The first pass of a group is then a little shorter.
+ * Pass boundaries change no image (a sample's terms and their order do not
+ * depend on them). */
+static inline int pass_end(int kp, int len, int kmax)
+{
+    int e = len % PG_ANCHOR == 0 ? ((kp + len) & ~(PG_ANCHOR - 1)) - 1 : kp + len - 1;
+    return e < kmax ? e : kmax;
+}
+
 /* One tile in mode `mode` (a constant); only iso uses the probe. Each mode
  * gets its own function below: with iso's integration, probe and finishing
  * inlined into the same function as the dvr loops, GCC compiled those loops
@@ -528,7 +566,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     cscratch c;
     coherent_layout(s, f, scratch->mem, &c);
     pgroup g = group_dims(f);
-    const int nv = g.nv, rays = nv * LC_W, K = s->buffer_k, nf = s->nfields;
+    const int nv = g.nv, rays = buf_stride(nv), K = s->buffer_k, nf = s->nfields;
     const int comps = mode_needs_grad(f) ? 4 : 1;
     const int vpr = g.gw / DVR_PW; /* vectors per group row */
     int vshift = 0; /* list bit of vector v: v >> vshift, < 64 */
@@ -545,13 +583,19 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             /* Listing 3, lines 4-6: passes of K samples until every ray is opaque,
                in chunks of passes that share one BVH walk (the group list) */
             int chunk = GL_FIRST_PASSES, done = 0;
+#ifdef PSTAT
+            int pg_np = 0, pg_last = kmin - 1;
+#endif
             for (int kc = kmin; kc <= kmax && !done;) {
-                int kc1 = kc + chunk * K - 1 < kmax ? kc + chunk * K - 1 : kmax;
+                int kc1 = pass_end(kc, chunk * K, kmax);
                 int n = -1; /* entries in the list; -1: a walk per pass */
                 if (c.list && set_windows(f, &c, nv, kc, kc1)) n = collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
                 int fits = n >= 0;
+#ifdef PSTAT
+                LC_KFN(pg_chunks)++; if (n < 0) LC_KFN(pg_over)++; else LC_KFN(pg_ent) += n;
+#endif
                 for (int kp = kc; kp <= kc1; kp += K) {
-                    int kend = kp + K - 1 < kc1 ? kp + K - 1 : kc1;
+                    int kend = pass_end(kp, K, kc1);
                     if (!set_windows(f, &c, nv, kp, kend)) {
                         int alive = 0;
                         for (int v = 0; v < nv && !alive; v++) {
@@ -566,6 +610,9 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                         continue;
                     }
                     st->passes++;
+#ifdef PSTAT
+                    pg_np++; pg_last = kend; if (n < 0) LC_KFN(pg_fb)++;
+#endif
                     clear_buffer(s, &c, rays, nf, K, comps, kend - kp + 1);
                     for (int v = 0; v < nv; v++) c.touched[v] = 0;
                     if (n >= 0)
@@ -579,6 +626,10 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                                          : (chunk > 1 ? chunk / 2 : 1);
                 kc = kc1 + 1;
             }
+#ifdef PSTAT
+            if (kmin <= kmax) { LC_KFN(pg_n)++; LC_KFN(pg_span) += kmax - kmin + 1; LC_KFN(pg_done) += done; LC_KFN(pg_cov) += pg_last - kmin + 1; LC_KFN(pg_passes) += pg_np;
+              if (done) { int b = (pg_last - kmin) / 16; LC_KFN(pg_hist)[b > 9 ? 9 : b]++; } }
+#endif
             finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }
     }
