@@ -594,8 +594,8 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
 #ifdef PSTAT
                 LC_KFN(pg_chunks)++; if (n < 0) LC_KFN(pg_over)++; else LC_KFN(pg_ent) += n;
 #endif
-                for (int kp = kc; kp <= kc1; kp += K) {
-                    int kend = pass_end(kp, K, kc1);
+                for (int kp = kc, kend; kp <= kc1; kp = kend + 1) {
+                    kend = pass_end(kp, K, kc1);
                     if (!set_windows(f, &c, nv, kp, kend)) {
                         int alive = 0;
                         for (int v = 0; v < nv && !alive; v++) {
