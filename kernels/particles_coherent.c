@@ -12,8 +12,8 @@
 #ifdef PSTAT
 #include <stdio.h>
 unsigned long long LC_KFN(pst_exec), LC_KFN(pst_m), LC_KFN(pst_in), LC_KFN(pst_blk), LC_KFN(pst_blkrun), LC_KFN(pst_hm), LC_KFN(pst_vp);
-unsigned long long LC_KFN(pg_n), LC_KFN(pg_done), LC_KFN(pg_span), LC_KFN(pg_cov), LC_KFN(pg_passes), LC_KFN(pg_hist)[10], LC_KFN(pg_fb), LC_KFN(pg_chunks), LC_KFN(pg_over), LC_KFN(pg_ent);
-__attribute__((destructor)) static void pg_dump(void) { if (!LC_KFN(pg_n)) return; fprintf(stderr, "PGRP groups %llu done %.3f span %.1f covered %.1f passes %.2f hist(done depth /16):", LC_KFN(pg_n), (double)LC_KFN(pg_done)/LC_KFN(pg_n), (double)LC_KFN(pg_span)/LC_KFN(pg_n), (double)LC_KFN(pg_cov)/LC_KFN(pg_n), (double)LC_KFN(pg_passes)/LC_KFN(pg_n)); for (int i=0;i<10;i++) fprintf(stderr, " %llu", LC_KFN(pg_hist)[i]); fprintf(stderr, " fallback passes %llu chunks %llu overflow %llu entries/chunk %.0f", LC_KFN(pg_fb), LC_KFN(pg_chunks), LC_KFN(pg_over), (double)LC_KFN(pg_ent)/LC_KFN(pg_chunks)); fprintf(stderr, "\n"); }
+unsigned long long LC_KFN(pg_n), LC_KFN(pg_done), LC_KFN(pg_span), LC_KFN(pg_cov), LC_KFN(pg_passes), LC_KFN(pg_hist)[10], LC_KFN(pg_fb), LC_KFN(pg_chunks), LC_KFN(pg_over), LC_KFN(pg_ent), LC_KFN(pg_p)[8]; double LC_KFN(pg_w), LC_KFN(pg_o);
+__attribute__((destructor)) static void pg_dump(void) { if (!LC_KFN(pg_n)) return; fprintf(stderr, "PGRP groups %llu done %.3f span %.1f covered %.1f passes %.2f hist(done depth /16):", LC_KFN(pg_n), (double)LC_KFN(pg_done)/LC_KFN(pg_n), (double)LC_KFN(pg_span)/LC_KFN(pg_n), (double)LC_KFN(pg_cov)/LC_KFN(pg_n), (double)LC_KFN(pg_passes)/LC_KFN(pg_n)); for (int i=0;i<10;i++) fprintf(stderr, " %llu", LC_KFN(pg_hist)[i]); fprintf(stderr, " waste %.3g over %.3g", LC_KFN(pg_w), LC_KFN(pg_o)); fprintf(stderr, " P:"); for (int i=3;i<8;i++) fprintf(stderr, " %d:%llu", 1<<i, LC_KFN(pg_p)[i]); fprintf(stderr, " fallback passes %llu chunks %llu overflow %llu entries/chunk %.0f", LC_KFN(pg_fb), LC_KFN(pg_chunks), LC_KFN(pg_over), (double)LC_KFN(pg_ent)/LC_KFN(pg_chunks)); fprintf(stderr, "\n"); }
 __attribute__((destructor)) static void pst_dump(void) { if (LC_KFN(pst_exec)) fprintf(stderr, "PSTAT exec %llu m %llu (%.3f) hm %llu (%.3f) in %llu (%.3f) blocks %llu run %llu vp %llu\n", LC_KFN(pst_exec), LC_KFN(pst_m), (double)LC_KFN(pst_m)/LC_KFN(pst_exec), LC_KFN(pst_hm), (double)LC_KFN(pst_hm)/LC_KFN(pst_exec), LC_KFN(pst_in), (double)LC_KFN(pst_in)/LC_KFN(pst_exec), LC_KFN(pst_blk), LC_KFN(pst_blkrun), LC_KFN(pst_vp)); }
 #define PST(x) (x)
 #else
@@ -44,7 +44,7 @@ typedef struct cscratch {
     float *cr, *cg, *cb, *ca;                          /* accumulated colour */
     float *sr, *sg, *sb, *sa;                          /* opaque surface */
     float *buf;                                        /* [field][row][comp][ray] */
-    int32_t *touched;                                  /* per vector: deposits this pass */
+    uint32_t *touched;                                 /* per vector: terms deposited this pass */
     int32_t *stack;
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
@@ -111,7 +111,7 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     if (base) c->buf = (float *)(base + off);
     off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)s->buffer_k * comps *
                    (uint64_t)buf_stride(g.nv) * 4);
-    if (base) c->touched = (int32_t *)(base + off);
+    if (base) c->touched = (uint32_t *)(base + off);
     off += align64((uint64_t)g.nv * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
@@ -235,9 +235,10 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         ka = ka < kp ? kp : ka;
         kb = kb > kend ? kend : kb;
         if (ka > kb) continue;
-        c->touched[v] = 1;
-        st->kernel_evals += deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, reach, tc, d2, ocx,
-                                            ocy, ocz, dx, dy, dz, m);
+        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, reach, tc, d2, ocx, ocy,
+                                     ocz, dx, dy, dz, m);
+        c->touched[v] += (uint32_t)e;
+        st->kernel_evals += e;
     }
 }
 
@@ -275,7 +276,7 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
                                      ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
            their window would otherwise mark it) */
-        if (e) c->touched[v] = 1;
+        c->touched[v] += (uint32_t)e;
         st->kernel_evals += e;
     }
 }
@@ -409,7 +410,7 @@ static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const 
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
  * group, front to back through the mode (a constant, so each mode gets its
  * own loop). */
-static inline __attribute__((always_inline)) void integrate_buffer(const lc_kparticles *s, const lc_kframe *f,
+static inline __attribute__((always_inline)) float integrate_buffer(const lc_kparticles *s, const lc_kframe *f,
                                                                    int mode, const cscratch *c,
                                                                    int nv, int K, int nf, int kp, int kend, int comps,
                                                                    const mprobe *probe, lc_kstats *st)
@@ -417,6 +418,7 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kpar
     const int rays = buf_stride(nv);
     const int skip = skip_base(s, f);
     const vfloat vbias = vf_set1(s->bias);
+    float waste = 0.0f;
     for (int v = 0; v < nv; v++) {
         int o = v * LC_W;
         vmask live = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
@@ -444,11 +446,16 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kpar
                                vf_set1((float)k * f->dt), probe);
             }
             live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
-            if (vm_none(live)) break;
+            if (vm_none(live)) {
+                /* the terms deposited behind this sample were for nothing */
+                waste += (float)c->touched[v] * (float)(kend - k) / (float)(kend - kp + 1);
+                break;
+            }
         }
         vf_store(c->cr + o, col.r), vf_store(c->cg + o, col.g);
         vf_store(c->cb + o, col.b), vf_store(c->ca + o, col.a);
     }
+    return waste;
 }
 
 /* Writes the group's pixels: each vector's rays finished in the mode, with
@@ -469,7 +476,7 @@ static inline __attribute__((always_inline)) void finish_group(const lc_kframe *
 
 /* Each ray's window in t for the samples kp..kend (live rays: not opaque and
  * with samples there; others get w0 > w1), padded by half a step against
- * round-off. Returns whether any ray is live. */
+ * round-off. Returns the number of vectors with a live ray. */
 static int set_windows(const lc_kframe *f, const cscratch *c, int nv, int kp, int kend)
 {
     const float dt = f->dt;
@@ -482,7 +489,7 @@ static int set_windows(const lc_kframe *f, const cscratch *c, int nv, int kp, in
         vfloat a = vi_to_vf(vi_max(kf, vi_set1(kp))), b = vi_to_vf(vi_min(kl, vi_set1(kend)));
         vf_store(c->w0 + o, vf_select(live, vf_mul(vf_sub(a, vf_set1(0.5f)), vf_set1(dt)), vf_set1(1.0f)));
         vf_store(c->w1 + o, vf_select(live, vf_mul(vf_add(b, vf_set1(0.5f)), vf_set1(dt)), vf_set1(-1.0f)));
-        any |= vm_any(live);
+        any += vm_any(live);
     }
     return any;
 }
@@ -555,6 +562,39 @@ static inline int pass_end(int kp, int len, int kmax)
     return e < kmax ? e : kmax;
 }
 
+/* Pass length (issue 8, session 6). Passes change no image, only the work:
+ * a long pass deposits terms behind the sample where a vector's rays all
+ * became opaque (integrate_buffer counts them: the vector's terms of the
+ * pass times the share of the pass behind that sample); a short one costs
+ * its fixed part again: windows, list scan, the set-up again of every
+ * particle and vector pair whose entry spans the boundary, the integration's
+ * per-vector setup, each BVH walk for fewer samples. With s->buffer_adapt,
+ * each group's totals of both (in deposited terms: the waste, and PASS_COST
+ * per live vector and pass for the fixed part) set the next group's pass
+ * length: halved when the waste is more than twice the fixed part, doubled
+ * when it is less than half (the two balance at the best length; a step of
+ * two moves their ratio about four times), within [PG_ANCHOR, K]; each tile
+ * starts at PASS_FIRST. PASS_COST was measured (session 6, A/B on the
+ * benchmark sets): 4 and 16 cost uniform 1e6 10-13% (passes too short on
+ * its long chords), 64 keeps its times and most of dense1e6's gain. */
+#ifndef PASS_COST
+#define PASS_COST 64.0f
+#endif
+#define PASS_FIRST 32
+
+static inline int pass_first(const lc_kparticles *s)
+{
+    return s->buffer_adapt && s->buffer_k > PASS_FIRST ? PASS_FIRST : s->buffer_k;
+}
+
+static inline int pass_adapt(const lc_kparticles *s, int P, float waste, float over)
+{
+    if (!s->buffer_adapt) return P;
+    if (waste > 2.0f * over) return P / 2 >= PG_ANCHOR ? P / 2 : P;
+    if (waste < 0.5f * over) return 2 * P <= s->buffer_k ? 2 * P : s->buffer_k;
+    return P;
+}
+
 /* One tile in mode `mode` (a constant); only iso uses the probe. Each mode
  * gets its own function below: with iso's integration, probe and finishing
  * inlined into the same function as the dvr loops, GCC compiled those loops
@@ -567,6 +607,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     coherent_layout(s, f, scratch->mem, &c);
     pgroup g = group_dims(f);
     const int nv = g.nv, rays = buf_stride(nv), K = s->buffer_k, nf = s->nfields;
+    int P = pass_first(s); /* samples per pass: K, or adapted per group (pass_adapt) */
     const int comps = mode_needs_grad(f) ? 4 : 1;
     const int vpr = g.gw / DVR_PW; /* vectors per group row */
     int vshift = 0; /* list bit of vector v: v >> vshift, < 64 */
@@ -583,11 +624,12 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             /* Listing 3, lines 4-6: passes of K samples until every ray is opaque,
                in chunks of passes that share one BVH walk (the group list) */
             int chunk = GL_FIRST_PASSES, done = 0;
+            float gwaste = 0.0f, gover = 0.0f; /* this group's, in deposited terms */
 #ifdef PSTAT
             int pg_np = 0, pg_last = kmin - 1;
 #endif
             for (int kc = kmin; kc <= kmax && !done;) {
-                int kc1 = pass_end(kc, chunk * K, kmax);
+                int kc1 = pass_end(kc, chunk * P, kmax);
                 int n = -1; /* entries in the list; -1: a walk per pass */
                 if (c.list && set_windows(f, &c, nv, kc, kc1)) n = collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
                 int fits = n >= 0;
@@ -595,8 +637,9 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                 LC_KFN(pg_chunks)++; if (n < 0) LC_KFN(pg_over)++; else LC_KFN(pg_ent) += n;
 #endif
                 for (int kp = kc, kend; kp <= kc1; kp = kend + 1) {
-                    kend = pass_end(kp, K, kc1);
-                    if (!set_windows(f, &c, nv, kp, kend)) {
+                    kend = pass_end(kp, P, kc1);
+                    int nlive = set_windows(f, &c, nv, kp, kend);
+                    if (!nlive) {
                         int alive = 0;
                         for (int v = 0; v < nv && !alive; v++) {
                             int o = v * LC_W;
@@ -620,7 +663,8 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     else
                         traverse_pass(s, f, &c, nv, vshift, kp, kend, dt, comps, st);
                     /* Listing 2, lines 11-13: integrate the buffer front to back */
-                    integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
+                    gwaste += integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
+                    gover += PASS_COST * (float)nlive;
                 }
                 if (c.list) chunk = fits ? (chunk * 2 < GL_MAX_PASSES ? chunk * 2 : GL_MAX_PASSES)
                                          : (chunk > 1 ? chunk / 2 : 1);
@@ -630,6 +674,11 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             if (kmin <= kmax) { LC_KFN(pg_n)++; LC_KFN(pg_span) += kmax - kmin + 1; LC_KFN(pg_done) += done; LC_KFN(pg_cov) += pg_last - kmin + 1; LC_KFN(pg_passes) += pg_np;
               if (done) { int b = (pg_last - kmin) / 16; LC_KFN(pg_hist)[b > 9 ? 9 : b]++; } }
 #endif
+#ifdef PSTAT
+            LC_KFN(pg_w) += gwaste, LC_KFN(pg_o) += gover;
+            if (kmin <= kmax) { int lp = 0; while ((1 << (lp + 1)) <= P) lp++; LC_KFN(pg_p)[lp > 7 ? 7 : lp]++; }
+#endif
+            P = pass_adapt(s, P, gwaste, gover);
             finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }
     }
