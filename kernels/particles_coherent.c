@@ -136,16 +136,19 @@ uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kf
  * re-anchored by a direct evaluation every PG_ANCHOR samples. The value at a
  * sample depends only on the ray, the particle and k, not on [ka, kb] (which
  * only has to hold every sample of the support in m's lanes): blocks of
- * PG_ANCHOR samples no lane's support reaches (|u| > reach on every lane,
- * reach >= the support's half chord) are skipped. Returns the terms added. */
+ * PG_ANCHOR samples where no sample of any lane passes the support test are
+ * skipped: the test of the block's sample nearest to the centre's foot (the
+ * same arithmetic as the sample's own test; when the foot lies inside the
+ * block, d_perp^2 alone, which only keeps more blocks). Returns the terms
+ * added. */
 static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int rays, int o, int comps, int kp, int ka,
-                                       int kb, float dt, float r2s, float gscale, float reach, vfloat tc, vfloat d2,
+                                       int kb, float dt, float r2s, float gscale, vfloat tc, vfloat d2,
                                        vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vmask m)
 {
     uint64_t evals = 0;
     /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
     vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
-    vfloat rr = vf_set1(r2s), vr = vf_set1(reach), vnr = vf_set1(-reach);
+    vfloat rr = vf_set1(r2s);
     /* branch-free within a run: [ka, kb] is the union of the lanes' chords,
        so almost every step has active lanes */
     /* anchors on the lattice indices that are multiples of PG_ANCHOR, not
@@ -157,7 +160,11 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
         vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
         vfloat ue = vf_sub(vf_set1((float)k1 * dt), tc);
         PST(LC_KFN(pst_blk)++);
-        if (vm_none(vm_and(m, vm_and(vf_le(u, vr), vf_ge(ue, vnr))))) continue;
+        /* the block's sample nearest to the centre's foot (u0 or ue, or 0
+           when the foot lies within the block: then conservatively d2 alone)
+           takes the sample's own support test: none passes, no term lands */
+        vfloat un = vf_max(u, vf_min(vf_zero(), ue));
+        if (vm_none(vm_and(m, vf_lt(vf_madd(un, un, d2), rr)))) continue;
         PST(LC_KFN(pst_blkrun)++);
         vfloat g, q;
         pgauss_anchor(gc, d2, u, m, &g, &q);
@@ -192,11 +199,6 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
     return evals;
 }
 
-/* The largest half chord of particle i's (conservative) support on any ray:
- * >= deposit's half = sqrt(x2 - d2) + 1e-4 rs on every lane (monotone
- * roundings), x2 = rs^2 * 1.001 + 1e-12. */
-static inline float support_reach(float rs, float x2) { return sqrtf(x2) * 1.0001f + 1e-4f * rs; }
-
 /* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
  * of the group it overlaps (Listing 2, lines 6-8), on the vectors of vbits
  * (bit v >> vshift): the walk per pass. */
@@ -205,7 +207,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
-    float x2 = r2s * 1.001f + 1e-12f, reach = support_reach(rs, x2);
+    float x2 = r2s * 1.001f + 1e-12f;
     int rays = buf_stride(nv);
     int K = s->buffer_k;
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
@@ -235,7 +237,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         ka = ka < kp ? kp : ka;
         kb = kb > kend ? kend : kb;
         if (ka > kb) continue;
-        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, reach, tc, d2, ocx, ocy,
+        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, tc, d2, ocx, ocy,
                                      ocz, dx, dy, dz, m);
         c->touched[v] += (uint32_t)e;
         st->kernel_evals += e;
@@ -255,7 +257,7 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
-    float x2 = r2s * 1.001f + 1e-12f, reach = support_reach(rs, x2);
+    float x2 = r2s * 1.001f + 1e-12f;
     int rays = buf_stride(nv);
     float *fb = c->buf + (size_t)s->field[i] * (size_t)s->buffer_k * (size_t)comps * (size_t)rays;
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
@@ -272,7 +274,7 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
         PST(LC_KFN(pst_vp)++);
-        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, reach, tc, d2, ocx,
+        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, tc, d2, ocx,
                                      ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
            their window would otherwise mark it) */
