@@ -9,16 +9,6 @@
 #include "particles_common.h"
 
 #define MAX_GROUP_RAYS 4096
-#ifdef PSTAT
-#include <stdio.h>
-unsigned long long LC_KFN(pst_exec), LC_KFN(pst_m), LC_KFN(pst_in), LC_KFN(pst_blk), LC_KFN(pst_blkrun), LC_KFN(pst_hm), LC_KFN(pst_vp);
-unsigned long long LC_KFN(pg_n), LC_KFN(pg_done), LC_KFN(pg_span), LC_KFN(pg_cov), LC_KFN(pg_passes), LC_KFN(pg_hist)[10], LC_KFN(pg_fb), LC_KFN(pg_chunks), LC_KFN(pg_over), LC_KFN(pg_ent), LC_KFN(pg_p)[8]; double LC_KFN(pg_w), LC_KFN(pg_o);
-__attribute__((destructor)) static void pg_dump(void) { if (!LC_KFN(pg_n)) return; fprintf(stderr, "PGRP groups %llu done %.3f span %.1f covered %.1f passes %.2f hist(done depth /16):", LC_KFN(pg_n), (double)LC_KFN(pg_done)/LC_KFN(pg_n), (double)LC_KFN(pg_span)/LC_KFN(pg_n), (double)LC_KFN(pg_cov)/LC_KFN(pg_n), (double)LC_KFN(pg_passes)/LC_KFN(pg_n)); for (int i=0;i<10;i++) fprintf(stderr, " %llu", LC_KFN(pg_hist)[i]); fprintf(stderr, " waste %.3g over %.3g", LC_KFN(pg_w), LC_KFN(pg_o)); fprintf(stderr, " P:"); for (int i=3;i<8;i++) fprintf(stderr, " %d:%llu", 1<<i, LC_KFN(pg_p)[i]); fprintf(stderr, " fallback passes %llu chunks %llu overflow %llu entries/chunk %.0f", LC_KFN(pg_fb), LC_KFN(pg_chunks), LC_KFN(pg_over), (double)LC_KFN(pg_ent)/LC_KFN(pg_chunks)); fprintf(stderr, "\n"); }
-__attribute__((destructor)) static void pst_dump(void) { if (LC_KFN(pst_exec)) fprintf(stderr, "PSTAT exec %llu m %llu (%.3f) hm %llu (%.3f) in %llu (%.3f) blocks %llu run %llu vp %llu\n", LC_KFN(pst_exec), LC_KFN(pst_m), (double)LC_KFN(pst_m)/LC_KFN(pst_exec), LC_KFN(pst_hm), (double)LC_KFN(pst_hm)/LC_KFN(pst_exec), LC_KFN(pst_in), (double)LC_KFN(pst_in)/LC_KFN(pst_exec), LC_KFN(pst_blk), LC_KFN(pst_blkrun), LC_KFN(pst_vp)); }
-#define PST(x) (x)
-#else
-#define PST(x) ((void)0)
-#endif
 
 typedef struct pgroup {
     int gw, gh; /* group size in pixels, multiples of DVR_PW x DVR_PH */
@@ -159,13 +149,11 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
         int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
         vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
         vfloat ue = vf_sub(vf_set1((float)k1 * dt), tc);
-        PST(LC_KFN(pst_blk)++);
         /* the block's sample nearest to the centre's foot (u0 or ue, or 0
            when the foot lies within the block: then conservatively d2 alone)
            takes the sample's own support test: none passes, no term lands */
         vfloat un = vf_max(u, vf_min(vf_zero(), ue));
         if (vm_none(vm_and(m, vf_lt(vf_madd(un, un, d2), rr)))) continue;
-        PST(LC_KFN(pst_blkrun)++);
         vfloat g, q;
         pgauss_anchor(gc, d2, u, m, &g, &q);
         for (int k = k0; k <= k1; k++) {
@@ -177,11 +165,6 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
             vfloat a = vf_madd(u, u, d2);
             vmask in = vm_and(m, vf_lt(a, rr));
             evals += (uint64_t)vm_popcnt(in);
-            PST((LC_KFN(pst_exec) += LC_W, LC_KFN(pst_m) += vm_popcnt(m), LC_KFN(pst_in) += vm_popcnt(in)));
-#ifdef PSTAT
-            { vfloat hh = vf_sqrt(vf_max(vf_sub(rr, d2), vf_zero())); vfloat u0 = vf_sub(vf_set1((float)k0 * dt), tc), u1 = vf_sub(vf_set1((float)k1 * dt), tc);
-              LC_KFN(pst_hm) += vm_popcnt(vm_and(m, vm_and(vf_le(u0, hh), vf_ge(u1, vf_sub(vf_zero(), hh))))); }
-#endif
             vfloat phi = vf_select(in, g, vf_zero());
             float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
             vf_store(row, vf_add(vf_load(row), phi));
@@ -273,7 +256,6 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
-        PST(LC_KFN(pst_vp)++);
         uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, tc, d2, ocx,
                                      ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
@@ -627,17 +609,11 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                in chunks of passes that share one BVH walk (the group list) */
             int chunk = GL_FIRST_PASSES, done = 0;
             float gwaste = 0.0f, gover = 0.0f; /* this group's, in deposited terms */
-#ifdef PSTAT
-            int pg_np = 0, pg_last = kmin - 1;
-#endif
             for (int kc = kmin; kc <= kmax && !done;) {
                 int kc1 = pass_end(kc, chunk * P, kmax);
                 int n = -1; /* entries in the list; -1: a walk per pass */
                 if (c.list && set_windows(f, &c, nv, kc, kc1)) n = collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
                 int fits = n >= 0;
-#ifdef PSTAT
-                LC_KFN(pg_chunks)++; if (n < 0) LC_KFN(pg_over)++; else LC_KFN(pg_ent) += n;
-#endif
                 for (int kp = kc, kend; kp <= kc1; kp = kend + 1) {
                     kend = pass_end(kp, P, kc1);
                     int nlive = set_windows(f, &c, nv, kp, kend);
@@ -655,9 +631,6 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                         continue;
                     }
                     st->passes++;
-#ifdef PSTAT
-                    pg_np++; pg_last = kend; if (n < 0) LC_KFN(pg_fb)++;
-#endif
                     clear_buffer(s, &c, rays, nf, K, comps, kend - kp + 1);
                     for (int v = 0; v < nv; v++) c.touched[v] = 0;
                     if (n >= 0)
@@ -672,14 +645,6 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                                          : (chunk > 1 ? chunk / 2 : 1);
                 kc = kc1 + 1;
             }
-#ifdef PSTAT
-            if (kmin <= kmax) { LC_KFN(pg_n)++; LC_KFN(pg_span) += kmax - kmin + 1; LC_KFN(pg_done) += done; LC_KFN(pg_cov) += pg_last - kmin + 1; LC_KFN(pg_passes) += pg_np;
-              if (done) { int b = (pg_last - kmin) / 16; LC_KFN(pg_hist)[b > 9 ? 9 : b]++; } }
-#endif
-#ifdef PSTAT
-            LC_KFN(pg_w) += gwaste, LC_KFN(pg_o) += gover;
-            if (kmin <= kmax) { int lp = 0; while ((1 << (lp + 1)) <= P) lp++; LC_KFN(pg_p)[lp > 7 ? 7 : lp]++; }
-#endif
             P = pass_adapt(s, P, gwaste, gover);
             finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }
