@@ -156,10 +156,12 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
         if (vm_none(vm_and(m, vf_lt(vf_madd(un, un, d2), rr)))) continue;
         vfloat g, q;
         pgauss_anchor(gc, d2, u, m, &g, &q);
+        vfloat vk = vf_set1((float)k0); /* exact: |k| < 2^24; vk dt rounds as (float)k * dt */
         for (int k = k0; k <= k1; k++) {
             if (k < ka) { /* before this pass or chord: stepped, not stored */
                 pgauss_step(gc, &g, &q);
-                u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
+                vk = vf_add(vk, vf_set1(1.0f));
+                u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
                 continue;
             }
             vfloat a = vf_madd(u, u, d2);
@@ -176,7 +178,8 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
                 vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
             }
             pgauss_step(gc, &g, &q);
-            u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
+            vk = vf_add(vk, vf_set1(1.0f));
+            u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
         }
     }
     return evals;
