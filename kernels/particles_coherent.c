@@ -38,6 +38,7 @@ typedef struct cscratch {
     int32_t *stack;
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
+    int32_t K;                                         /* buffer rows per field (buf_rows) */
 } cscratch;
 
 /* One walk per group (issue 8). Instead of walking the BVH for every pass of
@@ -82,6 +83,24 @@ static inline int buf_stride(int nv) { return nv * LC_W + 16; }
 
 static uint64_t align64(uint64_t b) { return (b + 63) & ~(uint64_t)63; }
 
+/* Samples per ray and field the buffer holds: s->buffer_k, or with
+ * s->buffer_adapt at most what fits BUF_ADAPT_BYTES per worker (the host's
+ * capacity of 128 samples holds for 8x8 groups with gradients; 16x16 groups
+ * with gradients get 32, the fixed default's buffer), a multiple of
+ * PG_ANCHOR. */
+#define BUF_ADAPT_BYTES (4u << 20)
+
+static int32_t buf_rows(const lc_kparticles *s, const lc_kframe *f, int nv)
+{
+    if (!s->buffer_adapt) return s->buffer_k;
+    uint64_t row = (uint64_t)(s->nfields > 0 ? s->nfields : 1) * (mode_needs_grad(f) ? 4u : 1u) *
+                   (uint64_t)buf_stride(nv) * 4u;
+    uint64_t k = BUF_ADAPT_BYTES / row;
+    k = k < (uint64_t)s->buffer_k ? k : (uint64_t)s->buffer_k;
+    k = k / PG_ANCHOR * PG_ANCHOR;
+    return k < PG_ANCHOR ? PG_ANCHOR : (int32_t)k;
+}
+
 static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsigned char *base, cscratch *c)
 {
     pgroup g = group_dims(f);
@@ -99,7 +118,8 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     if (base) c->kl = (int32_t *)(base + off);
     off += align64(rays * 4);
     if (base) c->buf = (float *)(base + off);
-    off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)s->buffer_k * comps *
+    c->K = buf_rows(s, f, g.nv);
+    off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)c->K * comps *
                    (uint64_t)buf_stride(g.nv) * 4);
     if (base) c->touched = (uint32_t *)(base + off);
     off += align64((uint64_t)g.nv * 4);
@@ -195,7 +215,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
     float x2 = r2s * 1.001f + 1e-12f;
     int rays = buf_stride(nv);
-    int K = s->buffer_k;
+    int K = c->K;
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
@@ -245,7 +265,7 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
     float x2 = r2s * 1.001f + 1e-12f;
     int rays = buf_stride(nv);
-    float *fb = c->buf + (size_t)s->field[i] * (size_t)s->buffer_k * (size_t)comps * (size_t)rays;
+    float *fb = c->buf + (size_t)s->field[i] * (size_t)c->K * (size_t)comps * (size_t)rays;
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     for (int v = 0; v < nv; v++) {
         if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the list found the support misses these rays */
@@ -569,16 +589,16 @@ static inline int pass_end(int kp, int len, int kmax)
 #endif
 #define PASS_FIRST 32
 
-static inline int pass_first(const lc_kparticles *s)
+static inline int pass_first(const lc_kparticles *s, int K)
 {
-    return s->buffer_adapt && s->buffer_k > PASS_FIRST ? PASS_FIRST : s->buffer_k;
+    return s->buffer_adapt && K > PASS_FIRST ? PASS_FIRST : K;
 }
 
-static inline int pass_adapt(const lc_kparticles *s, int P, float waste, float over)
+static inline int pass_adapt(const lc_kparticles *s, int K, int P, float waste, float over)
 {
     if (!s->buffer_adapt) return P;
     if (waste > 2.0f * over) return P / 2 >= PG_ANCHOR ? P / 2 : P;
-    if (waste < 0.5f * over) return 2 * P <= s->buffer_k ? 2 * P : s->buffer_k;
+    if (waste < 0.5f * over) return 2 * P <= K ? 2 * P : K;
     return P;
 }
 
@@ -593,8 +613,8 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     cscratch c;
     coherent_layout(s, f, scratch->mem, &c);
     pgroup g = group_dims(f);
-    const int nv = g.nv, rays = buf_stride(nv), K = s->buffer_k, nf = s->nfields;
-    int P = pass_first(s); /* samples per pass: K, or adapted per group (pass_adapt) */
+    const int nv = g.nv, rays = buf_stride(nv), K = c.K, nf = s->nfields;
+    int P = pass_first(s, K); /* samples per pass: K, or adapted per group (pass_adapt) */
     const int comps = mode_needs_grad(f) ? 4 : 1;
     const int vpr = g.gw / DVR_PW; /* vectors per group row */
     int vshift = 0; /* list bit of vector v: v >> vshift, < 64 */
@@ -648,7 +668,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                                          : (chunk > 1 ? chunk / 2 : 1);
                 kc = kc1 + 1;
             }
-            P = pass_adapt(s, P, gwaste, gover);
+            P = pass_adapt(s, K, P, gwaste, gover);
             finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }
     }

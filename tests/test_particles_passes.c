@@ -3,8 +3,9 @@
  * pass buffers changes which work is done, never a term or the order of the
  * terms a sample sums, so on every compiled and supported target, for dvr
  * (1 and 2 fields, diffuse shading: the gradient components, opaque spheres,
- * early termination at alpha_stop 0.6 and 0.9), mip and iso, 8x8 groups and
- * lane-width packets:
+ * early termination at alpha_stop 0.6 and 0.9), mip and iso, 8x8 groups,
+ * lane-width packets and 64x64 groups (whose adaptive buffer is capped by
+ * its size per worker):
  * - the image with the adaptive pass length (buffer_samples 0, the default)
  *   is bit-identical (memcmp) to fixed buffers of 8, 12 (not a multiple of
  *   the recurrence's anchor block: passes not aligned), 32 and 128 samples;
@@ -125,8 +126,9 @@ int main(void)
         for (int ci = 0; ci < NCASES && pv[0] && pv[1]; ci++) {
             const pcase *c = &cases[ci];
             lc_volume *p = pv[c->nfields - 1];
-            static const int packets[] = {8, 1};
-            for (int pi = 0; pi < 2; pi++) {
+            static const int packets[] = {8, 1, 64}; /* 64: 4096-ray groups, the buffer capped (24 rows with
+                                                        2 fields and gradients) */
+            for (int pi = 0; pi < 3; pi++) {
                 lc_render_stats sa, sf;
                 if (render(dev, p, c, packets[pi], 0, adapt, &sa)) {
                     CHECK(0, "%s %s packet %d: adaptive render failed", tn, c->name, packets[pi]);
