@@ -34,10 +34,11 @@ typedef struct cscratch {
     float *cr, *cg, *cb, *ca;                          /* accumulated colour */
     float *sr, *sg, *sb, *sa;                          /* opaque surface */
     float *buf;                                        /* [field][row][comp][ray] */
-    int32_t *touched;                                  /* per vector: deposits this pass */
+    uint32_t *touched;                                 /* per vector: terms deposited this pass */
     int32_t *stack;
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
+    int32_t K;                                         /* buffer rows per field (buf_rows) */
 } cscratch;
 
 /* One walk per group (issue 8). Instead of walking the BVH for every pass of
@@ -74,7 +75,31 @@ static int32_t list_cap(const lc_kparticles *s)
     return s->group_list_cap < 0 ? 0 : s->group_list_cap > 0 ? s->group_list_cap : GL_DEFAULT_CAP;
 }
 
+/* Floats between two rows (sample k, component) of the sample buffer: the
+ * group's rays and 64 bytes more, so the rows a vector touches at one
+ * position (a block of PG_ANCHOR samples, the gradient components) do not all
+ * fall on one L1 set (a power-of-two stride of 4 KB or more would). */
+static inline int buf_stride(int nv) { return nv * LC_W + 16; }
+
 static uint64_t align64(uint64_t b) { return (b + 63) & ~(uint64_t)63; }
+
+/* Samples per ray and field the buffer holds: s->buffer_k, or with
+ * s->buffer_adapt at most what fits BUF_ADAPT_BYTES per worker (the host's
+ * capacity of 128 samples holds for 8x8 groups with gradients; 16x16 groups
+ * with gradients get 32, the fixed default's buffer), a multiple of
+ * PG_ANCHOR. */
+#define BUF_ADAPT_BYTES (4u << 20)
+
+static int32_t buf_rows(const lc_kparticles *s, const lc_kframe *f, int nv)
+{
+    if (!s->buffer_adapt) return s->buffer_k;
+    uint64_t row = (uint64_t)(s->nfields > 0 ? s->nfields : 1) * (mode_needs_grad(f) ? 4u : 1u) *
+                   (uint64_t)buf_stride(nv) * 4u;
+    uint64_t k = BUF_ADAPT_BYTES / row;
+    k = k < (uint64_t)s->buffer_k ? k : (uint64_t)s->buffer_k;
+    k = k / PG_ANCHOR * PG_ANCHOR;
+    return k < PG_ANCHOR ? PG_ANCHOR : (int32_t)k;
+}
 
 static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsigned char *base, cscratch *c)
 {
@@ -93,8 +118,10 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     if (base) c->kl = (int32_t *)(base + off);
     off += align64(rays * 4);
     if (base) c->buf = (float *)(base + off);
-    off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)s->buffer_k * comps * rays * 4);
-    if (base) c->touched = (int32_t *)(base + off);
+    c->K = buf_rows(s, f, g.nv);
+    off += align64((uint64_t)(s->nfields > 0 ? s->nfields : 1) * (uint64_t)c->K * comps *
+                   (uint64_t)buf_stride(g.nv) * 4);
+    if (base) c->touched = (uint32_t *)(base + off);
     off += align64((uint64_t)g.nv * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
@@ -119,16 +146,19 @@ uint64_t LC_KFN(particles_coherent_scratch_bytes)(const void *scene, const lc_kf
  * re-anchored by a direct evaluation every PG_ANCHOR samples. The value at a
  * sample depends only on the ray, the particle and k, not on [ka, kb] (which
  * only has to hold every sample of the support in m's lanes): blocks of
- * PG_ANCHOR samples no lane's support reaches (|u| > reach on every lane,
- * reach >= the support's half chord) are skipped. Returns the terms added. */
+ * PG_ANCHOR samples where no sample of any lane passes the support test are
+ * skipped: the test of the block's sample nearest to the centre's foot (the
+ * same arithmetic as the sample's own test; when the foot lies inside the
+ * block, d_perp^2 alone, which only keeps more blocks). Returns the terms
+ * added. */
 static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int rays, int o, int comps, int kp, int ka,
-                                       int kb, float dt, float r2s, float gscale, float reach, vfloat tc, vfloat d2,
+                                       int kb, float dt, float r2s, float gscale, vfloat tc, vfloat d2,
                                        vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vmask m)
 {
     uint64_t evals = 0;
     /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
     vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
-    vfloat rr = vf_set1(r2s), vr = vf_set1(reach), vnr = vf_set1(-reach);
+    vfloat rr = vf_set1(r2s);
     /* branch-free within a run: [ka, kb] is the union of the lanes' chords,
        so almost every step has active lanes */
     /* anchors on the lattice indices that are multiples of PG_ANCHOR, not
@@ -139,13 +169,19 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
         int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
         vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
         vfloat ue = vf_sub(vf_set1((float)k1 * dt), tc);
-        if (vm_none(vm_and(m, vm_and(vf_le(u, vr), vf_ge(ue, vnr))))) continue;
+        /* the block's sample nearest to the centre's foot (u0 or ue, or 0
+           when the foot lies within the block: then conservatively d2 alone)
+           takes the sample's own support test: none passes, no term lands */
+        vfloat un = vf_max(u, vf_min(vf_zero(), ue));
+        if (vm_none(vm_and(m, vf_lt(vf_madd(un, un, d2), rr)))) continue;
         vfloat g, q;
         pgauss_anchor(gc, d2, u, m, &g, &q);
+        vfloat vk = vf_set1((float)k0); /* exact: |k| < 2^24; vk dt rounds as (float)k * dt */
         for (int k = k0; k <= k1; k++) {
             if (k < ka) { /* before this pass or chord: stepped, not stored */
                 pgauss_step(gc, &g, &q);
-                u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
+                vk = vf_add(vk, vf_set1(1.0f));
+                u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
                 continue;
             }
             vfloat a = vf_madd(u, u, d2);
@@ -162,16 +198,12 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
                 vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
             }
             pgauss_step(gc, &g, &q);
-            u = vf_sub(vf_set1((float)(k + 1) * dt), tc);
+            vk = vf_add(vk, vf_set1(1.0f));
+            u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
         }
     }
     return evals;
 }
-
-/* The largest half chord of particle i's (conservative) support on any ray:
- * >= deposit's half = sqrt(x2 - d2) + 1e-4 rs on every lane (monotone
- * roundings), x2 = rs^2 * 1.001 + 1e-12. */
-static inline float support_reach(float rs, float x2) { return sqrtf(x2) * 1.0001f + 1e-4f * rs; }
 
 /* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
  * of the group it overlaps (Listing 2, lines 6-8), on the vectors of vbits
@@ -181,9 +213,9 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
-    float x2 = r2s * 1.001f + 1e-12f, reach = support_reach(rs, x2);
-    int rays = nv * LC_W;
-    int K = s->buffer_k;
+    float x2 = r2s * 1.001f + 1e-12f;
+    int rays = buf_stride(nv);
+    int K = c->K;
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
@@ -211,9 +243,10 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         ka = ka < kp ? kp : ka;
         kb = kb > kend ? kend : kb;
         if (ka > kb) continue;
-        c->touched[v] = 1;
-        st->kernel_evals += deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, reach, tc, d2, ocx,
-                                            ocy, ocz, dx, dy, dz, m);
+        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, tc, d2, ocx, ocy,
+                                     ocz, dx, dy, dz, m);
+        c->touched[v] += (uint32_t)e;
+        st->kernel_evals += e;
     }
 }
 
@@ -230,9 +263,9 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
-    float x2 = r2s * 1.001f + 1e-12f, reach = support_reach(rs, x2);
-    int rays = nv * LC_W;
-    float *fb = c->buf + (size_t)s->field[i] * (size_t)s->buffer_k * (size_t)comps * (size_t)rays;
+    float x2 = r2s * 1.001f + 1e-12f;
+    int rays = buf_stride(nv);
+    float *fb = c->buf + (size_t)s->field[i] * (size_t)c->K * (size_t)comps * (size_t)rays;
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     for (int v = 0; v < nv; v++) {
         if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the list found the support misses these rays */
@@ -246,11 +279,11 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
-        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, reach, tc, d2, ocx,
+        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, tc, d2, ocx,
                                      ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
            their window would otherwise mark it) */
-        if (e) c->touched[v] = 1;
+        c->touched[v] += (uint32_t)e;
         st->kernel_evals += e;
     }
 }
@@ -384,14 +417,15 @@ static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const 
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
  * group, front to back through the mode (a constant, so each mode gets its
  * own loop). */
-static inline __attribute__((always_inline)) void integrate_buffer(const lc_kparticles *s, const lc_kframe *f,
+static inline __attribute__((always_inline)) float integrate_buffer(const lc_kparticles *s, const lc_kframe *f,
                                                                    int mode, const cscratch *c,
                                                                    int nv, int K, int nf, int kp, int kend, int comps,
                                                                    const mprobe *probe, lc_kstats *st)
 {
-    const int rays = nv * LC_W;
+    const int rays = buf_stride(nv);
     const int skip = skip_base(s, f);
     const vfloat vbias = vf_set1(s->bias);
+    float waste = 0.0f;
     for (int v = 0; v < nv; v++) {
         int o = v * LC_W;
         vmask live = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
@@ -419,11 +453,16 @@ static inline __attribute__((always_inline)) void integrate_buffer(const lc_kpar
                                vf_set1((float)k * f->dt), probe);
             }
             live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
-            if (vm_none(live)) break;
+            if (vm_none(live)) {
+                /* the terms deposited behind this sample were for nothing */
+                waste += (float)c->touched[v] * (float)(kend - k) / (float)(kend - kp + 1);
+                break;
+            }
         }
         vf_store(c->cr + o, col.r), vf_store(c->cg + o, col.g);
         vf_store(c->cb + o, col.b), vf_store(c->ca + o, col.a);
     }
+    return waste;
 }
 
 /* Writes the group's pixels: each vector's rays finished in the mode, with
@@ -444,7 +483,7 @@ static inline __attribute__((always_inline)) void finish_group(const lc_kframe *
 
 /* Each ray's window in t for the samples kp..kend (live rays: not opaque and
  * with samples there; others get w0 > w1), padded by half a step against
- * round-off. Returns whether any ray is live. */
+ * round-off. Returns the number of vectors with a live ray. */
 static int set_windows(const lc_kframe *f, const cscratch *c, int nv, int kp, int kend)
 {
     const float dt = f->dt;
@@ -457,7 +496,7 @@ static int set_windows(const lc_kframe *f, const cscratch *c, int nv, int kp, in
         vfloat a = vi_to_vf(vi_max(kf, vi_set1(kp))), b = vi_to_vf(vi_min(kl, vi_set1(kend)));
         vf_store(c->w0 + o, vf_select(live, vf_mul(vf_sub(a, vf_set1(0.5f)), vf_set1(dt)), vf_set1(1.0f)));
         vf_store(c->w1 + o, vf_select(live, vf_mul(vf_add(b, vf_set1(0.5f)), vf_set1(dt)), vf_set1(-1.0f)));
-        any |= vm_any(live);
+        any += vm_any(live);
     }
     return any;
 }
@@ -517,6 +556,52 @@ static inline void clear_buffer(const lc_kparticles *s, const cscratch *c, int r
         }
 }
 
+/* The last sample of a pass (or chunk) of up to len samples from kp, at most
+ * kmax. Boundaries fall on multiples of PG_ANCHOR when len is one: a block
+ * of PG_ANCHOR samples split between two passes costs each of them its
+ * anchor (two exps) per particle and vector, and the later one the steps up
+ * to its first sample. The first pass of a group is then a little shorter.
+ * Pass boundaries change no image (a sample's terms and their order do not
+ * depend on them). */
+static inline int pass_end(int kp, int len, int kmax)
+{
+    int e = len % PG_ANCHOR == 0 ? ((kp + len) & ~(PG_ANCHOR - 1)) - 1 : kp + len - 1;
+    return e < kmax ? e : kmax;
+}
+
+/* Pass length (issue 8, session 6). Passes change no image, only the work:
+ * a long pass deposits terms behind the sample where a vector's rays all
+ * became opaque (integrate_buffer counts them: the vector's terms of the
+ * pass times the share of the pass behind that sample); a short one costs
+ * its fixed part again: windows, list scan, the set-up again of every
+ * particle and vector pair whose entry spans the boundary, the integration's
+ * per-vector setup, each BVH walk for fewer samples. With s->buffer_adapt,
+ * each group's totals of both (in deposited terms: the waste, and PASS_COST
+ * per live vector and pass for the fixed part) set the next group's pass
+ * length: halved when the waste is more than twice the fixed part, doubled
+ * when it is less than half (the two balance at the best length; a step of
+ * two moves their ratio about four times), within [PG_ANCHOR, K]; each tile
+ * starts at PASS_FIRST. PASS_COST was measured (session 6, A/B on the
+ * benchmark sets): 4 and 16 cost uniform 1e6 10-13% (passes too short on
+ * its long chords), 64 keeps its times and most of dense1e6's gain. */
+#ifndef PASS_COST
+#define PASS_COST 64.0f
+#endif
+#define PASS_FIRST 32
+
+static inline int pass_first(const lc_kparticles *s, int K)
+{
+    return s->buffer_adapt && K > PASS_FIRST ? PASS_FIRST : K;
+}
+
+static inline int pass_adapt(const lc_kparticles *s, int K, int P, float waste, float over)
+{
+    if (!s->buffer_adapt) return P;
+    if (waste > 2.0f * over) return P / 2 >= PG_ANCHOR ? P / 2 : P;
+    if (waste < 0.5f * over) return 2 * P <= K ? 2 * P : K;
+    return P;
+}
+
 /* One tile in mode `mode` (a constant); only iso uses the probe. Each mode
  * gets its own function below: with iso's integration, probe and finishing
  * inlined into the same function as the dvr loops, GCC compiled those loops
@@ -528,7 +613,8 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     cscratch c;
     coherent_layout(s, f, scratch->mem, &c);
     pgroup g = group_dims(f);
-    const int nv = g.nv, rays = nv * LC_W, K = s->buffer_k, nf = s->nfields;
+    const int nv = g.nv, rays = buf_stride(nv), K = c.K, nf = s->nfields;
+    int P = pass_first(s, K); /* samples per pass: K, or adapted per group (pass_adapt) */
     const int comps = mode_needs_grad(f) ? 4 : 1;
     const int vpr = g.gw / DVR_PW; /* vectors per group row */
     int vshift = 0; /* list bit of vector v: v >> vshift, < 64 */
@@ -545,14 +631,16 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             /* Listing 3, lines 4-6: passes of K samples until every ray is opaque,
                in chunks of passes that share one BVH walk (the group list) */
             int chunk = GL_FIRST_PASSES, done = 0;
+            float gwaste = 0.0f, gover = 0.0f; /* this group's, in deposited terms */
             for (int kc = kmin; kc <= kmax && !done;) {
-                int kc1 = kc + chunk * K - 1 < kmax ? kc + chunk * K - 1 : kmax;
+                int kc1 = pass_end(kc, chunk * P, kmax);
                 int n = -1; /* entries in the list; -1: a walk per pass */
                 if (c.list && set_windows(f, &c, nv, kc, kc1)) n = collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
                 int fits = n >= 0;
-                for (int kp = kc; kp <= kc1; kp += K) {
-                    int kend = kp + K - 1 < kc1 ? kp + K - 1 : kc1;
-                    if (!set_windows(f, &c, nv, kp, kend)) {
+                for (int kp = kc, kend; kp <= kc1; kp = kend + 1) {
+                    kend = pass_end(kp, P, kc1);
+                    int nlive = set_windows(f, &c, nv, kp, kend);
+                    if (!nlive) {
                         int alive = 0;
                         for (int v = 0; v < nv && !alive; v++) {
                             int o = v * LC_W;
@@ -573,12 +661,14 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     else
                         traverse_pass(s, f, &c, nv, vshift, kp, kend, dt, comps, st);
                     /* Listing 2, lines 11-13: integrate the buffer front to back */
-                    integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
+                    gwaste += integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
+                    gover += PASS_COST * (float)nlive;
                 }
                 if (c.list) chunk = fits ? (chunk * 2 < GL_MAX_PASSES ? chunk * 2 : GL_MAX_PASSES)
                                          : (chunk > 1 ? chunk / 2 : 1);
                 kc = kc1 + 1;
             }
+            P = pass_adapt(s, K, P, gwaste, gover);
             finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }
     }

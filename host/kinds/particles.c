@@ -454,6 +454,27 @@ static int32_t group_list_cap(void)
     return v == 0 ? -1 : (int32_t)v;
 }
 
+/* LANECAST_PARTICLE_BUFFER_K (A/B runs): samples per ray per pass when the
+ * render leaves buffer_samples at 0; unset or invalid: the default. */
+static int32_t env_buffer_k(void)
+{
+    const char *e = getenv("LANECAST_PARTICLE_BUFFER_K");
+    if (!e || !*e) return 0;
+    char *end;
+    long v = strtol(e, &end, 10);
+    return *end || v < 1 || v > 4096 ? 0 : (int32_t)v;
+}
+
+/* buffer_samples 0: the coherent kernel adapts its pass length per group
+ * (particles_coherent.c pass_adapt) up to this many samples per ray and
+ * field: 128 for one field, 128 / nf rounded down to a multiple of 8 (at least 8) for
+ * more, so the buffer stays at most 128 rows. */
+static int32_t buffer_capacity(int nf)
+{
+    int32_t k = (128 / (nf > 0 ? nf : 1)) & ~7;
+    return k < 8 ? 8 : k;
+}
+
 static void kscene(const particles *p, lc_kparticles *k)
 {
     const lc_particle_params *q = &p->info.params;
@@ -475,7 +496,9 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->kappa = q->kappa;
     k->max_radius = p->info.max_radius;
     int nf = p->info.nfields;
-    k->buffer_k = q->buffer_samples == 0 ? (nf > 1 ? 64 / nf : 32) : q->buffer_samples;
+    int32_t ek = env_buffer_k();
+    k->buffer_adapt = q->buffer_samples == 0 && ek == 0;
+    k->buffer_k = q->buffer_samples != 0 ? q->buffer_samples : ek ? ek : buffer_capacity(nf);
     k->sphere_scale = q->sphere_scale;
     k->group_list_cap = group_list_cap();
     lc_box3 b = grown_bounds(p);

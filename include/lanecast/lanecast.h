@@ -272,7 +272,8 @@ LC_API lc_status lc_volume_sample(lc_device *device, const lc_volume *volume, si
 typedef struct lc_particle_params {
     float sigma;        /* truncation radius in units of r_i; 0 = 2 */
     float kappa;        /* global density scale; 0 = 1 */
-    int buffer_samples; /* samples per ray in the coherent buffer; 0 = 32 (64/M for M > 1 fields) */
+    int buffer_samples; /* samples per ray per pass in the coherent buffer; 0 = adapted per ray
+                           group (up to 128, 128/M for M > 1 fields); images do not depend on it */
     float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
 } lc_particle_params;
 

@@ -63,7 +63,8 @@ typedef struct lc_kparticles {
        walk per pass). The host sets it only for tests and A/B runs
        (LANECAST_PARTICLE_GROUP_LIST); scratch sizing reads it. */
     int32_t group_list_cap;
-    int32_t pad_;
+    int32_t buffer_adapt; /* coherent: 1 = buffer_k is the buffer's capacity and the pass length adapts
+                             per group (particles_coherent.c pass_adapt); 0 = passes of buffer_k */
 } lc_kparticles;
 _Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 16, "lc_kparticles layout");
 
