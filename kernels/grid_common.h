@@ -448,9 +448,6 @@ static inline __attribute__((always_inline)) void grid_sample_consume(const lc_k
     }
 }
 
-#ifndef GRID_PF
-#define GRID_PF 8
-#endif
 /* Samples ahead of the one being integrated whose pair-copy lines the
  * fast dvr loop prefetches (0: none). Measured (docs/bench/grid.md, issue 9
  * second round): proc512 1024^2 1.14-1.24x less CPU per frame, 256^3
@@ -560,55 +557,6 @@ static inline void grid_slice(const lc_kgrid *g, const lc_kframe *f, const lc_kt
     st->samples += (uint64_t)vm_popcnt(vf_gt(p->c.a, vf_zero()));
 }
 
-/* dvr_store with whole-row vector stores where the packlet's block lies
- * inside the tile: lane l is pixel (x + l % DVR_PW, y + l / DVR_PW), so a
- * 4x4 transpose of (r, g, b, a) per 128-bit part gives each row's DVR_PW = 4
- * pixels as 16 consecutive floats. The lane-by-lane dvr_store was ~20 % of
- * grid_bvh's own time on a 1024^2 embryo medium frame (64 lane extractions
- * and scalar stores per packlet, stalled on the image's lines). Same bytes. */
-static inline __attribute__((always_inline)) void grid_store_rgba(const lc_ktile *t, vint px, vint py,
-                                                                  const vcolor *c)
-{
-#if defined(LC_TARGET_AVX512) && LC_W == 16 && DVR_PW == 4 && DVR_PH == 4
-    int x = vi_lane(px, 0), y = vi_lane(py, 0);
-    if (x + DVR_PW <= t->x1 && y + DVR_PH <= t->y1) {
-        __m512 t0 = _mm512_unpacklo_ps(c->r, c->g), t1 = _mm512_unpackhi_ps(c->r, c->g);
-        __m512 t2 = _mm512_unpacklo_ps(c->b, c->a), t3 = _mm512_unpackhi_ps(c->b, c->a);
-        /* per 128-bit part j (row j): u_k = pixel k's (r, g, b, a) */
-        __m512 u0 = _mm512_castpd_ps(_mm512_unpacklo_pd(_mm512_castps_pd(t0), _mm512_castps_pd(t2)));
-        __m512 u1 = _mm512_castpd_ps(_mm512_unpackhi_pd(_mm512_castps_pd(t0), _mm512_castps_pd(t2)));
-        __m512 u2 = _mm512_castpd_ps(_mm512_unpacklo_pd(_mm512_castps_pd(t1), _mm512_castps_pd(t3)));
-        __m512 u3 = _mm512_castpd_ps(_mm512_unpackhi_pd(_mm512_castps_pd(t1), _mm512_castps_pd(t3)));
-        __m512 s0 = _mm512_shuffle_f32x4(u0, u1, 0x44), s1 = _mm512_shuffle_f32x4(u0, u1, 0xee);
-        __m512 s2 = _mm512_shuffle_f32x4(u2, u3, 0x44), s3 = _mm512_shuffle_f32x4(u2, u3, 0xee);
-        float *o = t->rgba + ((size_t)y * (size_t)t->stride + (size_t)x) * 4;
-        size_t row = (size_t)t->stride * 4;
-        _mm512_storeu_ps(o, _mm512_shuffle_f32x4(s0, s2, 0x88));
-        _mm512_storeu_ps(o + row, _mm512_shuffle_f32x4(s0, s2, 0xdd));
-        _mm512_storeu_ps(o + 2 * row, _mm512_shuffle_f32x4(s1, s3, 0x88));
-        _mm512_storeu_ps(o + 3 * row, _mm512_shuffle_f32x4(s1, s3, 0xdd));
-        return;
-    }
-#elif (defined(LC_TARGET_AVX2) || defined(LC_TARGET_AVX512_8)) && LC_W == 8 && DVR_PW == 4 && DVR_PH == 2
-    int x = vi_lane(px, 0), y = vi_lane(py, 0);
-    if (x + DVR_PW <= t->x1 && y + DVR_PH <= t->y1) {
-        __m256 t0 = _mm256_unpacklo_ps(c->r, c->g), t1 = _mm256_unpackhi_ps(c->r, c->g);
-        __m256 t2 = _mm256_unpacklo_ps(c->b, c->a), t3 = _mm256_unpackhi_ps(c->b, c->a);
-        /* per 128-bit half j (row j): u_k = pixel k's (r, g, b, a) */
-        __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xee);
-        __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xee);
-        float *o = t->rgba + ((size_t)y * (size_t)t->stride + (size_t)x) * 4;
-        size_t row = (size_t)t->stride * 4;
-        _mm256_storeu_ps(o, _mm256_permute2f128_ps(u0, u1, 0x20));
-        _mm256_storeu_ps(o + 8, _mm256_permute2f128_ps(u2, u3, 0x20));
-        _mm256_storeu_ps(o + row, _mm256_permute2f128_ps(u0, u1, 0x31));
-        _mm256_storeu_ps(o + row + 8, _mm256_permute2f128_ps(u2, u3, 0x31));
-        return;
-    }
-#endif
-    dvr_store(t, px, py, c);
-}
-
 /* Finishes the packlet's rays in the mode and writes the lanes inside the tile. */
 static inline void grid_finish_store(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, gpk *p, lc_kstats *st)
 {
@@ -616,7 +564,7 @@ static inline void grid_finish_store(const lc_kgrid *g, const lc_kframe *f, cons
     const mprobe probe = {grid_probe, &pc};
     vfloat depth = mode_finish(f, &p->c, &p->ray, &probe);
     if (f->mode == LC_KMODE_ISO || f->mode == LC_KMODE_SLICE) mode_store(t, f, p->px, p->py, &p->c, depth);
-    else grid_store_rgba(t, p->px, p->py, &p->c);
+    else dvr_store(t, p->px, p->py, &p->c);
 }
 
 /* Rows per step of the BVH's traversal group (grid_group_side). */
