@@ -505,7 +505,8 @@ static lc_status prepare_coherent(lc_device *dev, const rbf *p, const lc_kframe 
     k->nnodes = nn;
     k->depth = p->bvh.depth;
     k->nfields = 1;
-    k->buffer_k = 32; /* the particle kind's default for one field */
+    k->buffer_k = 128; /* the particle kind's capacity for one field, the pass length adapted per group */
+    k->buffer_adapt = 1;
     k->sigma = 1.0f, k->kappa = 1.0f;
     k->max_radius = p->info.max_support;
     const lc_box3 *b = &p->info.bounds; /* the domain: the lattice clip box of every method */
