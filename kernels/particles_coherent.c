@@ -40,9 +40,6 @@ typedef struct cscratch {
     int32_t cap;                                       /* its capacity in entries */
     int32_t K;                                         /* buffer rows per field (buf_rows) */
     float *box, *boy, *boz, *bix, *biy, *biz;          /* the block's rays (particles_glist.h) */
-    float *bw0, *bw1;                                  /* their windows in a segment */
-    int32_t *bkf, *bkl, *bact;                         /* their lattice ranges, vectors in a walk */
-    uint64_t *bgstack;                                 /* the block walk's group masks */
     struct bent *blist;                                /* the block's leaf lists (NULL: none) */
     struct bseg *bseg;                                 /* its segments */
     int32_t bcap, bn;                                  /* its capacity and use in entries */
@@ -148,8 +145,7 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     if (base && c->cap > 0) c->list = (gent *)(base + off);
     off += align64((uint64_t)c->cap * sizeof(gent));
     /* the block's rays: BL_SIDE^2 at most (particles_glist.h) */
-    float **ba[] = {&c->box, &c->boy, &c->boz, &c->bix, &c->biy, &c->biz, &c->bw0, &c->bw1,
-                    (float **)&c->bkf, (float **)&c->bkl, (float **)&c->bact};
+    float **ba[] = {&c->box, &c->boy, &c->boz, &c->bix, &c->biy, &c->biz};
     uint64_t brays = (uint64_t)BL_SIDE * BL_SIDE + LC_W;
     for (size_t i = 0; i < sizeof ba / sizeof ba[0]; i++) {
         if (base) *ba[i] = (float *)(base + off);
@@ -161,8 +157,6 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     off += align64((uint64_t)c->bcap * sizeof(bent));
     if (base) c->bseg = (bseg *)(base + off);
     off += align64((uint64_t)BL_SLOTS * sizeof(bseg));
-    if (base) c->bgstack = (uint64_t *)(base + off);
-    off += align64((uint64_t)(s->depth + 4) * 8);
     return off;
 }
 
@@ -660,7 +654,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     const pblock b = block_dims(&c, t, g);
     for (int by = t->y0; by < t->y1; by += b.bh)
     for (int bx = t->x0; bx < t->x1; bx += b.bw) {
-    if (b.on) block_setup(s, f, t, &c, g, b, bx, by);
+    if (b.on) block_setup(f, &c, g, b, bx, by);
     const int gy1 = by + b.bh < t->y1 ? by + b.bh : t->y1, gx1 = bx + b.bw < t->x1 ? bx + b.bw : t->x1;
     for (int gy = by; gy < gy1; gy += g.gh) {
         for (int gx = bx; gx < gx1; gx += g.gw) {
@@ -680,7 +674,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                 }
                 int n = -1; /* entries in the list; -1: a walk per pass */
                 if (c.list && set_windows(f, &c, nv, kc, kc1)) {
-                    const bseg *sg = b.on ? block_segment(s, f, &c, gi, b.bgx * b.bgy, nv, kc, dt, st) : NULL;
+                    const bseg *sg = b.on ? block_segment(s, f, &c, b.bgx * b.bgy, nv, kc, dt, st) : NULL;
                     n = sg ? block_group_list(s, &c, nv, vshift, gi, kc, kc1, dt, sg, st)
                            : collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
                 }

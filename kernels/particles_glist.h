@@ -30,8 +30,8 @@
  * build it). A segment that does not fit the block's pool, or a slot taken
  * by another segment, leaves the group to its own walk (collect_group). */
 
-#define BL_SIDE 16              /* block side in pixels at most */
-#define BL_SEG 128              /* samples per segment, a multiple of PG_ANCHOR */
+#define BL_SIDE 32              /* block side in pixels at most */
+#define BL_SEG 64               /* samples per segment, a multiple of PG_ANCHOR */
 #define BL_DEFAULT_CAP 32768    /* block list entries (512 KB per worker) */
 #define BL_SLOTS 128            /* segments per block kept (direct-mapped) */
 #define BL_EMPTY INT32_MIN
@@ -65,11 +65,8 @@ static inline pblock block_dims(const cscratch *c, const lc_ktile *t, pgroup g)
 static inline int seg_key(int k) { return k >= 0 ? k / BL_SEG : -((-k + BL_SEG - 1) / BL_SEG); }
 
 /* The block's rays at (bx, by), group by group (group gi's vector v at
- * gi * nv + v), as setup_vector computes them, with their lattice ranges
- * within the data's box (setup_vector's before the opaque spheres, which
- * only shorten them; empty outside the tile); the segment table emptied. */
-static void block_setup(const lc_kparticles *s, const lc_kframe *f, const lc_ktile *t, cscratch *c, pgroup g,
-                        pblock b, int bx, int by)
+ * gi * nv + v), as setup_vector computes them; the segment table emptied. */
+static void block_setup(const lc_kframe *f, cscratch *c, pgroup g, pblock b, int bx, int by)
 {
     const int nv = g.nv, vpr = g.gw / DVR_PW;
     for (int gi = 0; gi < b.bgx * b.bgy; gi++) {
@@ -79,13 +76,6 @@ static void block_setup(const lc_kparticles *s, const lc_kframe *f, const lc_kti
             vint px, py;
             dvr_packet_pixels(gx + (v % vpr) * DVR_PW, gy + (v / vpr) * DVR_PH, &px, &py);
             vray r = dvr_camera_rays(&f->cam, px, py);
-            vmask valid = vm_and(vi_lt(px, vi_set1(t->x1)), vi_lt(py, vi_set1(t->y1)));
-            vfloat t0, t1;
-            dvr_clip_box(&r, s->lo, s->hi, &t0, &t1);
-            valid = vm_and(valid, vf_le(t0, t1));
-            vint kf, kl;
-            dvr_lattice(vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), f->dt, &kf, &kl);
-            vi_store(c->bkf + o, kf), vi_store(c->bkl + o, kl);
             vf_store(c->box + o, r.ox), vf_store(c->boy + o, r.oy), vf_store(c->boz + o, r.oz);
             vf_store(c->bix + o, dvr_inv_dir(r.dx));
             vf_store(c->biy + o, dvr_inv_dir(r.dy));
@@ -105,70 +95,43 @@ static inline vmask block_hit(const cscratch *c, int o, const lc_kpnode *node, f
     return vf_le(vf_max(tn, w0), vf_min(tf, w1));
 }
 
-/* Does block vector o reach the node's grown box within its window? */
-static inline vmask block_hitw(const cscratch *c, int o, const lc_kpnode *node, float g)
+/* The block walk for the segment of key `key` (ng groups of nv vectors):
+ * the leaves reached, depth first, with their group bits, into sg; count -1
+ * when the pool is full. */
+static __attribute__((noinline)) void block_walk(const lc_kparticles *s, const lc_kframe *f, cscratch *c, int ng,
+                                                 int nv, int key, float dt, bseg *sg, lc_kstats *st)
 {
-    return block_hit(c, o, node, g, vf_load(c->bw0 + o), vf_load(c->bw1 + o));
-}
-
-/* The block walk for the segment of key `key`, for groups g0..ng-1 of nv
- * vectors (the groups before g0 are done: they get no bits): the leaves
- * reached, depth first, with their group bits, into sg; count -1 when the
- * pool is full. Each lane's window is set_windows's for the segment and the
- * lane's range in the data's box, which holds the window of every chunk of
- * the segment (same arithmetic, k within both). */
-static __attribute__((noinline)) void block_walk(const lc_kparticles *s, const lc_kframe *f, cscratch *c, int g0,
-                                                 int ng, int nv, int key, float dt, bseg *sg, lc_kstats *st)
-{
-    const int s0 = key * BL_SEG, s1 = s0 + BL_SEG - 1;
-    int na = 0; /* vectors with a live lane, in c->bact; gfirst[gi]: the first of group gi there */
-    int16_t gfirst[65];
-    for (int gi = g0; gi < ng; gi++) {
-        gfirst[gi] = (int16_t)na;
-        for (int v = gi * nv; v < gi * nv + nv; v++) {
-            int o = v * LC_W;
-            vint kf = vi_load(c->bkf + o), kl = vi_load(c->bkl + o);
-            vmask live = vm_and(vi_lt(kf, vi_set1(s1 + 1)), vi_gt(kl, vi_set1(s0 - 1)));
-            vfloat a = vi_to_vf(vi_max(kf, vi_set1(s0))), b = vi_to_vf(vi_min(kl, vi_set1(s1)));
-            vf_store(c->bw0 + o, vf_select(live, vf_mul(vf_sub(a, vf_set1(0.5f)), vf_set1(dt)), vf_set1(1.0f)));
-            vf_store(c->bw1 + o, vf_select(live, vf_mul(vf_add(b, vf_set1(0.5f)), vf_set1(dt)), vf_set1(-1.0f)));
-            if (vm_any(live)) c->bact[na++] = o;
-        }
-    }
-    gfirst[ng] = (int16_t)na;
-    /* each stack entry carries the groups whose rays reach its parent's box:
-       a child's box lies within its parent's, so only those can reach it */
+    const int nbv = ng * nv;
+    const vfloat w0 = vf_set1(((float)(key * BL_SEG) - 0.5f) * dt);
+    const vfloat w1 = vf_set1(((float)(key * BL_SEG + BL_SEG - 1) + 0.5f) * dt);
     int32_t *stack = c->stack;
-    uint64_t *gstack = c->bgstack;
     int sp = 0, n = c->bn;
     sg->key = key, sg->start = n, sg->count = -1;
-    uint64_t all = (ng - g0 >= 64 ? ~(uint64_t)0 : (((uint64_t)1 << (ng - g0)) - 1)) << g0;
-    stack[sp] = 0, gstack[sp++] = all;
+    stack[sp++] = 0;
     while (sp > 0) {
-        --sp;
-        int32_t nd = stack[sp];
-        uint64_t pm = gstack[sp];
+        int32_t nd = stack[--sp];
         const lc_kpnode *node = &s->nodes[nd];
         float g = grow(s->sigma * s->node_rmax[nd]);
         st->nodes++;
         float vb = s->kappa * s->node_ksum[nd];
         mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, nd), -INFINITY};
         if (!mode_node_matters(f, &mn)) continue;
+        if (node->count == 0) {
+            int hit = 0;
+            for (int v = 0; v < nbv && !hit; v++) hit = vm_any(block_hit(c, v * LC_W, node, g, w0, w1));
+            if (!hit) continue;
+            stack[sp++] = node->first + 1;
+            stack[sp++] = node->first;
+            continue;
+        }
         uint64_t gb = 0;
-        for (uint64_t m = pm; m; m &= m - 1) {
-            int gi = __builtin_ctzll(m);
-            for (int v = gfirst[gi]; v < gfirst[gi + 1]; v++)
-                if (vm_any(block_hitw(c, c->bact[v], node, g))) {
+        for (int gi = 0; gi < ng; gi++)
+            for (int v = gi * nv; v < gi * nv + nv; v++)
+                if (vm_any(block_hit(c, v * LC_W, node, g, w0, w1))) {
                     gb |= (uint64_t)1 << gi;
                     break;
                 }
-        }
         if (!gb) continue;
-        if (node->count == 0) {
-            stack[sp] = node->first + 1, gstack[sp++] = gb;
-            stack[sp] = node->first, gstack[sp++] = gb;
-            continue;
-        }
         if (n >= c->bcap) return; /* full: count stays -1 */
         c->blist[n++] = (bent){nd, 0, gb};
     }
@@ -176,15 +139,14 @@ static __attribute__((noinline)) void block_walk(const lc_kparticles *s, const l
     c->bn = n;
 }
 
-/* The segment holding sample k, walked when group gi first needs it (for
- * gi and the groups after it); NULL when it does
+/* The segment holding sample k, walked when first needed; NULL when it does
  * not fit or its slot holds another segment (the group walks itself). */
-static inline const bseg *block_segment(const lc_kparticles *s, const lc_kframe *f, cscratch *c, int gi, int ng, int nv,
-                                        int k, float dt, lc_kstats *st)
+static inline const bseg *block_segment(const lc_kparticles *s, const lc_kframe *f, cscratch *c, int ng, int nv, int k,
+                                        float dt, lc_kstats *st)
 {
     int key = seg_key(k);
     bseg *sg = &c->bseg[key & (BL_SLOTS - 1)];
-    if (sg->key == BL_EMPTY) block_walk(s, f, c, gi, ng, nv, key, dt, sg, st);
+    if (sg->key == BL_EMPTY) block_walk(s, f, c, ng, nv, key, dt, sg, st);
     return sg->key == key && sg->count >= 0 ? sg : NULL;
 }
 
