@@ -39,10 +39,6 @@ typedef struct cscratch {
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
     int32_t K;                                         /* buffer rows per field (buf_rows) */
-    float *box, *boy, *boz, *bix, *biy, *biz;          /* the block's rays (particles_glist.h) */
-    struct bent *blist;                                /* the block's leaf lists (NULL: none) */
-    struct bseg *bseg;                                 /* its segments */
-    int32_t bcap, bn;                                  /* its capacity and use in entries */
 } cscratch;
 
 /* One walk per group (issue 8). Instead of walking the BVH for every pass of
@@ -69,17 +65,6 @@ typedef struct gent {
     uint64_t vbits;
 } gent;
 _Static_assert(sizeof(gent) == 24, "gent layout");
-
-/* A block list entry (particles_glist.h): a leaf and the groups reaching it. */
-typedef struct bent {
-    int32_t node, pad;
-    uint64_t gbits;
-} bent;
-typedef struct bseg {
-    int32_t key, start, count;
-} bseg;
-
-#include "particles_glist.h" /* one BVH walk per block of groups */
 
 #define GL_DEFAULT_CAP 8192 /* entries (192 KB per worker) */
 #define GL_FIRST_PASSES 2
@@ -144,19 +129,6 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     c->list = NULL;
     if (base && c->cap > 0) c->list = (gent *)(base + off);
     off += align64((uint64_t)c->cap * sizeof(gent));
-    /* the block's rays: BL_SIDE^2 at most (particles_glist.h) */
-    float **ba[] = {&c->box, &c->boy, &c->boz, &c->bix, &c->biy, &c->biz};
-    uint64_t brays = (uint64_t)BL_SIDE * BL_SIDE + LC_W;
-    for (size_t i = 0; i < sizeof ba / sizeof ba[0]; i++) {
-        if (base) *ba[i] = (float *)(base + off);
-        off += align64(brays * 4);
-    }
-    c->bcap = c->cap > 0 ? block_cap(s) : 0;
-    c->blist = NULL, c->bseg = NULL, c->bn = 0;
-    if (base && c->bcap > 0) c->blist = (bent *)(base + off);
-    off += align64((uint64_t)c->bcap * sizeof(bent));
-    if (base) c->bseg = (bseg *)(base + off);
-    off += align64((uint64_t)BL_SLOTS * sizeof(bseg));
     return off;
 }
 
@@ -651,14 +623,8 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     const pprobe pc = {s, c.stack, st};
     const mprobe probe = {particles_probe, &pc};
     const mprobe *pr = mode == LC_KMODE_ISO ? &probe : NULL;
-    const pblock b = block_dims(&c, t, g);
-    for (int by = t->y0; by < t->y1; by += b.bh)
-    for (int bx = t->x0; bx < t->x1; bx += b.bw) {
-    if (b.on) block_setup(f, &c, g, b, bx, by);
-    const int gy1 = by + b.bh < t->y1 ? by + b.bh : t->y1, gx1 = bx + b.bw < t->x1 ? bx + b.bw : t->x1;
-    for (int gy = by; gy < gy1; gy += g.gh) {
-        for (int gx = bx; gx < gx1; gx += g.gw) {
-            const int gi = (gy - by) / g.gh * b.bgx + (gx - bx) / g.gw; /* group in the block */
+    for (int gy = t->y0; gy < t->y1; gy += g.gh) {
+        for (int gx = t->x0; gx < t->x1; gx += g.gw) {
             /* Listing 3, line 3: rays, their box interval and lattice range */
             int kmin, kmax;
             setup_group(s, f, t, &c, gx, gy, nv, vpr, &kmin, &kmax, st);
@@ -668,16 +634,8 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             float gwaste = 0.0f, gover = 0.0f; /* this group's, in deposited terms */
             for (int kc = kmin; kc <= kmax && !done;) {
                 int kc1 = pass_end(kc, chunk * P, kmax);
-                if (b.on) { /* a chunk lies within one segment of the block's lists */
-                    int se = (seg_key(kc) + 1) * BL_SEG - 1;
-                    kc1 = kc1 < se ? kc1 : se;
-                }
                 int n = -1; /* entries in the list; -1: a walk per pass */
-                if (c.list && set_windows(f, &c, nv, kc, kc1)) {
-                    const bseg *sg = b.on ? block_segment(s, f, &c, b.bgx * b.bgy, nv, kc, dt, st) : NULL;
-                    n = sg ? block_group_list(s, &c, nv, vshift, gi, kc, kc1, dt, sg, st)
-                           : collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
-                }
+                if (c.list && set_windows(f, &c, nv, kc, kc1)) n = collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
                 int fits = n >= 0;
                 for (int kp = kc, kend; kp <= kc1; kp = kend + 1) {
                     kend = pass_end(kp, P, kc1);
@@ -713,7 +671,6 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             P = pass_adapt(s, K, P, gwaste, gover);
             finish_group(f, mode, t, &c, gx, gy, nv, vpr, pr);
         }
-    }
     }
 }
 

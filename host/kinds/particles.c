@@ -454,19 +454,6 @@ static int32_t group_list_cap(void)
     return v == 0 ? -1 : (int32_t)v;
 }
 
-/* LANECAST_PARTICLE_BLOCK_LIST (tests and A/B runs): the coherent kernel's
- * block list capacity in entries, 0 for none (each group walks the BVH for
- * its own lists); unset or invalid: the kernel's default. */
-static int32_t block_list_cap(void)
-{
-    const char *e = getenv("LANECAST_PARTICLE_BLOCK_LIST");
-    if (!e || !*e) return 0;
-    char *end;
-    long v = strtol(e, &end, 10);
-    if (*end || v < 0 || v > (1L << 24)) return 0;
-    return v == 0 ? -1 : (int32_t)v;
-}
-
 /* LANECAST_PARTICLE_BUFFER_K (A/B runs): samples per ray per pass when the
  * render leaves buffer_samples at 0; unset or invalid: the default. */
 static int32_t env_buffer_k(void)
@@ -514,7 +501,6 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->buffer_k = q->buffer_samples != 0 ? q->buffer_samples : ek ? ek : buffer_capacity(nf);
     k->sphere_scale = q->sphere_scale;
     k->group_list_cap = group_list_cap();
-    k->block_list_cap = block_list_cap();
     lc_box3 b = grown_bounds(p);
     k->lo[0] = b.lo.x, k->lo[1] = b.lo.y, k->lo[2] = b.lo.z, k->lo[3] = 0.0f;
     k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;

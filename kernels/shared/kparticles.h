@@ -65,13 +65,7 @@ typedef struct lc_kparticles {
     int32_t group_list_cap;
     int32_t buffer_adapt; /* coherent: 1 = buffer_k is the buffer's capacity and the pass length adapts
                              per group (particles_coherent.c pass_adapt); 0 = passes of buffer_k */
-    /* coherent: entries of a block's leaf list (particles_glist.h, one walk
-       per 32x32 block of rays); 0: the default, < 0: none (each group walks
-       for its own lists). Set only for tests and A/B runs
-       (LANECAST_PARTICLE_BLOCK_LIST); scratch sizing reads it. */
-    int32_t block_list_cap;
-    int32_t pad_;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 24, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 16, "lc_kparticles layout");
 
 #endif
