@@ -406,7 +406,7 @@ static __attribute__((noinline)) void traverse_pass(const lc_kparticles *s, cons
                                                     int nv, int vshift, int kp, int kend, float dt, int comps,
                                                     lc_kstats *st)
 {
-    if (f->cam.ortho)
+    if (f->cam.ortho || s->eye_generic)
         walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 0, st);
     else
         walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 1, st);
@@ -415,7 +415,7 @@ static __attribute__((noinline)) void traverse_pass(const lc_kparticles *s, cons
 static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
                                                    int nv, int vshift, int kp, int kend, float dt, lc_kstats *st)
 {
-    return f->cam.ortho ? walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 0, st)
+    return (f->cam.ortho || s->eye_generic) ? walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 0, st)
                         : walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 1, st);
 }
 
@@ -447,7 +447,7 @@ static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const 
                                                   int nv, int vshift, int n, int kp, int kend, float dt, int comps,
                                                   lc_kstats *st)
 {
-    return f->cam.ortho ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, NULL, st)
+    return (f->cam.ortho || s->eye_generic) ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, NULL, st)
                         : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, f->cam.eye, st);
 }
 
