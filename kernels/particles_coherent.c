@@ -258,8 +258,10 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
  * the integration never reads (it takes a ray's samples kf..kl of the pass),
  * and every sample within a lane's window that deposit above fills is
  * filled here with the same value: the used samples sum the same terms. */
-static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv, int kp, int ka, int kb, float dt,
-                                 int comps, int32_t i, float cstep, uint64_t vbits, int vshift, lc_kstats *st)
+static inline __attribute__((always_inline)) void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv,
+                                                                 int kp, int ka, int kb, float dt, int comps, int32_t i,
+                                                                 float cstep, uint64_t vbits, int vshift,
+                                                                 const float *eye, lc_kstats *st)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
@@ -273,8 +275,10 @@ static inline void deposit_entry(const lc_kparticles *s, const cscratch *c, int 
         vmask m = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
         if (vm_none(m)) continue;
         vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
-        vfloat ocx = vf_sub(vf_set1(cx), vf_load(c->ox + o)), ocy = vf_sub(vf_set1(cy), vf_load(c->oy + o)),
-               ocz = vf_sub(vf_set1(cz), vf_load(c->oz + o));
+        /* eye (perspective): every lane's origin, so the differences are scalars */
+        vfloat ocx = eye ? vf_set1(cx - eye[0]) : vf_sub(vf_set1(cx), vf_load(c->ox + o));
+        vfloat ocy = eye ? vf_set1(cy - eye[1]) : vf_sub(vf_set1(cy), vf_load(c->oy + o));
+        vfloat ocz = eye ? vf_set1(cz - eye[2]) : vf_sub(vf_set1(cz), vf_load(c->oz + o));
         vfloat tc = vf_madd(ocx, dx, vf_madd(ocy, dy, vf_mul(ocz, dz)));
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
@@ -306,6 +310,20 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
     return period;
 }
 
+/* dvr_slab for rays from the eye (perspective: c->ox.. hold the eye in
+ * every lane): (lo - g) - o is the same float in every lane, so it is
+ * computed once, and the products with the inverse directions are those of
+ * dvr_slab, bit for bit. */
+static inline void slab_eye(const lc_kpnode *node, float g, float ex, float ey, float ez, vfloat ix, vfloat iy,
+                            vfloat iz, vfloat *tn, vfloat *tf)
+{
+    vfloat ax = vf_mul(vf_set1((node->lo[0] - g) - ex), ix), bx = vf_mul(vf_set1((node->hi[0] + g) - ex), ix);
+    vfloat ay = vf_mul(vf_set1((node->lo[1] - g) - ey), iy), by = vf_mul(vf_set1((node->hi[1] + g) - ey), iy);
+    vfloat az = vf_mul(vf_set1((node->lo[2] - g) - ez), iz), bz = vf_mul(vf_set1((node->hi[2] + g) - ez), iz);
+    *tn = vf_max(vf_max(vf_min(ax, bx), vf_min(ay, by)), vf_min(az, bz));
+    *tf = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
+}
+
 /* Listing 2, lines 3-10: coherent traversal for samples kp..kend (node and
  * stack uniform, rays varying), either depositing every leaf's particles
  * (collect 0: a walk per pass) or listing the leaves (collect 1, the group
@@ -316,8 +334,10 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
  * so it holds every sample of its particles' supports on a live ray. */
 static inline __attribute__((always_inline)) int walk_group(const lc_kparticles *s, const lc_kframe *f,
                                                             const cscratch *c, int nv, int vshift, int kp, int kend,
-                                                            float dt, int comps, int collect, lc_kstats *st)
+                                                            float dt, int comps, int collect, int persp,
+                                                            lc_kstats *st)
 {
+    const float ex = f->cam.eye[0], ey = f->cam.eye[1], ez = f->cam.eye[2];
     int32_t *stack = c->stack;
     int sp = 0, n = 0;
     float cnir = 1.0f, cstep = 0.0f; /* nir < 0: the first particle computes c */
@@ -340,8 +360,11 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
             int o = v * LC_W;
             vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
             vfloat tn, tf;
-            dvr_slab(vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o), vf_load(c->ix + o), vf_load(c->iy + o),
-                 vf_load(c->iz + o), node->lo, node->hi, g, &tn, &tf);
+            if (persp) /* every origin is the eye: the slab's differences are scalars (same values) */
+                slab_eye(node, g, ex, ey, ez, vf_load(c->ix + o), vf_load(c->iy + o), vf_load(c->iz + o), &tn, &tf);
+            else
+                dvr_slab(vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o), vf_load(c->ix + o),
+                         vf_load(c->iy + o), vf_load(c->iz + o), node->lo, node->hi, g, &tn, &tf);
             vfloat ta = vf_max(tn, w0), tb = vf_min(tf, w1);
             vmask h = vf_le(ta, tb);
             if (vm_any(h)) {
@@ -383,20 +406,25 @@ static __attribute__((noinline)) void traverse_pass(const lc_kparticles *s, cons
                                                     int nv, int vshift, int kp, int kend, float dt, int comps,
                                                     lc_kstats *st)
 {
-    walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, st);
+    if (f->cam.ortho || s->eye_generic)
+        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 0, st);
+    else
+        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 1, st);
 }
 
 static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
                                                    int nv, int vshift, int kp, int kend, float dt, lc_kstats *st)
 {
-    return walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, st);
+    return (f->cam.ortho || s->eye_generic) ? walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 0, st)
+                        : walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 1, st);
 }
 
 /* One pass from the group list: deposits the n entries overlapping kp..kend
  * in list order and keeps, in order, those reaching past kend. Returns the
  * entries kept. */
-static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const cscratch *c, int nv, int vshift,
-                                                  int n, int kp, int kend, float dt, int comps, lc_kstats *st)
+static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparticles *s, const cscratch *c, int nv,
+                                                                  int vshift, int n, int kp, int kend, float dt,
+                                                                  int comps, const float *eye, lc_kstats *st)
 {
     float cnir = 1.0f, cstep = 0.0f;
     int kept = 0;
@@ -406,12 +434,21 @@ static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const 
             for (int32_t i = e.first; i < e.first + e.count; i++) {
                 if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
                 deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
-                              e.vbits, vshift, st);
+                              e.vbits, vshift, eye, st);
             }
         }
         if (e.kb > kend) c->list[kept++] = e;
     }
     return kept;
+}
+
+/* The above, with the eye as every ray's origin (perspective) or not. */
+static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
+                                                  int nv, int vshift, int n, int kp, int kend, float dt, int comps,
+                                                  lc_kstats *st)
+{
+    return (f->cam.ortho || s->eye_generic) ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, NULL, st)
+                        : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, f->cam.eye, st);
 }
 
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
@@ -657,7 +694,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     clear_buffer(s, &c, rays, nf, K, comps, kend - kp + 1);
                     for (int v = 0; v < nv; v++) c.touched[v] = 0;
                     if (n >= 0)
-                        n = deposit_list(s, &c, nv, vshift, n, kp, kend, dt, comps, st);
+                        n = deposit_list(s, f, &c, nv, vshift, n, kp, kend, dt, comps, st);
                     else
                         traverse_pass(s, f, &c, nv, vshift, kp, kend, dt, comps, st);
                     /* Listing 2, lines 11-13: integrate the buffer front to back */

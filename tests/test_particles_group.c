@@ -9,6 +9,9 @@
  *   overflows and falls back to the walk per pass) and of capacity 24 (some
  *   chunks fit, some not), for 8x8 groups, lane-width packets and 16x16
  *   groups (on scalar 256 vectors: a list bit stands for 4);
+ * - with the perspective camera, the default (slab differences and centre
+ *   offsets from the eye once per group) is bit-identical to the arithmetic
+ *   per lane (LANECAST_PARTICLE_EYE=0), with lists and with the walk per pass;
  * - lists visit fewer BVH nodes than the walk per pass, and capacity 1 a
  *   number of its own (the paths really differ: an ignored capacity fails);
  * - coherent agrees with direct, and dvr and mip with the reference core
@@ -206,6 +209,20 @@ int main(int argc, char **argv)
                 } else {
                     CHECK(0, "%s %s: render failed", tn, c->name);
                 }
+                /* perspective rays share the eye: the walk's slab and the list deposit's
+                   offsets once per group (the default) = per lane, bit for bit */
+                setenv("LANECAST_PARTICLE_EYE", "0", 1);
+                if (render(dev, p, c, LC_METHOD_COHERENT, packet, NULL, other, NULL) == 0)
+                    CHECK(same_bits(other, list), "%s %s packet %d: lists, eye per lane = eye once", tn, c->name,
+                          packet);
+                else
+                    CHECK(0, "%s %s: render failed", tn, c->name);
+                if (render(dev, p, c, LC_METHOD_COHERENT, packet, "0", other, NULL) == 0)
+                    CHECK(same_bits(other, walk), "%s %s packet %d: walk per pass, eye per lane = eye once", tn,
+                          c->name, packet);
+                else
+                    CHECK(0, "%s %s: render failed", tn, c->name);
+                unsetenv("LANECAST_PARTICLE_EYE");
                 if (render(dev, p, c, LC_METHOD_COHERENT, packet, "24", other, NULL) == 0)
                     CHECK(same_bits(other, walk), "%s %s packet %d: lists of capacity 24 = walk per pass", tn,
                           c->name, packet);

@@ -454,6 +454,15 @@ static int32_t group_list_cap(void)
     return v == 0 ? -1 : (int32_t)v;
 }
 
+/* LANECAST_PARTICLE_EYE=0 (tests): the coherent kernel treats perspective
+ * rays as if their origins differed (the arithmetic per lane, not once per
+ * group); the image is the same, bit for bit. */
+static int32_t eye_generic(void)
+{
+    const char *e = getenv("LANECAST_PARTICLE_EYE");
+    return e && strcmp(e, "0") == 0;
+}
+
 /* LANECAST_PARTICLE_BUFFER_K (A/B runs): samples per ray per pass when the
  * render leaves buffer_samples at 0; unset or invalid: the default. */
 static int32_t env_buffer_k(void)
@@ -501,6 +510,7 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->buffer_k = q->buffer_samples != 0 ? q->buffer_samples : ek ? ek : buffer_capacity(nf);
     k->sphere_scale = q->sphere_scale;
     k->group_list_cap = group_list_cap();
+    k->eye_generic = eye_generic();
     lc_box3 b = grown_bounds(p);
     k->lo[0] = b.lo.x, k->lo[1] = b.lo.y, k->lo[2] = b.lo.z, k->lo[3] = 0.0f;
     k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;

@@ -65,7 +65,10 @@ typedef struct lc_kparticles {
     int32_t group_list_cap;
     int32_t buffer_adapt; /* coherent: 1 = buffer_k is the buffer's capacity and the pass length adapts
                              per group (particles_coherent.c pass_adapt); 0 = passes of buffer_k */
+    int32_t eye_generic; /* coherent: 1 = perspective rays take the per-lane origin arithmetic too
+                            (tests: LANECAST_PARTICLE_EYE=0; the same image, bit for bit) */
+    int32_t pad_;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 16, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 24, "lc_kparticles layout");
 
 #endif
