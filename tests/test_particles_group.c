@@ -25,6 +25,7 @@
 #include <string.h>
 #include "lanecast/lanecast.h"
 #include "check.h"
+#include "pclusters.h"
 #include "imgcmp.h"
 #include "ref/ref_core.h"
 #include "ref/ref_fields.h"
@@ -36,13 +37,6 @@
 #define N (3 * NCL + NBG)
 #define DT 0.06f
 
-static uint64_t rs = 0x2545f4914f6cdd1dull;
-static float urand(void)
-{
-    rs ^= rs << 13, rs ^= rs >> 7, rs ^= rs << 17;
-    return (float)(rs >> 40) / 16777216.0f;
-}
-
 static float xyz[3 * N], rad[N], val[N];
 static uint8_t fid[N];
 static double dxyz[3 * N], drad[N], dval[N];
@@ -51,15 +45,7 @@ static int dfid[N];
 static void make_data(void)
 {
     static const float cc[3][3] = {{3, 3, 4}, {6.5f, 5.5f, 5}, {4, 6.5f, 6.5f}};
-    for (int i = 0; i < N; i++) {
-        rad[i] = 0.3f + 0.15f * urand();
-        val[i] = 0.5f + urand();
-        fid[i] = (uint8_t)(i % 2);
-        for (int a = 0; a < 3; a++) {
-            if (i >= 3 * NCL) xyz[3 * i + a] = 10.0f * urand();
-            else xyz[3 * i + a] = cc[i / NCL][a] + 0.8f * (urand() + urand() + urand() - 1.5f);
-        }
-    }
+    pclusters_make(0x2545f4914f6cdd1dull, NCL, NBG, cc, 0.8f, 0.3f, 0.15f, xyz, rad, val, fid);
     for (int i = 0; i < N; i++) {
         for (int a = 0; a < 3; a++) dxyz[3 * i + a] = xyz[3 * i + a];
         drad[i] = rad[i], dval[i] = val[i], dfid[i] = fid[i];

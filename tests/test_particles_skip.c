@@ -19,6 +19,7 @@
 #include <string.h>
 #include "lanecast/lanecast.h"
 #include "check.h"
+#include "pclusters.h"
 #include "imgcmp.h"
 
 #define W 64
@@ -27,29 +28,12 @@
 #define NBG 1500
 #define N (3 * NCL + NBG)
 
-static uint64_t rs = 0x9e3779b97f4a7c15ull;
-static float urand(void)
-{
-    rs ^= rs << 13, rs ^= rs >> 7, rs ^= rs << 17;
-    return (float)(rs >> 40) / 16777216.0f;
-}
-
 static float xyz[3 * N], rad[N];
 static uint8_t fid[N];
 
 static const float cc[3][3] = {{3, 3, 4}, {7, 6, 5}, {4, 7, 7}};
 
-static void make_data(void)
-{
-    for (int i = 0; i < N; i++) {
-        rad[i] = 0.25f + 0.1f * urand();
-        fid[i] = (uint8_t)(i % 2);
-        for (int a = 0; a < 3; a++) {
-            if (i >= 3 * NCL) xyz[3 * i + a] = 10.0f * urand();
-            else xyz[3 * i + a] = cc[i / NCL][a] + 0.7f * (urand() + urand() + urand() - 1.5f);
-        }
-    }
-}
+static void make_data(void) { pclusters_make(0x9e3779b97f4a7c15ull, NCL, NBG, cc, 0.7f, 0.25f, 0.1f, xyz, rad, NULL, fid); }
 
 /* Largest field-0 value at the centres of background particles away from
  * the clusters (cluster particles lie within 1.05 of their centre per axis). */
