@@ -424,15 +424,16 @@ static inline void grid_prof_consume(const lc_kgrid *g, const lc_kframe *f, gpk 
     }
 }
 
-/* One lattice sample k at t, position (x, y, z), handed to the mode: the
+/* One lattice sample k at t, its stencil fetched, handed to the mode: the
  * general path (mip, iso, pre-integrated dvr, rda, profile stand-ins). */
 static inline __attribute__((always_inline)) void grid_sample_consume(const lc_kgrid *g, const lc_kframe *f, int mode,
                                                                       int shade, gpk *p, vmask m, vint k, vfloat t,
-                                                                      vfloat x, vfloat y, vfloat z, lc_kstats *st)
+                                                                      const gcell *cell, lc_kstats *st)
 {
     const lc_ktf *tf = &f->tf[0];
     vfloat gx = vf_zero(), gy = vf_zero(), gz = vf_zero();
-    vfloat phi = grid_sample(g, x, y, z, shade, &gx, &gy, &gz);
+    if (shade) grid_cell_grad(g, cell, &gx, &gy, &gz);
+    vfloat phi = grid_cell_value(cell);
     if (GRID_PROF & (GP_CLASS | GP_SHADE | GP_BLEND)) {
         grid_prof_consume(g, f, p, m, k, phi, gx, gy, gz);
     } else if (g->use_preint && mode == LC_KMODE_DVR) {
@@ -494,7 +495,7 @@ static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgr
     vint k = ka;
     uint64_t n = 0;
     if (GRID_PROF & GP_SAMPLE) m = vm_and(m, vm_not(m));
-    if (fast && vm_any(m)) {
+    if (vm_any(m)) {
         /* software-pipelined: the next sample's stencil (its gathers) is
            fetched before this sample is classified, shaded and blended, so
            the loads' latency overlaps that work (any lattice index gives a
@@ -506,27 +507,18 @@ static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgr
         for (;;) {
             vint kn = vi_add(k, vi_set1(1));
             vfloat tn = grid_t_of_k(g, dt, kn);
-            if (GRID_PF && g->pairs) grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
+            if (fast && GRID_PF && g->pairs) grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
             gcell next;
             grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
                       vf_fma(tn, p->ray.dz, p->ray.oz), &next);
-            grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
+            if (fast) grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
+            else grid_sample_consume(g, f, mode, shade, p, m, k, t, &cell, st);
             n += (uint64_t)vm_popcnt(m);
-            k = kn;
+            k = kn, t = tn;
             m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
             if (!vm_any(m)) break;
             cell = next;
         }
-    }
-    while (!fast && vm_any(m)) {
-        vfloat t = grid_t_of_k(g, dt, k);
-        vfloat x = vf_fma(t, p->ray.dx, p->ray.ox);
-        vfloat y = vf_fma(t, p->ray.dy, p->ray.oy);
-        vfloat z = vf_fma(t, p->ray.dz, p->ray.oz);
-        grid_sample_consume(g, f, mode, shade, p, m, k, t, x, y, z, st);
-        n += (uint64_t)vm_popcnt(m);
-        k = vi_add(k, vi_set1(1));
-        m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
     }
     st->samples += n;
     st->kernel_evals += n;
