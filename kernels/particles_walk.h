@@ -1,0 +1,305 @@
+/* The coherent particle kernel's BVH walk and deposits (Knoll et al. 2014,
+ * Listing 2, lines 3-10), included once by kernels/particles_coherent.c
+ * after its scratch layout (cscratch, gent): the exp-free Gaussian along a
+ * ray vector (deposit_samples), a leaf particle's deposit for the walk per
+ * pass (deposit) and from a group list entry (deposit_entry), the walk that
+ * deposits or lists leaves (walk_group), and the list's deposit per pass. */
+#ifndef LC_PARTICLES_WALK_H
+#define LC_PARTICLES_WALK_H
+
+/* The samples ka..kb of one vector's rays from particle i's Gaussian (and
+ * gradient), on the lanes in m that lie within its support. Exp-free
+ * (SPEC.md "Fields"): along a ray, d^2 = d_perp^2 + u^2 with u = t - tc, and
+ * the Gaussian at consecutive lattice samples follows the ratio recurrence
+ * g(k+1) = g(k) q(k), q(k+1) = q(k) c, c = exp(-dt^2 / r^2) (pgauss_step),
+ * re-anchored by a direct evaluation every PG_ANCHOR samples. The value at a
+ * sample depends only on the ray, the particle and k, not on [ka, kb] (which
+ * only has to hold every sample of the support in m's lanes): blocks of
+ * PG_ANCHOR samples where no sample of any lane passes the support test are
+ * skipped: the test of the block's sample nearest to the centre's foot (the
+ * same arithmetic as the sample's own test; when the foot lies inside the
+ * block, d_perp^2 alone, which only keeps more blocks). Returns the terms
+ * added. */
+static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int rays, int o, int comps, int kp, int ka,
+                                       int kb, float dt, float r2s, float gscale, vfloat tc, vfloat d2,
+                                       vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vmask m)
+{
+    uint64_t evals = 0;
+    /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
+    vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
+    vfloat rr = vf_set1(r2s);
+    /* branch-free within a run: [ka, kb] is the union of the lanes' chords,
+       so almost every step has active lanes */
+    /* anchors on the lattice indices that are multiples of PG_ANCHOR, not
+       at ka: ka depends on which rays share the vector and on the pass,
+       and the image must not depend on tiles, packets or threads */
+    const int kal = ka - ((ka % PG_ANCHOR) + PG_ANCHOR) % PG_ANCHOR;
+    for (int k0 = kal; k0 <= kb; k0 += PG_ANCHOR) {
+        int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
+        vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
+        vfloat ue = vf_sub(vf_set1((float)k1 * dt), tc);
+        /* the block's sample nearest to the centre's foot (u0 or ue, or 0
+           when the foot lies within the block: then conservatively d2 alone)
+           takes the sample's own support test: none passes, no term lands */
+        vfloat un = vf_max(u, vf_min(vf_zero(), ue));
+        if (vm_none(vm_and(m, vf_lt(vf_madd(un, un, d2), rr)))) continue;
+        vfloat g, q;
+        pgauss_anchor(gc, d2, u, m, &g, &q);
+        vfloat vk = vf_set1((float)k0); /* exact: |k| < 2^24; vk dt rounds as (float)k * dt */
+        for (int k = k0; k <= k1; k++) {
+            if (k < ka) { /* before this pass or chord: stepped, not stored */
+                pgauss_step(gc, &g, &q);
+                vk = vf_add(vk, vf_set1(1.0f));
+                u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
+                continue;
+            }
+            vfloat a = vf_madd(u, u, d2);
+            vmask in = vm_and(m, vf_lt(a, rr));
+            evals += (uint64_t)vm_popcnt(in);
+            vfloat phi = vf_select(in, g, vf_zero());
+            float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
+            vf_store(row, vf_add(vf_load(row), phi));
+            if (comps == 4) {
+                vfloat gp = vf_mul(phi, vf_set1(gscale));
+                vfloat ex = vf_fms(u, dx, qx), ey = vf_fms(u, dy, qy), ez = vf_fms(u, dz, qz);
+                vf_store(row + rays, vf_fma(ex, gp, vf_load(row + rays)));
+                vf_store(row + 2 * rays, vf_fma(ey, gp, vf_load(row + 2 * rays)));
+                vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
+            }
+            pgauss_step(gc, &g, &q);
+            vk = vf_add(vk, vf_set1(1.0f));
+            u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
+        }
+    }
+    return evals;
+}
+
+/* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
+ * of the group it overlaps (Listing 2, lines 6-8), on the vectors of vbits
+ * (bit v >> vshift): the walk per pass. */
+static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
+                           int32_t i, float cstep, uint64_t vbits, int vshift, lc_kstats *st)
+{
+    float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
+    float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
+    float x2 = r2s * 1.001f + 1e-12f;
+    int rays = buf_stride(nv);
+    int K = c->K;
+    float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
+    float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
+    pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
+    for (int v = 0; v < nv; v++) {
+        if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the leaf's box misses these rays */
+        int o = v * LC_W;
+        vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
+        vmask m = vf_le(w0, w1);
+        if (vm_none(m)) continue;
+        vfloat ox = vf_load(c->ox + o), oy = vf_load(c->oy + o), oz = vf_load(c->oz + o);
+        vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
+        vfloat ocx = vf_sub(vf_set1(cx), ox), ocy = vf_sub(vf_set1(cy), oy), ocz = vf_sub(vf_set1(cz), oz);
+        vfloat tc = vf_madd(ocx, dx, vf_madd(ocy, dy, vf_mul(ocz, dz)));
+        vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
+        /* conservative chord: the per-sample test below is the exact one */
+        vfloat h2 = vf_sub(vf_set1(x2), d2);
+        m = vm_and(m, vf_ge(h2, vf_zero()));
+        if (vm_none(m)) continue;
+        vfloat half = vf_add(vf_sqrt(vf_max(h2, vf_zero())), vf_set1(1e-4f * rs));
+        vfloat ta = vf_max(vf_sub(tc, half), w0), tb = vf_min(vf_add(tc, half), w1);
+        m = vm_and(m, vf_le(ta, tb));
+        if (vm_none(m)) continue;
+        int ka = (int)__builtin_floorf(vf_reduce_min_masked(m, ta) / dt);
+        int kb = (int)__builtin_ceilf(vf_reduce_max_masked(m, tb) / dt);
+        ka = ka < kp ? kp : ka;
+        kb = kb > kend ? kend : kb;
+        if (ka > kb) continue;
+        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, tc, d2, ocx, ocy,
+                                     ocz, dx, dy, dz, m);
+        c->touched[v] += (uint32_t)e;
+        st->kernel_evals += e;
+    }
+}
+
+/* The same from a group list entry (one walk per group): samples ka..kb
+ * (the entry's range over the group, clipped to the pass) on the vectors of
+ * vbits. No chord per vector: every live lane whose ray passes within the
+ * support takes part. That may add terms at samples outside a lane's own
+ * window (the same happens above wherever the range is another lane's), which
+ * the integration never reads (it takes a ray's samples kf..kl of the pass),
+ * and every sample within a lane's window that deposit above fills is
+ * filled here with the same value: the used samples sum the same terms. */
+static inline __attribute__((always_inline)) void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv,
+                                                                 int kp, int ka, int kb, float dt, int comps, int32_t i,
+                                                                 float cstep, uint64_t vbits, int vshift,
+                                                                 const float *eye, lc_kstats *st)
+{
+    float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
+    float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
+    float x2 = r2s * 1.001f + 1e-12f;
+    int rays = buf_stride(nv);
+    float *fb = c->buf + (size_t)s->field[i] * (size_t)c->K * (size_t)comps * (size_t)rays;
+    pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
+    for (int v = 0; v < nv; v++) {
+        if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the list found the support misses these rays */
+        int o = v * LC_W;
+        vmask m = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
+        if (vm_none(m)) continue;
+        vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
+        /* eye (perspective): every lane's origin, so the differences are scalars */
+        vfloat ocx = eye ? vf_set1(cx - eye[0]) : vf_sub(vf_set1(cx), vf_load(c->ox + o));
+        vfloat ocy = eye ? vf_set1(cy - eye[1]) : vf_sub(vf_set1(cy), vf_load(c->oy + o));
+        vfloat ocz = eye ? vf_set1(cz - eye[2]) : vf_sub(vf_set1(cz), vf_load(c->oz + o));
+        vfloat tc = vf_madd(ocx, dx, vf_madd(ocy, dy, vf_mul(ocz, dz)));
+        vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
+        m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
+        if (vm_none(m)) continue;
+        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, tc, d2, ocx,
+                                     ocy, ocz, dx, dy, dz, m);
+        /* integrate only where some term landed (lanes without a chord in
+           their window would otherwise mark it) */
+        c->touched[v] += (uint32_t)e;
+        st->kernel_evals += e;
+    }
+}
+
+/* dvr_slab for rays from the eye (perspective: c->ox.. hold the eye in
+ * every lane): (lo - g) - o is the same float in every lane, so it is
+ * computed once, and the products with the inverse directions are those of
+ * dvr_slab, bit for bit. */
+static inline void slab_eye(const lc_kpnode *node, float g, float ex, float ey, float ez, vfloat ix, vfloat iy,
+                            vfloat iz, vfloat *tn, vfloat *tf)
+{
+    vfloat ax = vf_mul(vf_set1((node->lo[0] - g) - ex), ix), bx = vf_mul(vf_set1((node->hi[0] + g) - ex), ix);
+    vfloat ay = vf_mul(vf_set1((node->lo[1] - g) - ey), iy), by = vf_mul(vf_set1((node->hi[1] + g) - ey), iy);
+    vfloat az = vf_mul(vf_set1((node->lo[2] - g) - ez), iz), bz = vf_mul(vf_set1((node->hi[2] + g) - ez), iz);
+    *tn = vf_max(vf_max(vf_min(ax, bx), vf_min(ay, by)), vf_min(az, bz));
+    *tf = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
+}
+
+/* Listing 2, lines 3-10: coherent traversal for samples kp..kend (node and
+ * stack uniform, rays varying), either depositing every leaf's particles
+ * (collect 0: a walk per pass) or listing the leaves (collect 1, the group
+ * list: returns the entries, or -1 when they do not fit). Both visit the
+ * leaves in the same depth-first order. A leaf's vector bits name the
+ * vectors whose rays reach its grown box (a particle's support lies in it);
+ * its range is the hull over those rays of box interval within the window,
+ * so it holds every sample of its particles' supports on a live ray. */
+static inline __attribute__((always_inline)) int walk_group(const lc_kparticles *s, const lc_kframe *f,
+                                                            const cscratch *c, int nv, int vshift, int kp, int kend,
+                                                            float dt, int comps, int collect, int persp,
+                                                            lc_kstats *st)
+{
+    const float ex = f->cam.eye[0], ey = f->cam.eye[1], ez = f->cam.eye[2];
+    int32_t *stack = c->stack;
+    int sp = 0, n = 0;
+    float cnir = 1.0f, cstep = 0.0f; /* nir < 0: the first particle computes c */
+    stack[sp++] = 0;
+    while (sp > 0) {
+        int32_t nd = stack[--sp];
+        const lc_kpnode *node = &s->nodes[nd];
+        float g = grow(s->sigma * s->node_rmax[nd]);
+        st->nodes++;
+        /* the mode's test on the node's own contribution (dvr: always) */
+        float vb = s->kappa * s->node_ksum[nd];
+        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, nd), -INFINITY};
+        if (!mode_node_matters(f, &mn)) continue;
+        /* inner nodes: does any vector's rays reach the grown box; leaves:
+           which vectors' (and, listed, over which t) */
+        uint64_t bits = 0;
+        vfloat lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
+        for (int v = 0; v < nv; v++) {
+            if (!collect && ((bits >> (v >> vshift)) & 1u)) continue;
+            int o = v * LC_W;
+            vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
+            vfloat tn, tf;
+            if (persp) /* every origin is the eye: the slab's differences are scalars (same values) */
+                slab_eye(node, g, ex, ey, ez, vf_load(c->ix + o), vf_load(c->iy + o), vf_load(c->iz + o), &tn, &tf);
+            else
+                dvr_slab(vf_load(c->ox + o), vf_load(c->oy + o), vf_load(c->oz + o), vf_load(c->ix + o),
+                         vf_load(c->iy + o), vf_load(c->iz + o), node->lo, node->hi, g, &tn, &tf);
+            vfloat ta = vf_max(tn, w0), tb = vf_min(tf, w1);
+            vmask h = vf_le(ta, tb);
+            if (vm_any(h)) {
+                bits |= (uint64_t)1 << (v >> vshift);
+                if (node->count == 0) break;
+                if (collect) {
+                    lo = vf_min(lo, vf_select(h, ta, vf_set1(INFINITY)));
+                    hi = vf_max(hi, vf_select(h, tb, vf_set1(-INFINITY)));
+                }
+            }
+        }
+        if (!bits) continue;
+        if (node->count == 0) {
+            stack[sp++] = node->first + 1;
+            stack[sp++] = node->first;
+            continue;
+        }
+        st->leaves++;
+        if (collect) {
+            int ka = (int)__builtin_floorf(vf_reduce_min(lo) / dt);
+            int kb = (int)__builtin_ceilf(vf_reduce_max(hi) / dt);
+            ka = ka < kp ? kp : ka;
+            kb = kb > kend ? kend : kb;
+            if (ka > kb) continue;
+            if (n >= c->cap) return -1;
+            c->list[n++] = (gent){node->first, node->count, ka, kb, bits};
+            continue;
+        }
+        for (int32_t i = node->first; i < node->first + node->count; i++) {
+            /* c = exp(-dt^2 / r^2) once per radius: neighbours mostly share it */
+            if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+            deposit(s, c, nv, kp, kend, dt, comps, i, cstep, bits, vshift, st);
+        }
+    }
+    return n;
+}
+
+static __attribute__((noinline)) void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
+                                                    int nv, int vshift, int kp, int kend, float dt, int comps,
+                                                    lc_kstats *st)
+{
+    if (f->cam.ortho || s->eye_generic)
+        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 0, st);
+    else
+        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 1, st);
+}
+
+static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
+                                                   int nv, int vshift, int kp, int kend, float dt, lc_kstats *st)
+{
+    return (f->cam.ortho || s->eye_generic) ? walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 0, st)
+                        : walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 1, st);
+}
+
+/* One pass from the group list: deposits the n entries overlapping kp..kend
+ * in list order and keeps, in order, those reaching past kend. Returns the
+ * entries kept. */
+static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparticles *s, const cscratch *c, int nv,
+                                                                  int vshift, int n, int kp, int kend, float dt,
+                                                                  int comps, const float *eye, lc_kstats *st)
+{
+    float cnir = 1.0f, cstep = 0.0f;
+    int kept = 0;
+    for (int j = 0; j < n; j++) {
+        gent e = c->list[j];
+        if (e.ka <= kend && e.kb >= kp) {
+            for (int32_t i = e.first; i < e.first + e.count; i++) {
+                if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+                deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
+                              e.vbits, vshift, eye, st);
+            }
+        }
+        if (e.kb > kend) c->list[kept++] = e;
+    }
+    return kept;
+}
+
+/* The above, with the eye as every ray's origin (perspective) or not. */
+static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
+                                                  int nv, int vshift, int n, int kp, int kend, float dt, int comps,
+                                                  lc_kstats *st)
+{
+    return (f->cam.ortho || s->eye_generic) ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, NULL, st)
+                        : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, f->cam.eye, st);
+}
+
+#endif
