@@ -26,8 +26,8 @@ typedef struct grid {
  * per-node TF bits for frame f under k's parameters (host/kinds/grid_tables.c):
  * the volume's cached entry when its key matches, else a new one that
  * replaces it. The caller holds a reference (NULL: out of memory) until
- * lci_grid_tables_release; lci_grid_tables_fill points k's preint,
- * preint_alpha and node_tf_bits at it. */
+ * lci_grid_tables_release; lci_grid_tables_fill points k's preint
+ * and node_tf_bits at it (the one-step opacity only feeds the node bits). */
 typedef struct lci_grid_tables lci_grid_tables;
 lci_grid_tables *lci_grid_tables_get(grid *g, const lc_kgrid *k, const lc_kframe *f, int with_nodes);
 void lci_grid_tables_fill(const lci_grid_tables *t, lc_kgrid *k);

@@ -148,6 +148,5 @@ lci_grid_tables *lci_grid_tables_get(grid *g, const lc_kgrid *k, const lc_kframe
 void lci_grid_tables_fill(const lci_grid_tables *t, lc_kgrid *k)
 {
     k->preint = t->table;
-    k->preint_alpha = t->alpha;
     k->node_tf_bits = t->bits;
 }

@@ -491,7 +491,6 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->nodes = p->bvh.nodes;
     k->node_rmax = p->bvh.rmax;
     k->node_ksum = p->node_ksum;
-    for (int f = 0; f < LC_KMAX_FIELDS; f++) k->clear_below[f] = -INFINITY; /* no skipping */
     k->px = p->px, k->py = p->py, k->pz = p->pz;
     k->r = p->r;
     k->neg_inv_2r2 = p->nir;
@@ -517,10 +516,11 @@ static void kscene(const particles *p, lc_kparticles *k)
 }
 
 /* This frame's node flags: 1 where every field present below the node has
- * |kappa| * bound <= clear_below (fields absent below it have bound 0). One
+ * |kappa| * bound <= clear_below[f], the largest value the frame's TF of
+ * field f makes fully transparent (fields absent below it have bound 0). One
  * byte per node, ~1 ms per million nodes; left NULL when no node is clear,
  * so frames that cannot skip pay nothing in the traversals. */
-static void clear_nodes(const particles *p, lc_kparticles *k, uint8_t *flags)
+static void clear_nodes(const particles *p, lc_kparticles *k, const float *clear_below, uint8_t *flags)
 {
     int nf = p->info.nfields;
     float ak = fabsf(k->kappa);
@@ -528,7 +528,7 @@ static void clear_nodes(const particles *p, lc_kparticles *k, uint8_t *flags)
     for (int32_t n = 0; n < p->bvh.nnodes; n++) {
         const float *b = p->node_fbound + (size_t)n * (size_t)nf;
         int c = 1;
-        for (int f = 0; f < nf && c; f++) c = !(b[f] > 0.0f) || ak * b[f] <= k->clear_below[f];
+        for (int f = 0; f < nf && c; f++) c = !(b[f] > 0.0f) || ak * b[f] <= clear_below[f];
         flags[n] = (uint8_t)c;
         n_clear += c;
     }
@@ -557,8 +557,9 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
     kscene(p, k);
     if (skip) {
-        for (int f = 0; f < k->nfields; f++) k->clear_below[f] = lci_tf_clear_below(&frame->tf[f]);
-        clear_nodes(p, k, (uint8_t *)k + head);
+        float clear_below[LC_KMAX_FIELDS];
+        for (int f = 0; f < k->nfields; f++) clear_below[f] = lci_tf_clear_below(&frame->tf[f]);
+        clear_nodes(p, k, clear_below, (uint8_t *)k + head);
     }
     int km = m == LC_METHOD_COHERENT ? LC_KMETHOD_FAST : LC_KMETHOD_BASE;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_PARTICLES];

@@ -495,7 +495,6 @@ static lc_status prepare_coherent(lc_device *dev, const rbf *p, const lc_kframe 
     k->nodes = p->bvh.nodes;
     k->node_rmax = p->bvh.rmax; /* the largest R below each node: sigma = 1 */
     k->node_ksum = p->node_wsum;
-    for (int f = 0; f < LC_KMAX_FIELDS; f++) k->clear_below[f] = -INFINITY;
     k->px = p->cx, k->py = p->cy, k->pz = p->cz;
     k->r = p->R;              /* support test d^2 < R^2 */
     k->neg_inv_2r2 = p->nis;  /* -1 / (2 s^2) */
@@ -515,7 +514,6 @@ static lc_status prepare_coherent(lc_device *dev, const rbf *p, const lc_kframe 
     k->bias = p->info.bias;
     if (dvr) {
         float cb = lci_tf_clear_below(&frame->tf[0]);
-        k->clear_below[0] = cb;
         k->bias_clear = k->bias <= cb;
         uint8_t *flags = (uint8_t *)k + head;
         long n_clear = 0;

@@ -54,10 +54,8 @@ typedef struct lc_kgrid {
     const lc_kgrid_node *nodes;
     int32_t nnodes;
     int32_t depth;   /* longest root-to-leaf path in nodes */
-    /* pre-integrated TF of field 0 (LC_PREINT_N^2 x (r, g, b, tau_mean)) and
-     * its opacity over one step, 1 - exp(-tau_mean dt) (LC_PREINT_N^2) */
+    /* pre-integrated TF of field 0 (LC_PREINT_N^2 x (r, g, b, tau_mean)) */
     const float *preint;
-    const float *preint_alpha;
     /* per-frame options */
     int32_t use_preint; /* classify with the pre-integrated table */
     int32_t bvh_flags;  /* LC_KGRID_CULL / PRUNE / CONST bits */
@@ -80,7 +78,7 @@ typedef struct lc_kgrid {
      * and the 1 MiB pre-integrated table (cache misses: ~15% of a BVH frame). */
     const uint8_t *node_tf_bits;
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 

@@ -47,9 +47,6 @@ typedef struct lc_kparticles {
     float sphere_scale;    /* > 0: opaque spheres of radius sphere_scale * r_i */
     float max_radius;
     float lo[4], hi[4];    /* centre bounds grown by max(sigma, sphere_scale) * max radius */
-    float clear_below[LC_KMAX_FIELDS]; /* dvr: field values at or below this are fully transparent
-                                          in this frame's TF (-inf: skip nothing); the host flags nodes
-                                          with it, samples are skipped by mode.h's step table test */
     /* A constant added to every field at every sample inside lo/hi, also where
        no particle reaches (RBF sets: w0; particles: 0). Samples a traversal
        found no particle for hold exactly bias; they are skipped as blending to
@@ -69,6 +66,6 @@ typedef struct lc_kparticles {
                             (tests: LANECAST_PARTICLE_EYE=0; the same image, bit for bit) */
     int32_t pad_;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 4 * LC_KMAX_FIELDS + 24, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 24, "lc_kparticles layout");
 
 #endif
