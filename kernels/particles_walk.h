@@ -7,6 +7,13 @@
 #ifndef LC_PARTICLES_WALK_H
 #define LC_PARTICLES_WALK_H
 
+/* The host's table of c_i = pgauss_c(nir_i, dt) (kparticles.h cstep), or
+ * NULL when there is none for this dt: then each particle computes it. */
+static inline const float *particle_cstep(const lc_kparticles *s, float dt)
+{
+    return s->cstep && s->cstep_dt == dt ? s->cstep : NULL;
+}
+
 /* The samples ka..kb of one vector's rays from particle i's Gaussian (and
  * gradient), on the lanes in m that lie within its support. Exp-free
  * (SPEC.md "Fields"): along a ray, d^2 = d_perp^2 + u^2 with u = t - tc, and
@@ -20,9 +27,11 @@
  * same arithmetic as the sample's own test; when the foot lies inside the
  * block, d_perp^2 alone, which only keeps more blocks). Returns the terms
  * added. */
-static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int rays, int o, int comps, int kp, int ka,
-                                       int kb, float dt, float r2s, float gscale, vfloat tc, vfloat d2,
-                                       vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vmask m)
+static inline __attribute__((always_inline)) uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int rays,
+                                                                       int o, int comps, int kp, int ka, int kb,
+                                                                       float dt, float r2s, float gscale, vfloat tc,
+                                                                       vfloat d2, vfloat ocx, vfloat ocy, vfloat ocz,
+                                                                       vfloat dx, vfloat dy, vfloat dz, vmask m)
 {
     uint64_t evals = 0;
     /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
@@ -192,6 +201,7 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
     int32_t *stack = c->stack;
     int sp = 0, n = 0;
     float cnir = 1.0f, cstep = 0.0f; /* nir < 0: the first particle computes c */
+    const float *ctab = particle_cstep(s, dt);
     stack[sp++] = 0;
     while (sp > 0) {
         int32_t nd = stack[--sp];
@@ -245,8 +255,9 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
             continue;
         }
         for (int32_t i = node->first; i < node->first + node->count; i++) {
-            /* c = exp(-dt^2 / r^2) once per radius: neighbours mostly share it */
-            if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+            /* c = exp(-dt^2 / r^2): the host's table, or once per radius (neighbours mostly share it) */
+            if (ctab) cstep = ctab[i];
+            else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
             deposit(s, c, nv, kp, kend, dt, comps, i, cstep, bits, vshift, st);
         }
     }
@@ -278,12 +289,14 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
                                                                   int comps, const float *eye, lc_kstats *st)
 {
     float cnir = 1.0f, cstep = 0.0f;
+    const float *ctab = particle_cstep(s, dt);
     int kept = 0;
     for (int j = 0; j < n; j++) {
         gent e = c->list[j];
         if (e.ka <= kend && e.kb >= kp) {
             for (int32_t i = e.first; i < e.first + e.count; i++) {
-                if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+                if (ctab) cstep = ctab[i];
+                else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
                 deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
                               e.vbits, vshift, eye, st);
             }
@@ -293,13 +306,19 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
     return kept;
 }
 
-/* The above, with the eye as every ray's origin (perspective) or not. */
+/* The above, with the eye as every ray's origin (perspective) or not, and
+ * with the gradient (comps 4) or without (1) as constants: the sample loop
+ * then holds no test of comps and no gradient offsets it does not use. */
 static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
                                                   int nv, int vshift, int n, int kp, int kend, float dt, int comps,
                                                   lc_kstats *st)
 {
-    return (f->cam.ortho || s->eye_generic) ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, NULL, st)
-                        : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, f->cam.eye, st);
+    int generic = f->cam.ortho || s->eye_generic;
+    if (comps == 4)
+        return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, NULL, st)
+                       : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, f->cam.eye, st);
+    return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, NULL, st)
+                   : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, f->cam.eye, st);
 }
 
 #endif
