@@ -15,10 +15,15 @@ typedef struct pgroup {
     int nv;     /* vectors in the group */
 } pgroup;
 
-static inline pgroup group_dims(const lc_kframe *f)
+/* Group side: the host's group_side when the render left packet at its
+ * default, else the frame's packet (1: one lane-width packet). Groups change
+ * no image: a sample's terms and their order do not depend on them
+ * (tests/test_particles_gsize.c). */
+static inline pgroup group_dims(const lc_kparticles *ps, const lc_kframe *f)
 {
     pgroup g;
-    int s = f->packet <= 1 ? 1 : f->packet;
+    int side = ps->group_side > 0 ? ps->group_side : f->packet;
+    int s = side <= 1 ? 1 : side;
     g.gw = s <= DVR_PW ? DVR_PW : (s + DVR_PW - 1) / DVR_PW * DVR_PW;
     g.gh = s <= DVR_PH ? DVR_PH : (s + DVR_PH - 1) / DVR_PH * DVR_PH;
     while (g.gw * g.gh > MAX_GROUP_RAYS) g.gw > g.gh ? (g.gw -= DVR_PW) : (g.gh -= DVR_PH);
@@ -103,7 +108,7 @@ static int32_t buf_rows(const lc_kparticles *s, const lc_kframe *f, int nv)
 
 static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsigned char *base, cscratch *c)
 {
-    pgroup g = group_dims(f);
+    pgroup g = group_dims(s, f);
     uint64_t rays = (uint64_t)g.nv * LC_W;
     uint64_t comps = mode_needs_grad(f) ? 4 : 1;
     uint64_t off = 0;
@@ -356,7 +361,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
 {
     cscratch c;
     coherent_layout(s, f, scratch->mem, &c);
-    pgroup g = group_dims(f);
+    pgroup g = group_dims(s, f);
     const int nv = g.nv, rays = buf_stride(nv), K = c.K, nf = s->nfields;
     int P = pass_first(s, K); /* samples per pass: K, or adapted per group (pass_adapt) */
     const int comps = mode_needs_grad(f) ? 4 : 1;

@@ -557,6 +557,21 @@ static int cstep_enabled(void)
     return !(e && !strcmp(e, "0"));
 }
 
+/* Rays per coherent group side when the render leaves packet at its default
+ * (0): 16x16 groups share one BVH walk per chunk among 4x the rays of 8x8
+ * (session 7, docs/bench/particles.md: 8-17% less CPU per close frame on
+ * the benchmark sets, far frames within noise); the image is the same.
+ * LANECAST_PARTICLE_GROUP=N (A/B runs, tests) sets another side. */
+#define GROUP_SIDE_DEFAULT 16
+
+static int32_t group_side(const lc_render_desc *d)
+{
+    if (d->packet != 0) return 0;
+    const char *e = getenv("LANECAST_PARTICLE_GROUP");
+    int v = e ? atoi(e) : 0;
+    return v >= 1 && v <= 64 ? v : GROUP_SIDE_DEFAULT;
+}
+
 /* A frame's kernel scene and the cached table it reads (released after the frame). */
 typedef struct pframe {
     lc_kparticles k;
@@ -584,6 +599,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (!pf) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
     lc_kparticles *k = &pf->k;
     kscene(p, k);
+    k->group_side = group_side(d);
     if (m == LC_METHOD_COHERENT && frame->mode != LC_KMODE_SLICE && p->info.count > 0 && cstep_enabled()) {
         particles *pm = (particles *)v; /* the cache only: behind its mutex */
         pf->cs = lci_pcstep_get(&pm->cs_mu, &pm->cs, p->nir, p->info.count, frame->dt);

@@ -70,7 +70,10 @@ typedef struct lc_kparticles {
        dt. NULL: the kernel computes it. */
     float cstep_dt;
     const float *cstep;
+    int32_t group_side; /* coherent: rays per group side when > 0 (the render desc left packet at its
+                           default; particles_coherent.c group_dims), else the frame's packet */
+    int32_t pad_;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 24, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32, "lc_kparticles layout");
 
 #endif
