@@ -41,6 +41,8 @@ typedef struct cscratch {
     float *buf;                                        /* [field][row][comp][ray] */
     uint32_t *touched;                                 /* per vector: terms deposited this pass */
     int32_t *stack;
+    float *vq;                                         /* per vector: interval bounds (walk's vcull) */
+    int32_t nvq;                                       /* vq's row length: nv rounded up to LC_W */
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
     int32_t K;                                         /* buffer rows per field (buf_rows) */
@@ -128,6 +130,9 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
                    (uint64_t)buf_stride(g.nv) * 4);
     if (base) c->touched = (uint32_t *)(base + off);
     off += align64((uint64_t)g.nv * 4);
+    c->nvq = (g.nv + LC_W - 1) / LC_W * LC_W;
+    if (base) c->vq = (float *)(base + off);
+    off += align64((uint64_t)c->nvq * 8 * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
     c->cap = list_cap(s);

@@ -239,6 +239,65 @@ static inline int gcull_misses(const gcull *q, const lc_kpnode *node, float g, f
     return en > xt || en > q->w1max || xt < q->w0min;
 }
 
+/* The same bounds per ray vector, tested for LC_W vectors at once (groups
+ * of at most VCULL_MAX_SETS x LC_W vectors, and at most 64): rows of c->vq
+ * hold each vector's ix0, ix1, iy0, iy1, iz0, iz1 over its lanes and its
+ * live lanes' w0min, w1max (a vector without live lanes, or past nv:
+ * w0min = +inf, w1max = -inf). vcull_node gives a bit per vector whose rays
+ * may hit the node (every vector the slab test hits among them), so the
+ * slab tests run only on those. */
+#define VCULL_MAX_SETS 4
+
+static inline int vcull_on(int nv) { return nv <= 64 && nv <= VCULL_MAX_SETS * LC_W; }
+
+static inline void vcull_make(const cscratch *c, int nv)
+{
+    const int q = c->nvq;
+    float *r = c->vq;
+    for (int v = 0; v < q; v++) {
+        if (v >= nv) {
+            for (int k = 0; k < 6; k++) r[k * q + v] = 0.0f;
+            r[6 * q + v] = INFINITY, r[7 * q + v] = -INFINITY;
+            continue;
+        }
+        int o = v * LC_W;
+        vfloat ix = vf_load(c->ix + o), iy = vf_load(c->iy + o), iz = vf_load(c->iz + o);
+        vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
+        vmask live = vf_le(w0, w1);
+        r[v] = vf_reduce_min(ix), r[q + v] = vf_reduce_max(ix);
+        r[2 * q + v] = vf_reduce_min(iy), r[3 * q + v] = vf_reduce_max(iy);
+        r[4 * q + v] = vf_reduce_min(iz), r[5 * q + v] = vf_reduce_max(iz);
+        r[6 * q + v] = vf_reduce_min(vf_select(live, w0, vf_set1(INFINITY)));
+        r[7 * q + v] = vf_reduce_max(vf_select(live, w1, vf_set1(-INFINITY)));
+    }
+}
+
+static inline uint64_t vcull_node(const cscratch *c, const lc_kpnode *node, float g, float ex, float ey, float ez)
+{
+    const int q = c->nvq;
+    const float *r = c->vq;
+    const vfloat ax = vf_set1((node->lo[0] - g) - ex), bx = vf_set1((node->hi[0] + g) - ex);
+    const vfloat ay = vf_set1((node->lo[1] - g) - ey), by = vf_set1((node->hi[1] + g) - ey);
+    const vfloat az = vf_set1((node->lo[2] - g) - ez), bz = vf_set1((node->hi[2] + g) - ez);
+    uint64_t bits = 0;
+    for (int v = 0; v < q; v += LC_W) {
+        vfloat i0 = vf_load(r + v), i1 = vf_load(r + q + v);
+        vfloat p0 = vf_mul(ax, i0), p1 = vf_mul(ax, i1), p2 = vf_mul(bx, i0), p3 = vf_mul(bx, i1);
+        vfloat en = vf_min(vf_min(p0, p1), vf_min(p2, p3)), xt = vf_max(vf_max(p0, p1), vf_max(p2, p3));
+        i0 = vf_load(r + 2 * q + v), i1 = vf_load(r + 3 * q + v);
+        p0 = vf_mul(ay, i0), p1 = vf_mul(ay, i1), p2 = vf_mul(by, i0), p3 = vf_mul(by, i1);
+        en = vf_max(en, vf_min(vf_min(p0, p1), vf_min(p2, p3)));
+        xt = vf_min(xt, vf_max(vf_max(p0, p1), vf_max(p2, p3)));
+        i0 = vf_load(r + 4 * q + v), i1 = vf_load(r + 5 * q + v);
+        p0 = vf_mul(az, i0), p1 = vf_mul(az, i1), p2 = vf_mul(bz, i0), p3 = vf_mul(bz, i1);
+        en = vf_max(en, vf_min(vf_min(p0, p1), vf_min(p2, p3)));
+        xt = vf_min(xt, vf_max(vf_max(p0, p1), vf_max(p2, p3)));
+        vmask h = vm_and(vf_le(en, xt), vm_and(vf_le(en, vf_load(r + 7 * q + v)), vf_ge(xt, vf_load(r + 6 * q + v))));
+        bits |= (uint64_t)vm_bits(h) << v;
+    }
+    return bits;
+}
+
 /* Listing 2, lines 3-10: coherent traversal for samples kp..kend (node and
  * stack uniform, rays varying), either depositing every leaf's particles
  * (collect 0: a walk per pass) or listing the leaves (collect 1, the group
@@ -258,7 +317,9 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
     float cnir = 1.0f, cstep = 0.0f; /* nir < 0: the first particle computes c */
     const float *ctab = particle_cstep(s, dt);
     gcull gq = {0};
-    if (persp) gq = gcull_make(c, nv);
+    const int vc = persp && vcull_on(nv);
+    if (vc) vcull_make(c, nv);
+    else if (persp) gq = gcull_make(c, nv);
     stack[sp++] = 0;
     while (sp > 0) {
         int32_t nd = stack[--sp];
@@ -267,14 +328,27 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
         st->nodes++;
         /* the mode's test on the node's own contribution (dvr: always) */
         float vb = s->kappa * s->node_ksum[nd];
-        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, nd), -INFINITY};
+        /* fmin2/fmax2, not fminf/fmaxf (library calls here; vb is never NaN) */
+        mnode mn = {fmin2(vb, 0.0f), fmax2(vb, 0.0f), 0, node_clear(s, nd), -INFINITY};
         if (!mode_node_matters(f, &mn)) continue;
-        if (persp && gcull_misses(&gq, node, g, ex, ey, ez)) continue;
+        /* the vectors whose rays may hit the node: the slab tests run on those only */
+        uint64_t cand = ~(uint64_t)0;
+        if (vc) {
+            cand = vcull_node(c, node, g, ex, ey, ez);
+            if (!cand) continue;
+        } else if (persp && gcull_misses(&gq, node, g, ex, ey, ez)) {
+            continue;
+        }
         /* inner nodes: does any vector's rays reach the grown box; leaves:
            which vectors' (and, listed, over which t) */
         uint64_t bits = 0;
         vfloat lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
         for (int v = 0; v < nv; v++) {
+            if (vc) { /* the next candidate vector (none left: done) */
+                uint64_t rest = cand >> v;
+                if (!rest) break;
+                v += __builtin_ctzll(rest);
+            }
             if (!collect && ((bits >> (v >> vshift)) & 1u)) continue;
             int o = v * LC_W;
             vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
