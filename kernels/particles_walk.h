@@ -139,7 +139,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
 static inline __attribute__((always_inline)) void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv,
                                                                  int kp, int ka, int kb, float dt, int comps, int32_t i,
                                                                  float cstep, uint64_t vbits, int vshift,
-                                                                 const float *eye, lc_kstats *st)
+                                                                 uint64_t live, const float *eye, lc_kstats *st)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
@@ -147,8 +147,17 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
     int rays = buf_stride(nv);
     float *fb = c->buf + (size_t)s->field[i] * (size_t)c->K * (size_t)comps * (size_t)rays;
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
+    /* vshift 0: the set bits of vbits (the list found the support misses
+       the other vectors) among the live vectors, in order */
+    uint64_t todo = vshift ? 0 : vbits & live;
     for (int v = 0; v < nv; v++) {
-        if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the list found the support misses these rays */
+        if (!vshift) {
+            if (!todo) break;
+            v = __builtin_ctzll(todo);
+            todo &= todo - 1;
+        } else if (!((vbits >> (v >> vshift)) & 1u)) {
+            continue;
+        }
         int o = v * LC_W;
         vmask m = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
         if (vm_none(m)) continue;
@@ -423,6 +432,9 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
     float cnir = 1.0f, cstep = 0.0f;
     const float *ctab = particle_cstep(s, dt);
     int kept = 0;
+    uint64_t live = 0; /* vectors with a live ray (nv <= 64; unused otherwise) */
+    for (int v = 0; v < nv && v < 64; v++)
+        live |= (uint64_t)vm_any(vf_le(vf_load(c->w0 + v * LC_W), vf_load(c->w1 + v * LC_W))) << v;
     for (int j = 0; j < n; j++) {
         gent e = c->list[j];
         if (e.ka <= kend && e.kb >= kp) {
@@ -430,7 +442,7 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
                 if (ctab) cstep = ctab[i];
                 else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
                 deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
-                              e.vbits, vshift, eye, st);
+                              e.vbits, vshift, live, eye, st);
             }
         }
         if (e.kb > kend) c->list[kept++] = e;
