@@ -41,6 +41,8 @@ typedef struct cscratch {
     float *buf;                                        /* [field][row][comp][ray] */
     uint32_t *touched;                                 /* per vector: terms deposited this pass */
     int32_t *stack;
+    float *kdt;                                        /* this pass: kdt[k - kp + PG_ANCHOR] = (float)k * dt,
+                                                          k = kp - PG_ANCHOR .. kend + 1 */
     float *vq;                                         /* per vector: interval bounds (walk's vcull) */
     int32_t nvq;                                       /* vq's row length: nv rounded up to LC_W */
     struct gent *list;                                 /* the group's particle list (NULL: none) */
@@ -130,6 +132,8 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
                    (uint64_t)buf_stride(g.nv) * 4);
     if (base) c->touched = (uint32_t *)(base + off);
     off += align64((uint64_t)g.nv * 4);
+    if (base) c->kdt = (float *)(base + off);
+    off += align64((uint64_t)(c->K + PG_ANCHOR + 1) * 4);
     c->nvq = (g.nv + LC_W - 1) / LC_W * LC_W;
     if (base) c->vq = (float *)(base + off);
     off += align64((uint64_t)c->nvq * 8 * 4);
@@ -409,6 +413,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     }
                     st->passes++;
                     clear_buffer(s, &c, rays, nf, K, comps, kend - kp + 1);
+                    for (int k = kp - PG_ANCHOR; k <= kend + 1; k++) c.kdt[k - kp + PG_ANCHOR] = (float)k * dt;
                     for (int v = 0; v < nv; v++) c.touched[v] = 0;
                     if (n >= 0)
                         n = deposit_list(s, f, &c, nv, vshift, n, kp, kend, dt, comps, st);

@@ -27,9 +27,10 @@ static inline const float *particle_cstep(const lc_kparticles *s, float dt)
  * same arithmetic as the sample's own test; when the foot lies inside the
  * block, d_perp^2 alone, which only keeps more blocks). Returns the terms
  * added. */
-static inline __attribute__((always_inline)) uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int rays,
+static inline __attribute__((always_inline)) uint64_t deposit_samples(const pgauss_consts *gc, const float *kdt,
+                                                                       float *fb, int rays,
                                                                        int o, int comps, int kp, int ka, int kb,
-                                                                       float dt, float r2s, float gscale, vfloat tc,
+                                                                       float r2s, float gscale, vfloat tc,
                                                                        vfloat d2, vfloat ocx, vfloat ocy, vfloat ocz,
                                                                        vfloat dx, vfloat dy, vfloat dz, vmask m)
 {
@@ -45,8 +46,10 @@ static inline __attribute__((always_inline)) uint64_t deposit_samples(const pgau
     const int kal = ka - ((ka % PG_ANCHOR) + PG_ANCHOR) % PG_ANCHOR;
     for (int k0 = kal; k0 <= kb; k0 += PG_ANCHOR) {
         int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
-        vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
-        vfloat ue = vf_sub(vf_set1((float)k1 * dt), tc);
+        /* (float)k * dt from the pass's table (k >= kp - PG_ANCHOR here) */
+        const float *kd = kdt + (PG_ANCHOR - kp);
+        vfloat u = vf_sub(vf_set1(kd[k0]), tc);
+        vfloat ue = vf_sub(vf_set1(kd[k1]), tc);
         /* the block's sample nearest to the centre's foot (u0 or ue, or 0
            when the foot lies within the block: then conservatively d2 alone)
            takes the sample's own support test: none passes, no term lands */
@@ -54,12 +57,10 @@ static inline __attribute__((always_inline)) uint64_t deposit_samples(const pgau
         if (vm_none(vm_and(m, vf_lt(vf_madd(un, un, d2), rr)))) continue;
         vfloat g, q;
         pgauss_anchor(gc, d2, u, m, &g, &q);
-        vfloat vk = vf_set1((float)k0); /* exact: |k| < 2^24; vk dt rounds as (float)k * dt */
         for (int k = k0; k <= k1; k++) {
             if (k < ka) { /* before this pass or chord: stepped, not stored */
                 pgauss_step(gc, &g, &q);
-                vk = vf_add(vk, vf_set1(1.0f));
-                u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
+                u = vf_sub(vf_set1(kd[k + 1]), tc);
                 continue;
             }
             vfloat a = vf_madd(u, u, d2);
@@ -76,8 +77,7 @@ static inline __attribute__((always_inline)) uint64_t deposit_samples(const pgau
                 vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
             }
             pgauss_step(gc, &g, &q);
-            vk = vf_add(vk, vf_set1(1.0f));
-            u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
+            u = vf_sub(vf_set1(kd[k + 1]), tc);
         }
     }
     return evals;
@@ -121,7 +121,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         ka = ka < kp ? kp : ka;
         kb = kb > kend ? kend : kb;
         if (ka > kb) continue;
-        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, tc, d2, ocx, ocy,
+        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, gscale, tc, d2, ocx, ocy,
                                      ocz, dx, dy, dz, m);
         c->touched[v] += (uint32_t)e;
         st->kernel_evals += e;
@@ -170,7 +170,7 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
-        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, tc, d2, ocx,
+        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, 2.0f * nir, tc, d2, ocx,
                                      ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
            their window would otherwise mark it) */
