@@ -27,7 +27,9 @@ static const char help[] =
     "  --targets LIST     scalar,sse4,avx2,avx512,avx512_8 (default: every supported)\n"
     "  --threads LIST     e.g. 1,2 (default 1,2)\n"
     "  --methods LIST     coherent,direct (default coherent,direct)\n"
-    "  --packets LIST     8,1 (default 8)\n"
+    "  --packets LIST     group sides in rays: 0 = the library's default (16x16 groups for the\n"
+    "                     coherent method), 8 = 8x8 groups, 1 = lane-width packets (default 0)\n"
+    "                     e.g. bench_particles --sets 1e6 --packets 0,8 --methods coherent\n"
     "  --views LIST       far,close (default far,close)\n"
     "  --repeats N        timed renders per case (default 5; at least 1)\n"
     "  --min-seconds S    stop repeating a case after S seconds once 1 render is done (default 20)\n"
@@ -205,11 +207,12 @@ static void run_set(const cfg *c, const char *set)
                 for (int mi = 0; mi < 2; mi++) {
                     const char *mn = mi ? "direct" : "coherent";
                     if (!in_list(c->methods, mn)) continue;
-                    for (int pk = 1; pk <= 64; pk++) {
+                    int direct_done = 0; /* direct ignores packets: its first only */
+                    for (int pk = 0; pk <= 64; pk++) {
                         char pks[16];
                         snprintf(pks, sizeof pks, "%d", pk);
                         if (!in_list(c->packets, pks)) continue;
-                        if (mi == 1 && pk != 8 && in_list(c->packets, "8")) continue; /* direct ignores packets */
+                        if (mi == 1 && direct_done++) continue;
                         lc_render_desc d = {.width = c->width, .height = c->height, .camera = cam, .tf = tf,
                                             .volume = p, .method = mi ? LC_METHOD_DIRECT : LC_METHOD_COHERENT,
                                             .packet = pk};
@@ -259,7 +262,7 @@ static void run_set(const cfg *c, const char *set)
 
 int main(int argc, char **argv)
 {
-    cfg c = {1024, 1024, 5, 1, 20.0, NULL, "1,2", "coherent,direct", "8", "far,close", "1e4,1e5,1e6,1tii,1tw7",
+    cfg c = {1024, 1024, 5, 1, 20.0, NULL, "1,2", "coherent,direct", "0", "far,close", "1e4,1e5,1e6,1tii,1tw7",
              "../shared/data", 0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];

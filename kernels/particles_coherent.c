@@ -15,10 +15,15 @@ typedef struct pgroup {
     int nv;     /* vectors in the group */
 } pgroup;
 
-static inline pgroup group_dims(const lc_kframe *f)
+/* Group side: the host's group_side when the render left packet at its
+ * default, else the frame's packet (1: one lane-width packet). Groups change
+ * no image: a sample's terms and their order do not depend on them
+ * (tests/test_particles_gsize.c). */
+static inline pgroup group_dims(const lc_kparticles *ps, const lc_kframe *f)
 {
     pgroup g;
-    int s = f->packet <= 1 ? 1 : f->packet;
+    int side = ps->group_side > 0 ? ps->group_side : f->packet;
+    int s = side <= 1 ? 1 : side;
     g.gw = s <= DVR_PW ? DVR_PW : (s + DVR_PW - 1) / DVR_PW * DVR_PW;
     g.gh = s <= DVR_PH ? DVR_PH : (s + DVR_PH - 1) / DVR_PH * DVR_PH;
     while (g.gw * g.gh > MAX_GROUP_RAYS) g.gw > g.gh ? (g.gw -= DVR_PW) : (g.gh -= DVR_PH);
@@ -36,6 +41,10 @@ typedef struct cscratch {
     float *buf;                                        /* [field][row][comp][ray] */
     uint32_t *touched;                                 /* per vector: terms deposited this pass */
     int32_t *stack;
+    float *kdt;                                        /* this pass: kdt[k - kp + PG_ANCHOR] = (float)k * dt,
+                                                          k = kp - PG_ANCHOR .. kend + 1 */
+    float *vq;                                         /* per vector: interval bounds (walk's vcull) */
+    int32_t nvq;                                       /* vq's row length: nv rounded up to LC_W */
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
     int32_t K;                                         /* buffer rows per field (buf_rows) */
@@ -103,7 +112,7 @@ static int32_t buf_rows(const lc_kparticles *s, const lc_kframe *f, int nv)
 
 static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsigned char *base, cscratch *c)
 {
-    pgroup g = group_dims(f);
+    pgroup g = group_dims(s, f);
     uint64_t rays = (uint64_t)g.nv * LC_W;
     uint64_t comps = mode_needs_grad(f) ? 4 : 1;
     uint64_t off = 0;
@@ -123,6 +132,11 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
                    (uint64_t)buf_stride(g.nv) * 4);
     if (base) c->touched = (uint32_t *)(base + off);
     off += align64((uint64_t)g.nv * 4);
+    if (base) c->kdt = (float *)(base + off);
+    off += align64((uint64_t)(c->K + PG_ANCHOR + 1) * 4);
+    c->nvq = (g.nv + LC_W - 1) / LC_W * LC_W;
+    if (base) c->vq = (float *)(base + off);
+    off += align64((uint64_t)c->nvq * 8 * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
     c->cap = list_cap(s);
@@ -356,7 +370,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
 {
     cscratch c;
     coherent_layout(s, f, scratch->mem, &c);
-    pgroup g = group_dims(f);
+    pgroup g = group_dims(s, f);
     const int nv = g.nv, rays = buf_stride(nv), K = c.K, nf = s->nfields;
     int P = pass_first(s, K); /* samples per pass: K, or adapted per group (pass_adapt) */
     const int comps = mode_needs_grad(f) ? 4 : 1;
@@ -399,6 +413,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     }
                     st->passes++;
                     clear_buffer(s, &c, rays, nf, K, comps, kend - kp + 1);
+                    for (int k = kp - PG_ANCHOR; k <= kend + 1; k++) c.kdt[k - kp + PG_ANCHOR] = (float)k * dt;
                     for (int v = 0; v < nv; v++) c.touched[v] = 0;
                     if (n >= 0)
                         n = deposit_list(s, f, &c, nv, vshift, n, kp, kend, dt, comps, st);

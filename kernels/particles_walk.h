@@ -7,6 +7,13 @@
 #ifndef LC_PARTICLES_WALK_H
 #define LC_PARTICLES_WALK_H
 
+/* The host's table of c_i = pgauss_c(nir_i, dt) (kparticles.h cstep), or
+ * NULL when there is none for this dt: then each particle computes it. */
+static inline const float *particle_cstep(const lc_kparticles *s, float dt)
+{
+    return s->cstep && s->cstep_dt == dt ? s->cstep : NULL;
+}
+
 /* The samples ka..kb of one vector's rays from particle i's Gaussian (and
  * gradient), on the lanes in m that lie within its support. Exp-free
  * (SPEC.md "Fields"): along a ray, d^2 = d_perp^2 + u^2 with u = t - tc, and
@@ -20,9 +27,12 @@
  * same arithmetic as the sample's own test; when the foot lies inside the
  * block, d_perp^2 alone, which only keeps more blocks). Returns the terms
  * added. */
-static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int rays, int o, int comps, int kp, int ka,
-                                       int kb, float dt, float r2s, float gscale, vfloat tc, vfloat d2,
-                                       vfloat ocx, vfloat ocy, vfloat ocz, vfloat dx, vfloat dy, vfloat dz, vmask m)
+static inline __attribute__((always_inline)) uint64_t deposit_samples(const pgauss_consts *gc, const float *kdt,
+                                                                       float *fb, int rays,
+                                                                       int o, int comps, int kp, int ka, int kb,
+                                                                       float r2s, float gscale, vfloat tc,
+                                                                       vfloat d2, vfloat ocx, vfloat ocy, vfloat ocz,
+                                                                       vfloat dx, vfloat dy, vfloat dz, vmask m)
 {
     uint64_t evals = 0;
     /* p - c = u d - (oc - tc d): the gradient's offset, linear in u */
@@ -36,8 +46,10 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
     const int kal = ka - ((ka % PG_ANCHOR) + PG_ANCHOR) % PG_ANCHOR;
     for (int k0 = kal; k0 <= kb; k0 += PG_ANCHOR) {
         int k1 = k0 + PG_ANCHOR - 1 < kb ? k0 + PG_ANCHOR - 1 : kb;
-        vfloat u = vf_sub(vf_set1((float)k0 * dt), tc);
-        vfloat ue = vf_sub(vf_set1((float)k1 * dt), tc);
+        /* (float)k * dt from the pass's table (k >= kp - PG_ANCHOR here) */
+        const float *kd = kdt + (PG_ANCHOR - kp);
+        vfloat u = vf_sub(vf_set1(kd[k0]), tc);
+        vfloat ue = vf_sub(vf_set1(kd[k1]), tc);
         /* the block's sample nearest to the centre's foot (u0 or ue, or 0
            when the foot lies within the block: then conservatively d2 alone)
            takes the sample's own support test: none passes, no term lands */
@@ -45,12 +57,10 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
         if (vm_none(vm_and(m, vf_lt(vf_madd(un, un, d2), rr)))) continue;
         vfloat g, q;
         pgauss_anchor(gc, d2, u, m, &g, &q);
-        vfloat vk = vf_set1((float)k0); /* exact: |k| < 2^24; vk dt rounds as (float)k * dt */
         for (int k = k0; k <= k1; k++) {
             if (k < ka) { /* before this pass or chord: stepped, not stored */
                 pgauss_step(gc, &g, &q);
-                vk = vf_add(vk, vf_set1(1.0f));
-                u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
+                u = vf_sub(vf_set1(kd[k + 1]), tc);
                 continue;
             }
             vfloat a = vf_madd(u, u, d2);
@@ -67,8 +77,7 @@ static inline uint64_t deposit_samples(const pgauss_consts *gc, float *fb, int r
                 vf_store(row + 3 * rays, vf_fma(ez, gp, vf_load(row + 3 * rays)));
             }
             pgauss_step(gc, &g, &q);
-            vk = vf_add(vk, vf_set1(1.0f));
-            u = vf_sub(vf_mul(vk, vf_set1(dt)), tc);
+            u = vf_sub(vf_set1(kd[k + 1]), tc);
         }
     }
     return evals;
@@ -112,7 +121,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         ka = ka < kp ? kp : ka;
         kb = kb > kend ? kend : kb;
         if (ka > kb) continue;
-        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, gscale, tc, d2, ocx, ocy,
+        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, gscale, tc, d2, ocx, ocy,
                                      ocz, dx, dy, dz, m);
         c->touched[v] += (uint32_t)e;
         st->kernel_evals += e;
@@ -130,7 +139,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
 static inline __attribute__((always_inline)) void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv,
                                                                  int kp, int ka, int kb, float dt, int comps, int32_t i,
                                                                  float cstep, uint64_t vbits, int vshift,
-                                                                 const float *eye, lc_kstats *st)
+                                                                 uint64_t live, const float *eye, lc_kstats *st)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
@@ -138,8 +147,17 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
     int rays = buf_stride(nv);
     float *fb = c->buf + (size_t)s->field[i] * (size_t)c->K * (size_t)comps * (size_t)rays;
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
+    /* vshift 0: the set bits of vbits (the list found the support misses
+       the other vectors) among the live vectors, in order */
+    uint64_t todo = vshift ? 0 : vbits & live;
     for (int v = 0; v < nv; v++) {
-        if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the list found the support misses these rays */
+        if (!vshift) {
+            if (!todo) break;
+            v = __builtin_ctzll(todo);
+            todo &= todo - 1;
+        } else if (!((vbits >> (v >> vshift)) & 1u)) {
+            continue;
+        }
         int o = v * LC_W;
         vmask m = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
         if (vm_none(m)) continue;
@@ -152,7 +170,7 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
-        uint64_t e = deposit_samples(&gc, fb, rays, o, comps, kp, ka, kb, dt, r2s, 2.0f * nir, tc, d2, ocx,
+        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, 2.0f * nir, tc, d2, ocx,
                                      ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
            their window would otherwise mark it) */
@@ -175,6 +193,120 @@ static inline void slab_eye(const lc_kpnode *node, float g, float ex, float ey, 
     *tf = vf_min(vf_min(vf_max(ax, bx), vf_max(ay, by)), vf_max(az, bz));
 }
 
+/* A whole group's rays against a node at once (perspective: every ray
+ * starts at the eye), by interval arithmetic over the group: [ix0, ix1] ..
+ * hold every ray's inverse direction, [w0min, w1max] every live ray's
+ * window. A float product with a fixed factor is monotone in the other, so
+ * the products slab_eye forms for any ray lie between those with the
+ * interval's ends: en (ex) is at most (at least) any ray's entry (exit) t.
+ * When en > ex, or the entry lies beyond every window or the exit before,
+ * no ray of the group hits the node: the per-vector test would set no bit.
+ * Culling such nodes before it changes nothing but the work (an inner node
+ * that misses costs one slab test per vector: 16 with 16x16 groups). */
+typedef struct gcull {
+    float ix0, ix1, iy0, iy1, iz0, iz1, w0min, w1max;
+} gcull;
+
+static inline float fmin2(float a, float b) { return a < b ? a : b; }
+static inline float fmax2(float a, float b) { return a > b ? a : b; }
+
+static inline gcull gcull_make(const cscratch *c, int nv)
+{
+    vfloat x0 = vf_set1(INFINITY), x1 = vf_set1(-INFINITY), y0 = x0, y1 = x1, z0 = x0, z1 = x1;
+    vfloat a = x0, b = x1;
+    for (int v = 0; v < nv; v++) {
+        int o = v * LC_W;
+        vfloat ix = vf_load(c->ix + o), iy = vf_load(c->iy + o), iz = vf_load(c->iz + o);
+        x0 = vf_min(x0, ix), x1 = vf_max(x1, ix), y0 = vf_min(y0, iy), y1 = vf_max(y1, iy);
+        z0 = vf_min(z0, iz), z1 = vf_max(z1, iz);
+        vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
+        vmask live = vf_le(w0, w1);
+        a = vf_min(a, vf_select(live, w0, vf_set1(INFINITY)));
+        b = vf_max(b, vf_select(live, w1, vf_set1(-INFINITY)));
+    }
+    gcull g = {vf_reduce_min(x0), vf_reduce_max(x1), vf_reduce_min(y0), vf_reduce_max(y1),
+               vf_reduce_min(z0), vf_reduce_max(z1), vf_reduce_min(a), vf_reduce_max(b)};
+    return g;
+}
+
+/* Entry and exit bounds on one axis: the slab's differences a <= b (as
+ * slab_eye forms them) times the inverse directions' ends. */
+static inline void gcull_axis(float a, float b, float i0, float i1, float *en, float *ex)
+{
+    float p0 = a * i0, p1 = a * i1, p2 = b * i0, p3 = b * i1;
+    *en = fmin2(fmin2(p0, p1), fmin2(p2, p3));
+    *ex = fmax2(fmax2(p0, p1), fmax2(p2, p3));
+}
+
+static inline int gcull_misses(const gcull *q, const lc_kpnode *node, float g, float ex, float ey, float ez)
+{
+    float nx, xx, ny, xy, nz, xz;
+    gcull_axis((node->lo[0] - g) - ex, (node->hi[0] + g) - ex, q->ix0, q->ix1, &nx, &xx);
+    gcull_axis((node->lo[1] - g) - ey, (node->hi[1] + g) - ey, q->iy0, q->iy1, &ny, &xy);
+    gcull_axis((node->lo[2] - g) - ez, (node->hi[2] + g) - ez, q->iz0, q->iz1, &nz, &xz);
+    float en = fmax2(fmax2(nx, ny), nz), xt = fmin2(fmin2(xx, xy), xz);
+    return en > xt || en > q->w1max || xt < q->w0min;
+}
+
+/* The same bounds per ray vector, tested for LC_W vectors at once (groups
+ * of at most VCULL_MAX_SETS x LC_W vectors, and at most 64): rows of c->vq
+ * hold each vector's ix0, ix1, iy0, iy1, iz0, iz1 over its lanes and its
+ * live lanes' w0min, w1max (a vector without live lanes, or past nv:
+ * w0min = +inf, w1max = -inf). vcull_node gives a bit per vector whose rays
+ * may hit the node (every vector the slab test hits among them), so the
+ * slab tests run only on those. */
+#define VCULL_MAX_SETS 4
+
+static inline int vcull_on(int nv) { return nv <= 64 && nv <= VCULL_MAX_SETS * LC_W; }
+
+static inline void vcull_make(const cscratch *c, int nv)
+{
+    const int q = c->nvq;
+    float *r = c->vq;
+    for (int v = 0; v < q; v++) {
+        if (v >= nv) {
+            for (int k = 0; k < 6; k++) r[k * q + v] = 0.0f;
+            r[6 * q + v] = INFINITY, r[7 * q + v] = -INFINITY;
+            continue;
+        }
+        int o = v * LC_W;
+        vfloat ix = vf_load(c->ix + o), iy = vf_load(c->iy + o), iz = vf_load(c->iz + o);
+        vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
+        vmask live = vf_le(w0, w1);
+        r[v] = vf_reduce_min(ix), r[q + v] = vf_reduce_max(ix);
+        r[2 * q + v] = vf_reduce_min(iy), r[3 * q + v] = vf_reduce_max(iy);
+        r[4 * q + v] = vf_reduce_min(iz), r[5 * q + v] = vf_reduce_max(iz);
+        r[6 * q + v] = vf_reduce_min(vf_select(live, w0, vf_set1(INFINITY)));
+        r[7 * q + v] = vf_reduce_max(vf_select(live, w1, vf_set1(-INFINITY)));
+    }
+}
+
+static inline uint64_t vcull_node(const cscratch *c, const lc_kpnode *node, float g, float ex, float ey, float ez)
+{
+    const int q = c->nvq;
+    const float *r = c->vq;
+    const vfloat ax = vf_set1((node->lo[0] - g) - ex), bx = vf_set1((node->hi[0] + g) - ex);
+    const vfloat ay = vf_set1((node->lo[1] - g) - ey), by = vf_set1((node->hi[1] + g) - ey);
+    const vfloat az = vf_set1((node->lo[2] - g) - ez), bz = vf_set1((node->hi[2] + g) - ez);
+    uint64_t bits = 0;
+    for (int v = 0; v < q; v += LC_W) {
+        vfloat i0 = vf_load(r + v), i1 = vf_load(r + q + v);
+        vfloat p0 = vf_mul(ax, i0), p1 = vf_mul(ax, i1), p2 = vf_mul(bx, i0), p3 = vf_mul(bx, i1);
+        vfloat en = vf_min(vf_min(p0, p1), vf_min(p2, p3)), xt = vf_max(vf_max(p0, p1), vf_max(p2, p3));
+        i0 = vf_load(r + 2 * q + v), i1 = vf_load(r + 3 * q + v);
+        p0 = vf_mul(ay, i0), p1 = vf_mul(ay, i1), p2 = vf_mul(by, i0), p3 = vf_mul(by, i1);
+        en = vf_max(en, vf_min(vf_min(p0, p1), vf_min(p2, p3)));
+        xt = vf_min(xt, vf_max(vf_max(p0, p1), vf_max(p2, p3)));
+        i0 = vf_load(r + 4 * q + v), i1 = vf_load(r + 5 * q + v);
+        p0 = vf_mul(az, i0), p1 = vf_mul(az, i1), p2 = vf_mul(bz, i0), p3 = vf_mul(bz, i1);
+        en = vf_max(en, vf_min(vf_min(p0, p1), vf_min(p2, p3)));
+        xt = vf_min(xt, vf_max(vf_max(p0, p1), vf_max(p2, p3)));
+        vmask h = vm_and(vf_le(en, xt), vm_and(vf_le(en, vf_load(r + 7 * q + v)), vf_ge(xt, vf_load(r + 6 * q + v))));
+        bits |= (uint64_t)vm_bits(h) << v;
+    }
+    return bits;
+}
+
 /* Listing 2, lines 3-10: coherent traversal for samples kp..kend (node and
  * stack uniform, rays varying), either depositing every leaf's particles
  * (collect 0: a walk per pass) or listing the leaves (collect 1, the group
@@ -192,6 +324,11 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
     int32_t *stack = c->stack;
     int sp = 0, n = 0;
     float cnir = 1.0f, cstep = 0.0f; /* nir < 0: the first particle computes c */
+    const float *ctab = particle_cstep(s, dt);
+    gcull gq = {0};
+    const int vc = persp && vcull_on(nv);
+    if (vc) vcull_make(c, nv);
+    else if (persp) gq = gcull_make(c, nv);
     stack[sp++] = 0;
     while (sp > 0) {
         int32_t nd = stack[--sp];
@@ -200,13 +337,27 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
         st->nodes++;
         /* the mode's test on the node's own contribution (dvr: always) */
         float vb = s->kappa * s->node_ksum[nd];
-        mnode mn = {fminf(vb, 0.0f), fmaxf(vb, 0.0f), 0, node_clear(s, nd), -INFINITY};
+        /* fmin2/fmax2, not fminf/fmaxf (library calls here; vb is never NaN) */
+        mnode mn = {fmin2(vb, 0.0f), fmax2(vb, 0.0f), 0, node_clear(s, nd), -INFINITY};
         if (!mode_node_matters(f, &mn)) continue;
+        /* the vectors whose rays may hit the node: the slab tests run on those only */
+        uint64_t cand = ~(uint64_t)0;
+        if (vc) {
+            cand = vcull_node(c, node, g, ex, ey, ez);
+            if (!cand) continue;
+        } else if (persp && gcull_misses(&gq, node, g, ex, ey, ez)) {
+            continue;
+        }
         /* inner nodes: does any vector's rays reach the grown box; leaves:
            which vectors' (and, listed, over which t) */
         uint64_t bits = 0;
         vfloat lo = vf_set1(INFINITY), hi = vf_set1(-INFINITY);
         for (int v = 0; v < nv; v++) {
+            if (vc) { /* the next candidate vector (none left: done) */
+                uint64_t rest = cand >> v;
+                if (!rest) break;
+                v += __builtin_ctzll(rest);
+            }
             if (!collect && ((bits >> (v >> vshift)) & 1u)) continue;
             int o = v * LC_W;
             vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
@@ -245,8 +396,9 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
             continue;
         }
         for (int32_t i = node->first; i < node->first + node->count; i++) {
-            /* c = exp(-dt^2 / r^2) once per radius: neighbours mostly share it */
-            if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+            /* c = exp(-dt^2 / r^2): the host's table, or once per radius (neighbours mostly share it) */
+            if (ctab) cstep = ctab[i];
+            else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
             deposit(s, c, nv, kp, kend, dt, comps, i, cstep, bits, vshift, st);
         }
     }
@@ -278,14 +430,19 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
                                                                   int comps, const float *eye, lc_kstats *st)
 {
     float cnir = 1.0f, cstep = 0.0f;
+    const float *ctab = particle_cstep(s, dt);
     int kept = 0;
+    uint64_t live = 0; /* vectors with a live ray (nv <= 64; unused otherwise) */
+    for (int v = 0; v < nv && v < 64; v++)
+        live |= (uint64_t)vm_any(vf_le(vf_load(c->w0 + v * LC_W), vf_load(c->w1 + v * LC_W))) << v;
     for (int j = 0; j < n; j++) {
         gent e = c->list[j];
         if (e.ka <= kend && e.kb >= kp) {
             for (int32_t i = e.first; i < e.first + e.count; i++) {
-                if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
+                if (ctab) cstep = ctab[i];
+                else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
                 deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
-                              e.vbits, vshift, eye, st);
+                              e.vbits, vshift, live, eye, st);
             }
         }
         if (e.kb > kend) c->list[kept++] = e;
@@ -293,13 +450,19 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
     return kept;
 }
 
-/* The above, with the eye as every ray's origin (perspective) or not. */
+/* The above, with the eye as every ray's origin (perspective) or not, and
+ * with the gradient (comps 4) or without (1) as constants: the sample loop
+ * then holds no test of comps and no gradient offsets it does not use. */
 static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
                                                   int nv, int vshift, int n, int kp, int kend, float dt, int comps,
                                                   lc_kstats *st)
 {
-    return (f->cam.ortho || s->eye_generic) ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, NULL, st)
-                        : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, comps, f->cam.eye, st);
+    int generic = f->cam.ortho || s->eye_generic;
+    if (comps == 4)
+        return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, NULL, st)
+                       : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, f->cam.eye, st);
+    return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, NULL, st)
+                   : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, f->cam.eye, st);
 }
 
 #endif

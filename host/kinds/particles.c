@@ -7,6 +7,7 @@
 #include "host/kinds/kind.h"
 #include "host/api/tf.h"
 #include "bvh/particle_bvh.h"
+#include "host/kinds/particles_cstep.h"
 
 typedef struct particles {
     lc_volume base; /* first: the kind-neutral handle */
@@ -18,6 +19,8 @@ typedef struct particles {
     float *px, *py, *pz, *r, *nir, *k; /* leaf order */
     float kmin, kmax; /* of the k_i and 0: the default value range is kappa times them */
     uint8_t *field;
+    pthread_mutex_t cs_mu; /* guards cs */
+    lci_pcstep *cs;        /* the recurrence ratios for the last step (particles_cstep.c) */
 } particles;
 
 /* A support radius grown so float round-off never leaves out a cell a sample
@@ -31,6 +34,8 @@ static void destroy(lc_volume *v)
     particles *p = (particles *)v;
     if (!p) return;
     lci_pbvh_free(&p->bvh);
+    lci_pcstep_release(p->cs);
+    pthread_mutex_destroy(&p->cs_mu);
     free(p->node_ksum);
     free(p->node_fbound);
     free(p->px);
@@ -362,6 +367,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     if (s == LC_OK && !(p = calloc(1, sizeof *p)))
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory");
     if (s == LC_OK) {
+        pthread_mutex_init(&p->cs_mu, NULL);
         p->base.ops = &lci_particles_ops;
         p->base.device = dev;
         lc_particles_info *info = &p->info;
@@ -543,6 +549,42 @@ static int skip_enabled(void)
     return !(e && !strcmp(e, "0"));
 }
 
+/* LANECAST_PARTICLE_CSTEP=0 leaves the recurrence ratios to the kernel
+ * (tests: the same image, bit for bit). */
+static int cstep_enabled(void)
+{
+    const char *e = getenv("LANECAST_PARTICLE_CSTEP");
+    return !(e && !strcmp(e, "0"));
+}
+
+/* Rays per coherent group side when the render leaves packet at its default
+ * (0): 16x16 groups share one BVH walk per chunk among 4x the rays of 8x8
+ * (session 7, docs/bench/particles.md: 8-17% less CPU per close frame on
+ * the benchmark sets, far frames within noise); the image is the same.
+ * LANECAST_PARTICLE_GROUP=N (A/B runs, tests) sets another side. */
+#define GROUP_SIDE_DEFAULT 16
+
+static int32_t group_side(const lc_render_desc *d)
+{
+    if (d->packet != 0) return 0;
+    const char *e = getenv("LANECAST_PARTICLE_GROUP");
+    int v = e ? atoi(e) : 0;
+    return v >= 1 && v <= 64 ? v : GROUP_SIDE_DEFAULT;
+}
+
+/* A frame's kernel scene and the cached table it reads (released after the frame). */
+typedef struct pframe {
+    lc_kparticles k;
+    lci_pcstep *cs;
+} pframe;
+
+static void pframe_release(void *owned)
+{
+    pframe *pf = owned;
+    lci_pcstep_release(pf->cs);
+    lci_aligned_free(pf);
+}
+
 static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_desc *d, const lc_kframe *frame,
                          lci_prepared *out)
 {
@@ -552,21 +594,35 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
                          (int)d->method);
     const particles *p = (const particles *)v;
     int skip = frame->mode == LC_KMODE_DVR && p->node_fbound && skip_enabled();
-    size_t head = (sizeof(lc_kparticles) + 63) & ~(size_t)63;
-    lc_kparticles *k = lci_aligned_alloc(64, head + (skip ? (size_t)p->bvh.nnodes : 0));
-    if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
+    size_t head = (sizeof(pframe) + 63) & ~(size_t)63;
+    pframe *pf = lci_aligned_alloc(64, head + (skip ? (size_t)p->bvh.nnodes : 0));
+    if (!pf) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
+    lc_kparticles *k = &pf->k;
     kscene(p, k);
+    k->group_side = group_side(d);
+    if (m == LC_METHOD_COHERENT && frame->mode != LC_KMODE_SLICE && p->info.count > 0 && cstep_enabled()) {
+        particles *pm = (particles *)v; /* the cache only: behind its mutex */
+        pf->cs = lci_pcstep_get(&pm->cs_mu, &pm->cs, p->nir, p->info.count, frame->dt);
+        if (!pf->cs) {
+            lci_aligned_free(pf);
+            return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory (%zu particle step ratios)",
+                             p->info.count);
+        }
+        k->cstep = lci_pcstep_values(pf->cs);
+        k->cstep_dt = frame->dt;
+    }
     if (skip) {
         float clear_below[LC_KMAX_FIELDS];
         for (int f = 0; f < k->nfields; f++) clear_below[f] = lci_tf_clear_below(&frame->tf[f]);
-        clear_nodes(p, k, clear_below, (uint8_t *)k + head);
+        clear_nodes(p, k, clear_below, (uint8_t *)pf + head);
     }
     int km = m == LC_METHOD_COHERENT ? LC_KMETHOD_FAST : LC_KMETHOD_BASE;
     const lc_kkind *kk = dev->kt->kind[LC_KKIND_PARTICLES];
     out->tile = kk->render[km];
     out->kscene = k;
     out->scratch_bytes = kk->scratch_bytes[km](k, frame);
-    out->owned = k; /* freed with free(): posix_memalign memory */
+    out->owned = pf;
+    out->release = pframe_release;
     return LC_OK;
 }
 

@@ -64,8 +64,16 @@ typedef struct lc_kparticles {
                              per group (particles_coherent.c pass_adapt); 0 = passes of buffer_k */
     int32_t eye_generic; /* coherent: 1 = perspective rays take the per-lane origin arithmetic too
                             (tests: LANECAST_PARTICLE_EYE=0; the same image, bit for bit) */
+    /* coherent, this frame: per particle (leaf order) the recurrence ratio
+       c_i = pgauss_c(neg_inv_2r2[i], cstep_dt), the same float the kernel would
+       compute (host/kinds/particles_cstep.c); used where cstep_dt is the frame's
+       dt. NULL: the kernel computes it. */
+    float cstep_dt;
+    const float *cstep;
+    int32_t group_side; /* coherent: rays per group side when > 0 (the render desc left packet at its
+                           default; particles_coherent.c group_dims), else the frame's packet */
     int32_t pad_;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 11 * 8 + 8 + 4 * 8 + 32 + 24, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32, "lc_kparticles layout");
 
 #endif
