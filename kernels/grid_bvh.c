@@ -171,45 +171,11 @@ static inline void flush(const lc_kgrid *g, const lc_kframe *f, gpk *q, lc_kstat
     q->pb = vi_set1(0);
 }
 
-/* Software prefetch of a visited leaf's bricks (bricked layout only): the
- * leaf's samples are integrated at a later flush (runs of up to run_max
- * samples), so the lines arrive meanwhile instead of each gather waiting on
- * its misses. Leaves of more than GRID_LEAF_PF_MAX bricks are left to the
- * hardware. */
-#ifndef GRID_LEAF_PF
-#define GRID_LEAF_PF 1
-#endif
-#ifndef GRID_LEAF_PF_MAX
-#define GRID_LEAF_PF_MAX 4096
-#endif
-static inline void prefetch_leaf(const lc_kgrid *g, const lc_kgrid_node *n)
-{
-    int b0[3], b1[3];
-    for (int a = 0; a < 3; a++) {
-        int lo = (int)((n->lo[a] - g->origin[a]) * g->inv_spacing[a]);
-        int hi = (int)((n->hi[a] - g->origin[a]) * g->inv_spacing[a]) + 1;
-        lo = lo < 0 ? 0 : lo;
-        hi = hi > g->size[a] - 1 ? g->size[a] - 1 : hi;
-        b0[a] = lo >> 2, b1[a] = hi >> 2;
-    }
-    if ((b1[0] - b0[0] + 1) * (b1[1] - b0[1] + 1) * (b1[2] - b0[2] + 1) > GRID_LEAF_PF_MAX) return;
-    static const int esize[5] = {1, 1, 2, 2, 4};
-    const int es = esize[g->type];
-    const char *base = g->data;
-    for (int bk = b0[2]; bk <= b1[2]; bk++)
-        for (int bj = b0[1]; bj <= b1[1]; bj++) {
-            const char *row = base + ((int64_t)bk * g->zstride + (int64_t)bj * g->ystride) * es;
-            for (int bi = b0[0]; bi <= b1[0]; bi++)
-                for (int l = 0; l < es; l++) __builtin_prefetch(row + (int64_t)bi * 64 * es + l * 64, 0, 2);
-        }
-}
-
 static void integrate_node(const lc_kgrid *g, const lc_kframe *f, gpk *pk, int fa, int npk, const lc_kgrid_node *n,
                            int csv, lc_kstats *st)
 {
     float phi = 0.5f * (n->vmin + n->vmax);
     const int pairs = mode_pairs(f);
-    if (GRID_LEAF_PF && g->bricked && !g->pairs) prefetch_leaf(g, n);
     for (int p = fa; p < npk; p++) {
         gpk *q = &pk[p];
         if (vm_none(q->live)) continue;
