@@ -334,7 +334,7 @@ static void destroy(lc_volume *v)
 {
     grid *g = (grid *)v;
     if (!g) return;
-    lci_grid_tables_release(g->tables);
+    lci_vcache_release(g->tables);
     if (g->tables_mu_init) pthread_mutex_destroy(&g->tables_mu);
     lci_grid_bvh_free(&g->bvh);
     lci_aligned_free(g->owned);
