@@ -13,8 +13,8 @@
 /* uint8 grids up to lci_grid_pairs_max voxels keep the y-pair-packed copy
  * (lc_kgrid.pairs), 2 bytes a voxel more. Measured at 1024^2, avx512, 2
  * threads (docs/bench/grid.md, sessions 5 and 7): 512^3 1.2-1.3x less CPU per
- * frame with it; since the software-pipelined sample loop also 640^3 ~1x,
- * 768^3 and 896^3 1.2-1.4x and 1024^3 1.14-1.38x (in session 5, before the
+ * frame with it; since the software-pipelined sample loop also 768^3 and
+ * 896^3 (1.2-1.4x) and 1024^3 (1.14-1.38x; in session 5, before the
  * pipelining, 1024^3 was 1.07-1.25x slower with it). The bound is 1024^3
  * voxels (a 2 GiB copy): beyond it the copy's int32 element offsets
  * (kgrid.h) come near 2^31, and larger volumes keep only the bricks. */
