@@ -163,7 +163,7 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                 if (gs.g[pairs][lay]) lc_grid_get_info(gs.g[pairs][lay], &in);
                 bytes[pairs][lay] = in.layout_bytes;
             }
-        lci_grid_pairs_max = (int64_t)1 << 28;
+        lci_grid_pairs_max = (int64_t)1 << 30;
         uint64_t count = (uint64_t)v->n[0] * v->n[1] * v->n[2];
         for (int lay = 0; lay < 2; lay++)
             CHECK_QUIET(bytes[1][lay] >= bytes[0][lay] + 2 * count, "%s layout %d: pair copy %llu vs %llu bytes", tn,
@@ -226,7 +226,7 @@ int main(int argc, char **argv)
 {
     diff_dir = argc > 1 ? argv[1] : NULL;
     setvbuf(stdout, NULL, _IOLBF, 0);
-    CHECK(lci_grid_pairs_max == (int64_t)1 << 28, "default pair-copy bound 2^28 voxels (%lld)",
+    CHECK(lci_grid_pairs_max == (int64_t)1 << 30, "default pair-copy bound 2^30 voxels (%lld)",
           (long long)lci_grid_pairs_max);
     /* odd sizes: outside, inside the volume, and an axis-aligned view down z */
     vol s;

@@ -11,13 +11,14 @@
 #define MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
 #define GATHER_PAD 64
 /* uint8 grids up to lci_grid_pairs_max voxels keep the y-pair-packed copy
- * (lc_kgrid.pairs). Measured at 1024^2 (docs/bench/grid.md, issue 9 second
- * round): 512^3 1.2-1.3x less CPU per frame with it, 1024^3 1.07-1.25x more
- * (a ray visits a new line of the linear copy every plane, one of the 4^3
- * bricks every fourth; with about one ray per voxel there is little reuse
- * between neighbouring rays to hide that) and 2 GiB more memory. The bound
- * lies between; sizes in between were not measured. */
-int64_t lci_grid_pairs_max = (int64_t)1 << 28; /* tests lower it (tests/test_grid_nopairs.c) */
+ * (lc_kgrid.pairs), 2 bytes a voxel more. Measured at 1024^2, avx512, 2
+ * threads (docs/bench/grid.md, sessions 5 and 7): 512^3 1.2-1.3x less CPU per
+ * frame with it; since the software-pipelined sample loop also 768^3 and
+ * 896^3 (1.2-1.4x) and 1024^3 (1.14-1.38x; in session 5, before the
+ * pipelining, 1024^3 was 1.07-1.25x slower with it). The bound is 1024^3
+ * voxels (a 2 GiB copy): beyond it the copy's int32 element offsets
+ * (kgrid.h) come near 2^31, and larger volumes keep only the bricks. */
+int64_t lci_grid_pairs_max = (int64_t)1 << 30; /* tests lower it (tests/test_grid_nopairs.c) */
 /* nodes per axis: every index up to size - 2 is exact in float32 */
 #define MAX_AXIS (1 << 24)
 
@@ -333,7 +334,7 @@ static void destroy(lc_volume *v)
 {
     grid *g = (grid *)v;
     if (!g) return;
-    lci_grid_tables_release(g->tables);
+    lci_vcache_release(g->tables);
     if (g->tables_mu_init) pthread_mutex_destroy(&g->tables_mu);
     lci_grid_bvh_free(&g->bvh);
     lci_aligned_free(g->owned);

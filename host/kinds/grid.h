@@ -4,6 +4,7 @@
 #define LC_HOST_GRID_H
 
 #include <pthread.h>
+#include "host/api/vcache.h"
 #include "host/kinds/kind.h"
 #include "bvh/grid_bvh.h"
 #include "kernels/shared/kgrid.h"
@@ -19,7 +20,7 @@ typedef struct grid {
     /* the per-frame tables of the last frame (host/kinds/grid_tables.c) */
     pthread_mutex_t tables_mu;
     int tables_mu_init;
-    struct lci_grid_tables *tables;
+    lci_vcache_entry *tables; /* an lci_grid_tables (host/api/vcache.h) */
 } grid;
 
 /* The pre-integrated table, its one-step opacity and (with_nodes) the

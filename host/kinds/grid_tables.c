@@ -12,19 +12,15 @@
  * without the node pass). The voxels and the BVH never change after
  * creation, so they need no key; lc_grid_set_params changes the key.
  *
- * Threads: one volume may be rendered from several threads at once
- * (lanecast.h), so the one cached entry sits behind a mutex and is reference
- * counted: the volume holds one reference, each frame using it another
- * (dropped by lci_grid_tables_release after the frame). Entries are never
- * written after they are published. */
+ * The entry lives in the volume's cache slot (host/api/vcache.h: mutex,
+ * reference counts, never written after it is published). */
 #include <math.h>
-#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/kinds/grid.h"
 
 struct lci_grid_tables {
-    atomic_int refs;
+    lci_vcache_entry head; /* first (vcache.h) */
     /* key */
     float rgbt[LC_TF_TABLE_SIZE * 4];
     float tf_lo, tf_inv_range, dt;
@@ -94,8 +90,25 @@ static int matches(const lci_grid_tables *t, const lc_kgrid *k, const lc_kframe 
     return memcmp(t->rgbt, tf->rgbt, sizeof t->rgbt) == 0;
 }
 
-static lci_grid_tables *build(const lc_kgrid *k, const lc_kframe *f, int with_nodes)
+/* what a frame asks the cache for */
+typedef struct tables_key {
+    const lc_kgrid *k;
+    const lc_kframe *f;
+    int with_nodes;
+} tables_key;
+
+static int matches_key(const lci_vcache_entry *e, const void *key)
 {
+    const tables_key *q = key;
+    return matches((const lci_grid_tables *)e, q->k, q->f, q->with_nodes);
+}
+
+static lci_vcache_entry *build(const void *key)
+{
+    const tables_key *q = key;
+    const lc_kgrid *k = q->k;
+    const lc_kframe *f = q->f;
+    const int with_nodes = q->with_nodes;
     size_t head = (sizeof(lci_grid_tables) + 63) & ~(size_t)63;
     size_t nbits = with_nodes ? (size_t)k->nnodes : 0;
     size_t bytes = head + sizeof(float) * (size_t)LC_PREINT_N * LC_PREINT_N * 5 + nbits;
@@ -103,7 +116,6 @@ static lci_grid_tables *build(const lc_kgrid *k, const lc_kframe *f, int with_no
     if (!mem) return NULL;
     lci_grid_tables *t = (lci_grid_tables *)mem;
     const lc_ktf *tf = &f->tf[0];
-    atomic_init(&t->refs, 1);
     memcpy(t->rgbt, tf->rgbt, sizeof t->rgbt);
     t->tf_lo = tf->lo, t->tf_inv_range = tf->inv_range, t->dt = f->dt;
     t->delta_c = k->delta_c, t->delta_p = k->delta_p, t->delta_sv = k->delta_sv;
@@ -115,34 +127,15 @@ static lci_grid_tables *build(const lc_kgrid *k, const lc_kframe *f, int with_no
     for (size_t i = 0; i < (size_t)LC_PREINT_N * LC_PREINT_N; i++) t->alpha[i] = 1.0f - expf(-t->table[4 * i + 3] * f->dt);
     t->bits = with_nodes ? (uint8_t *)(t->alpha + (size_t)LC_PREINT_N * LC_PREINT_N) : NULL;
     if (with_nodes) node_flags(k, f, t->table, t->alpha, t->bits);
-    return t;
+    return &t->head;
 }
 
-void lci_grid_tables_release(lci_grid_tables *t)
-{
-    if (t && atomic_fetch_sub_explicit(&t->refs, 1, memory_order_acq_rel) == 1) lci_aligned_free(t);
-}
+void lci_grid_tables_release(lci_grid_tables *t) { lci_vcache_release(t ? &t->head : NULL); }
 
 lci_grid_tables *lci_grid_tables_get(grid *g, const lc_kgrid *k, const lc_kframe *f, int with_nodes)
 {
-    pthread_mutex_lock(&g->tables_mu);
-    lci_grid_tables *t = g->tables;
-    if (t && matches(t, k, f, with_nodes)) {
-        atomic_fetch_add_explicit(&t->refs, 1, memory_order_relaxed);
-        pthread_mutex_unlock(&g->tables_mu);
-        return t;
-    }
-    pthread_mutex_unlock(&g->tables_mu);
-    /* built outside the lock: other frames of this volume go on meanwhile */
-    t = build(k, f, with_nodes);
-    if (!t) return NULL;
-    atomic_fetch_add_explicit(&t->refs, 1, memory_order_relaxed); /* the volume's */
-    pthread_mutex_lock(&g->tables_mu);
-    lci_grid_tables *old = g->tables;
-    g->tables = t;
-    pthread_mutex_unlock(&g->tables_mu);
-    lci_grid_tables_release(old);
-    return t;
+    tables_key key = {k, f, with_nodes};
+    return (lci_grid_tables *)lci_vcache_get(&g->tables_mu, &g->tables, matches_key, build, &key);
 }
 
 void lci_grid_tables_fill(const lci_grid_tables *t, lc_kgrid *k)

@@ -64,7 +64,7 @@ typedef struct lc_kgrid {
     float diag_volume;  /* |D_volume| of eq. 6 */
     int32_t run_max;    /* BVH: longest run of lattice samples deferred before integrating */
     /* y-pair-packed copy of uint8 voxels (NULL: none), built when the grid owns
-     * its voxels and has at most 2^28 of them (host/kinds/grid.c
+     * its voxels and has at most 2^30 of them (host/kinds/grid.c
      * lci_grid_pairs_max): pairs[i + j ystride + k zstride of the linear layout]
      * = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8, so one 32-bit load at
      * element e (byte 2e) holds v(i, j), v(i, j+1), v(i+1, j), v(i+1, j+1)
