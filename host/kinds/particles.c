@@ -20,7 +20,7 @@ typedef struct particles {
     float kmin, kmax; /* of the k_i and 0: the default value range is kappa times them */
     uint8_t *field;
     pthread_mutex_t cs_mu; /* guards cs */
-    lci_pcstep *cs;        /* the recurrence ratios for the last step (particles_cstep.c) */
+    lci_vcache_entry *cs;  /* an lci_pcstep: the recurrence ratios for the last step (particles_cstep.c) */
 } particles;
 
 /* A support radius grown so float round-off never leaves out a cell a sample
@@ -34,7 +34,7 @@ static void destroy(lc_volume *v)
     particles *p = (particles *)v;
     if (!p) return;
     lci_pbvh_free(&p->bvh);
-    lci_pcstep_release(p->cs);
+    lci_vcache_release(p->cs);
     pthread_mutex_destroy(&p->cs_mu);
     free(p->node_ksum);
     free(p->node_fbound);

@@ -10,18 +10,16 @@
  * tests/test_particles_cstep.c). 4 bytes per particle; ~10 ms per million
  * particles, serial, in the first frame with a new step.
  *
- * Threads: as the grid's tables (host/kinds/grid_tables.c): one entry per
- * volume behind a mutex, reference counted (the volume holds one, each
- * frame another), never written after it is published. */
+ * The entry lives in the volume's cache slot (host/api/vcache.h: mutex,
+ * reference counts, never written after it is published). */
 #include <math.h>
-#include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include "host/internal.h"
 #include "host/kinds/particles_cstep.h"
 
 struct lci_pcstep {
-    atomic_int refs;
+    lci_vcache_entry head; /* first (vcache.h) */
     float dt;      /* key (the radii never change after creation) */
     size_t n;
     float *c;      /* n values, 64-byte aligned after the header */
@@ -29,13 +27,23 @@ struct lci_pcstep {
 
 static size_t head_bytes(void) { return (sizeof(lci_pcstep) + 63) & ~(size_t)63; }
 
-static lci_pcstep *build(const float *nir, size_t n, float dt)
+/* what a frame asks the cache for */
+typedef struct cstep_key {
+    const float *nir;
+    size_t n;
+    float dt;
+} cstep_key;
+
+static lci_vcache_entry *build(const void *key)
 {
+    const cstep_key *q = key;
+    const float *nir = q->nir;
+    const size_t n = q->n;
+    const float dt = q->dt;
     if (n > (SIZE_MAX - head_bytes()) / sizeof(float)) return NULL;
     unsigned char *mem = lci_aligned_alloc(64, head_bytes() + n * sizeof(float));
     if (!mem) return NULL;
     lci_pcstep *t = (lci_pcstep *)mem;
-    atomic_init(&t->refs, 1);
     t->dt = dt, t->n = n;
     t->c = (float *)(mem + head_bytes());
     /* pgauss_c's expression and rounding, neighbours sharing a radius share one exp */
@@ -44,39 +52,22 @@ static lci_pcstep *build(const float *nir, size_t n, float dt)
         if (nir[i] != last) last = nir[i], cl = (float)exp(2.0 * (double)nir[i] * (double)dt * (double)dt);
         t->c[i] = cl;
     }
-    return t;
+    return &t->head;
 }
 
-static int same_key(const lci_pcstep *t, float dt, size_t n)
+static int matches(const lci_vcache_entry *e, const void *key)
 {
-    return t->n == n && t->dt == dt;
+    const lci_pcstep *t = (const lci_pcstep *)e;
+    const cstep_key *q = key;
+    return t->n == q->n && t->dt == q->dt;
 }
 
-void lci_pcstep_release(lci_pcstep *t)
-{
-    if (t && atomic_fetch_sub_explicit(&t->refs, 1, memory_order_acq_rel) == 1) lci_aligned_free(t);
-}
+void lci_pcstep_release(lci_pcstep *t) { lci_vcache_release(t ? &t->head : NULL); }
 
-lci_pcstep *lci_pcstep_get(pthread_mutex_t *mu, lci_pcstep **slot, const float *nir, size_t n, float dt)
+lci_pcstep *lci_pcstep_get(pthread_mutex_t *mu, lci_vcache_entry **slot, const float *nir, size_t n, float dt)
 {
-    pthread_mutex_lock(mu);
-    lci_pcstep *t = *slot;
-    if (t && same_key(t, dt, n)) {
-        atomic_fetch_add_explicit(&t->refs, 1, memory_order_relaxed);
-        pthread_mutex_unlock(mu);
-        return t;
-    }
-    pthread_mutex_unlock(mu);
-    /* built outside the lock: other frames of this volume go on meanwhile */
-    t = build(nir, n, dt);
-    if (!t) return NULL;
-    atomic_fetch_add_explicit(&t->refs, 1, memory_order_relaxed); /* the volume's */
-    pthread_mutex_lock(mu);
-    lci_pcstep *old = *slot;
-    *slot = t;
-    pthread_mutex_unlock(mu);
-    lci_pcstep_release(old);
-    return t;
+    cstep_key key = {nir, n, dt};
+    return (lci_pcstep *)lci_vcache_get(mu, slot, matches, build, &key);
 }
 
 const float *lci_pcstep_values(const lci_pcstep *t) { return t->c; }
