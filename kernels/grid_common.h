@@ -180,6 +180,33 @@ static inline void grid_fetch_pair(const lc_kgrid *g, vint idx, vfloat *a, vfloa
     *b = vi_to_vf(hi);
 }
 
+/* The z-paired copy (kgrid.h pair_quads): d0 = pairs32[e], d1 = pairs32[e + 1]
+ * per lane, i.e. the 2x2 (j, k) voxels of columns i and i + 1. Where the
+ * target has 64-bit gathers, one 8-byte load per lane and two dword
+ * permutes; elsewhere two dword gathers. */
+static inline __attribute__((always_inline)) void grid_fetch_quads(const uint32_t *q, vint e, vint *d0, vint *d1)
+{
+#if defined(LC_TARGET_AVX512) && LC_W == 16
+    __m512i a = _mm512_i32gather_epi64(_mm512_castsi512_si256(e), (const void *)q, 4);
+    __m512i b = _mm512_i32gather_epi64(_mm512_extracti32x8_epi32(e, 1), (const void *)q, 4);
+    const __m512i ev = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    const __m512i od = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
+    *d0 = _mm512_permutex2var_epi32(a, ev, b);
+    *d1 = _mm512_permutex2var_epi32(a, od, b);
+#elif (defined(LC_TARGET_AVX2) || defined(LC_TARGET_AVX512_8)) && LC_W == 8
+    __m256i a = _mm256_i32gather_epi64((const long long *)(const void *)q, _mm256_castsi256_si128(e), 4);
+    __m256i b = _mm256_i32gather_epi64((const long long *)(const void *)q, _mm256_extracti128_si256(e, 1), 4);
+    /* per 128-bit half: a's then b's even (odd) dwords; then the halves' qwords in order */
+    __m256 lo = _mm256_shuffle_ps(_mm256_castsi256_ps(a), _mm256_castsi256_ps(b), 0x88);
+    __m256 hi = _mm256_shuffle_ps(_mm256_castsi256_ps(a), _mm256_castsi256_ps(b), 0xdd);
+    *d0 = _mm256_permute4x64_epi64(_mm256_castps_si256(lo), 0xd8);
+    *d1 = _mm256_permute4x64_epi64(_mm256_castps_si256(hi), 0xd8);
+#else
+    *d0 = vi_gather((const int32_t *)(const void *)q, e);
+    *d1 = vi_gather((const int32_t *)(const void *)q, vi_add(e, vi_set1(1)));
+#endif
+}
+
 /* A sample's trilinear stencil: the 8 voxel values of its cell
  * (v[0..7] = v000, v100, v010, v110, v001, v101, v011, v111) and the weights
  * (eq. 8). Profile variants with GP_INTERP keep u = (ux, uy, uz) in w*. */
@@ -210,6 +237,16 @@ static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, v
          * plane's 2x2 voxels, bytes (i, j), (i, j+1), (i+1, j), (i+1, j+1) */
         vint e = vi_add(i, vi_add(vi_mul(j, vi_set1(g->pair_ystride)), vi_mul(k, vi_set1(g->pair_zstride))));
         vint w0, w1;
+        vint ff = vi_set1(0xff);
+        if (g->pair_quads && !(GRID_PROF & GP_FETCH)) {
+            /* z-paired: d0 holds column i's bytes (j, k), (j+1, k), (j, k+1), (j+1, k+1), d1 column i+1's */
+            grid_fetch_quads(g->pairs, e, &w0, &w1);
+            c->v[0] = vi_to_vf(vi_and(w0, ff)), c->v[2] = vi_to_vf(vi_and(vi_srl(w0, 8), ff));
+            c->v[4] = vi_to_vf(vi_and(vi_srl(w0, 16), ff)), c->v[6] = vi_to_vf(vi_srl(w0, 24));
+            c->v[1] = vi_to_vf(vi_and(w1, ff)), c->v[3] = vi_to_vf(vi_and(vi_srl(w1, 8), ff));
+            c->v[5] = vi_to_vf(vi_and(vi_srl(w1, 16), ff)), c->v[7] = vi_to_vf(vi_srl(w1, 24));
+            return;
+        }
         if (GRID_PROF & GP_FETCH) {
             w0 = vi_and(e, vi_set1(0x7f7f7f7f));
             w1 = vi_and(vi_add(e, vi_set1(1)), vi_set1(0x7f7f7f7f));
@@ -217,7 +254,6 @@ static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, v
             w0 = vi_gather_u16pair(g->pairs, e);
             w1 = vi_gather_u16pair(g->pairs, vi_add(e, vi_set1(g->pair_zstride)));
         }
-        vint ff = vi_set1(0xff);
         c->v[0] = vi_to_vf(vi_and(w0, ff)), c->v[2] = vi_to_vf(vi_and(vi_srl(w0, 8), ff));
         c->v[1] = vi_to_vf(vi_and(vi_srl(w0, 16), ff)), c->v[3] = vi_to_vf(vi_srl(w0, 24));
         c->v[4] = vi_to_vf(vi_and(w1, ff)), c->v[6] = vi_to_vf(vi_and(vi_srl(w1, 8), ff));
@@ -473,6 +509,13 @@ static inline __attribute__((always_inline)) void grid_prefetch_pairs(const lc_k
     vint e = vi_add(i, vi_add(vi_mul(j, vi_set1(g->pair_ystride)), vi_mul(k, vi_set1(g->pair_zstride))));
     int32_t ev[LC_W];
     vi_store(ev, e);
+    if (g->pair_quads) {
+        /* one line per lane holds both planes */
+        const uint32_t *q = g->pairs;
+        __builtin_prefetch(q + ev[0]);
+        __builtin_prefetch(q + ev[LC_W - 1]);
+        return;
+    }
     const uint16_t *b = g->pairs;
     __builtin_prefetch(b + ev[0]);
     __builtin_prefetch(b + ev[0] + g->pair_zstride);
