@@ -523,44 +523,64 @@ static inline __attribute__((always_inline)) void grid_prefetch_pairs(const lc_k
     __builtin_prefetch(b + ev[LC_W - 1] + g->pair_zstride);
 }
 
+/* The software-pipelined loop over samples k.. of the lanes in m (stopping
+ * at kb and alpha_stop): the next sample's stencil (its gathers) is fetched
+ * before this sample is classified, shaded and blended, so the loads'
+ * latency overlaps that work (any lattice index gives a valid stencil:
+ * grid_cell clamps). Same arithmetic, same bytes. Returns the lane samples. */
+static inline __attribute__((always_inline)) uint64_t grid_run(const lc_kgrid *g, const lc_kframe *f, int mode,
+                                                               int fast, int shade, gpk *p, vmask m, vint k, vint kb,
+                                                               lc_kstats *st)
+{
+    const float dt = f->dt;
+    vfloat astop = vf_set1(f->alpha_stop);
+    uint64_t n = 0;
+    vfloat t = grid_t_of_k(g, dt, k);
+    gcell cell;
+    grid_cell(g, vf_fma(t, p->ray.dx, p->ray.ox), vf_fma(t, p->ray.dy, p->ray.oy), vf_fma(t, p->ray.dz, p->ray.oz),
+              &cell);
+    for (;;) {
+        vint kn = vi_add(k, vi_set1(1));
+        vfloat tn = grid_t_of_k(g, dt, kn);
+        if (fast && GRID_PF && g->pairs) grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
+        gcell next;
+        grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
+                  vf_fma(tn, p->ray.dz, p->ray.oz), &next);
+        if (fast) grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
+        else grid_sample_consume(g, f, mode, shade, p, m, k, t, &cell, st);
+        n += (uint64_t)vm_popcnt(m);
+        k = kn, t = tn;
+        m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
+        if (!vm_any(m)) break;
+        cell = next;
+    }
+    return n;
+}
+
 /* Integrates lattice samples ka..kb (per lane) of the live lanes of p, front
  * to back, stopping lanes at alpha_stop. Both methods go through here. */
 static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgrid *g, const lc_kframe *f, int mode,
                                                                     gpk *p, vint ka, vint kb, lc_kstats *st)
 {
-    const float dt = f->dt;
     const int shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
     vfloat astop = vf_set1(f->alpha_stop);
     /* post-classified dvr without differential sampling: the step table */
     const int fast = mode == LC_KMODE_DVR && !g->use_preint && g->rda == 0.0f && f->tf[0].cls;
     vmask start = vm_and(p->live, vm_not(vi_gt(ka, kb)));
     vmask m = start;
-    vint k = ka;
     uint64_t n = 0;
     if (GRID_PROF & GP_SAMPLE) m = vm_and(m, vm_not(m));
     if (vm_any(m)) {
-        /* software-pipelined: the next sample's stencil (its gathers) is
-           fetched before this sample is classified, shaded and blended, so
-           the loads' latency overlaps that work (any lattice index gives a
-           valid stencil: grid_cell clamps). Same arithmetic, same bytes. */
-        vfloat t = grid_t_of_k(g, dt, k);
-        gcell cell;
-        grid_cell(g, vf_fma(t, p->ray.dx, p->ray.ox), vf_fma(t, p->ray.dy, p->ray.oy),
-                  vf_fma(t, p->ray.dz, p->ray.oz), &cell);
-        for (;;) {
-            vint kn = vi_add(k, vi_set1(1));
-            vfloat tn = grid_t_of_k(g, dt, kn);
-            if (fast && GRID_PF && g->pairs) grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
-            gcell next;
-            grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
-                      vf_fma(tn, p->ray.dz, p->ray.oz), &next);
-            if (fast) grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
-            else grid_sample_consume(g, f, mode, shade, p, m, k, t, &cell, st);
-            n += (uint64_t)vm_popcnt(m);
-            k = kn, t = tn;
-            m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
-            if (!vm_any(m)) break;
-            cell = next;
+        if (fast) {
+            /* on a local copy of the packlet: no store in the loop can then
+               alias its colour and rays (nor the frame's and grid's fields),
+               so they stay in registers instead of being stored and reloaded
+               every sample */
+            gpk q = *p;
+            n = grid_run(g, f, mode, 1, shade, &q, m, ka, kb, st);
+            p->c = q.c;
+        } else {
+            n = grid_run(g, f, mode, 0, shade, p, m, ka, kb, st);
         }
     }
     st->samples += n;
