@@ -514,6 +514,10 @@ static inline __attribute__((always_inline)) void grid_prefetch_pairs(const lc_k
         const uint32_t *q = g->pairs;
         __builtin_prefetch(q + ev[0]);
         __builtin_prefetch(q + ev[LC_W - 1]);
+        if (LC_W == 16) { /* the 4x4 block's other two corners: 1.00-1.04x (session 7) */
+            __builtin_prefetch(q + ev[3]);
+            __builtin_prefetch(q + ev[12]);
+        }
         return;
     }
     const uint16_t *b = g->pairs;
