@@ -180,6 +180,33 @@ static inline void grid_fetch_pair(const lc_kgrid *g, vint idx, vfloat *a, vfloa
     *b = vi_to_vf(hi);
 }
 
+/* The z-paired copy (kgrid.h pair_quads): d0 = pairs32[e], d1 = pairs32[e + 1]
+ * per lane, i.e. the 2x2 (j, k) voxels of columns i and i + 1. Where the
+ * target has 64-bit gathers, one 8-byte load per lane and two dword
+ * permutes; elsewhere two dword gathers. */
+static inline __attribute__((always_inline)) void grid_fetch_quads(const uint32_t *q, vint e, vint *d0, vint *d1)
+{
+#if defined(LC_TARGET_AVX512) && LC_W == 16
+    __m512i a = _mm512_i32gather_epi64(_mm512_castsi512_si256(e), (const void *)q, 4);
+    __m512i b = _mm512_i32gather_epi64(_mm512_extracti32x8_epi32(e, 1), (const void *)q, 4);
+    const __m512i ev = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    const __m512i od = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
+    *d0 = _mm512_permutex2var_epi32(a, ev, b);
+    *d1 = _mm512_permutex2var_epi32(a, od, b);
+#elif (defined(LC_TARGET_AVX2) || defined(LC_TARGET_AVX512_8)) && LC_W == 8
+    __m256i a = _mm256_i32gather_epi64((const long long *)(const void *)q, _mm256_castsi256_si128(e), 4);
+    __m256i b = _mm256_i32gather_epi64((const long long *)(const void *)q, _mm256_extracti128_si256(e, 1), 4);
+    /* per 128-bit half: a's then b's even (odd) dwords; then the halves' qwords in order */
+    __m256 lo = _mm256_shuffle_ps(_mm256_castsi256_ps(a), _mm256_castsi256_ps(b), 0x88);
+    __m256 hi = _mm256_shuffle_ps(_mm256_castsi256_ps(a), _mm256_castsi256_ps(b), 0xdd);
+    *d0 = _mm256_permute4x64_epi64(_mm256_castps_si256(lo), 0xd8);
+    *d1 = _mm256_permute4x64_epi64(_mm256_castps_si256(hi), 0xd8);
+#else
+    *d0 = vi_gather((const int32_t *)(const void *)q, e);
+    *d1 = vi_gather((const int32_t *)(const void *)q, vi_add(e, vi_set1(1)));
+#endif
+}
+
 /* A sample's trilinear stencil: the 8 voxel values of its cell
  * (v[0..7] = v000, v100, v010, v110, v001, v101, v011, v111) and the weights
  * (eq. 8). Profile variants with GP_INTERP keep u = (ux, uy, uz) in w*. */
@@ -210,6 +237,16 @@ static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, v
          * plane's 2x2 voxels, bytes (i, j), (i, j+1), (i+1, j), (i+1, j+1) */
         vint e = vi_add(i, vi_add(vi_mul(j, vi_set1(g->pair_ystride)), vi_mul(k, vi_set1(g->pair_zstride))));
         vint w0, w1;
+        vint ff = vi_set1(0xff);
+        if (g->pair_quads && !(GRID_PROF & GP_FETCH)) {
+            /* z-paired: d0 holds column i's bytes (j, k), (j+1, k), (j, k+1), (j+1, k+1), d1 column i+1's */
+            grid_fetch_quads(g->pairs, e, &w0, &w1);
+            c->v[0] = vi_to_vf(vi_and(w0, ff)), c->v[2] = vi_to_vf(vi_and(vi_srl(w0, 8), ff));
+            c->v[4] = vi_to_vf(vi_and(vi_srl(w0, 16), ff)), c->v[6] = vi_to_vf(vi_srl(w0, 24));
+            c->v[1] = vi_to_vf(vi_and(w1, ff)), c->v[3] = vi_to_vf(vi_and(vi_srl(w1, 8), ff));
+            c->v[5] = vi_to_vf(vi_and(vi_srl(w1, 16), ff)), c->v[7] = vi_to_vf(vi_srl(w1, 24));
+            return;
+        }
         if (GRID_PROF & GP_FETCH) {
             w0 = vi_and(e, vi_set1(0x7f7f7f7f));
             w1 = vi_and(vi_add(e, vi_set1(1)), vi_set1(0x7f7f7f7f));
@@ -217,7 +254,6 @@ static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, v
             w0 = vi_gather_u16pair(g->pairs, e);
             w1 = vi_gather_u16pair(g->pairs, vi_add(e, vi_set1(g->pair_zstride)));
         }
-        vint ff = vi_set1(0xff);
         c->v[0] = vi_to_vf(vi_and(w0, ff)), c->v[2] = vi_to_vf(vi_and(vi_srl(w0, 8), ff));
         c->v[1] = vi_to_vf(vi_and(vi_srl(w0, 16), ff)), c->v[3] = vi_to_vf(vi_srl(w0, 24));
         c->v[4] = vi_to_vf(vi_and(w1, ff)), c->v[6] = vi_to_vf(vi_and(vi_srl(w1, 8), ff));
@@ -473,6 +509,17 @@ static inline __attribute__((always_inline)) void grid_prefetch_pairs(const lc_k
     vint e = vi_add(i, vi_add(vi_mul(j, vi_set1(g->pair_ystride)), vi_mul(k, vi_set1(g->pair_zstride))));
     int32_t ev[LC_W];
     vi_store(ev, e);
+    if (g->pair_quads) {
+        /* one line per lane holds both planes */
+        const uint32_t *q = g->pairs;
+        __builtin_prefetch(q + ev[0]);
+        __builtin_prefetch(q + ev[LC_W - 1]);
+        if (LC_W == 16) { /* the 4x4 block's other two corners: 1.00-1.04x (session 7) */
+            __builtin_prefetch(q + ev[3]);
+            __builtin_prefetch(q + ev[12]);
+        }
+        return;
+    }
     const uint16_t *b = g->pairs;
     __builtin_prefetch(b + ev[0]);
     __builtin_prefetch(b + ev[0] + g->pair_zstride);
@@ -480,44 +527,69 @@ static inline __attribute__((always_inline)) void grid_prefetch_pairs(const lc_k
     __builtin_prefetch(b + ev[LC_W - 1] + g->pair_zstride);
 }
 
+/* The software-pipelined loop over samples k.. of the lanes in m (stopping
+ * at kb and alpha_stop): the next sample's stencil (its gathers) is fetched
+ * before this sample is classified, shaded and blended, so the loads'
+ * latency overlaps that work (any lattice index gives a valid stencil:
+ * grid_cell clamps). Same arithmetic, same bytes. Returns the lane samples. */
+static inline __attribute__((always_inline)) uint64_t grid_run(const lc_kgrid *g, const lc_kframe *f, int mode,
+                                                               int fast, int shade, gpk *p, vmask m, vint k, vint kb,
+                                                               lc_kstats *st)
+{
+    const float dt = f->dt;
+    vfloat astop = vf_set1(f->alpha_stop);
+    uint64_t n = 0;
+    vfloat t = grid_t_of_k(g, dt, k);
+    gcell cell;
+    grid_cell(g, vf_fma(t, p->ray.dx, p->ray.ox), vf_fma(t, p->ray.dy, p->ray.oy), vf_fma(t, p->ray.dz, p->ray.oz),
+              &cell);
+    /* the quad copy's prefetch every other sample: one line per lane holds
+       both planes, and a ray crosses a plane every step or two (measured:
+       1.01-1.08x over every sample, 4 rounds, docs/bench/grid.md session 7) */
+    unsigned it = 0;
+    for (;;) {
+        vint kn = vi_add(k, vi_set1(1));
+        vfloat tn = grid_t_of_k(g, dt, kn);
+        if (fast && GRID_PF && g->pairs && (!g->pair_quads || (it++ & 1)))
+            grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
+        gcell next;
+        grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
+                  vf_fma(tn, p->ray.dz, p->ray.oz), &next);
+        if (fast) grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
+        else grid_sample_consume(g, f, mode, shade, p, m, k, t, &cell, st);
+        n += (uint64_t)vm_popcnt(m);
+        k = kn, t = tn;
+        m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
+        if (!vm_any(m)) break;
+        cell = next;
+    }
+    return n;
+}
+
 /* Integrates lattice samples ka..kb (per lane) of the live lanes of p, front
  * to back, stopping lanes at alpha_stop. Both methods go through here. */
 static inline __attribute__((always_inline)) void grid_integrate_as(const lc_kgrid *g, const lc_kframe *f, int mode,
                                                                     gpk *p, vint ka, vint kb, lc_kstats *st)
 {
-    const float dt = f->dt;
     const int shade = mode == LC_KMODE_DVR && f->shade != LC_KSHADE_NONE; /* mode_needs_grad */
     vfloat astop = vf_set1(f->alpha_stop);
     /* post-classified dvr without differential sampling: the step table */
     const int fast = mode == LC_KMODE_DVR && !g->use_preint && g->rda == 0.0f && f->tf[0].cls;
     vmask start = vm_and(p->live, vm_not(vi_gt(ka, kb)));
     vmask m = start;
-    vint k = ka;
     uint64_t n = 0;
     if (GRID_PROF & GP_SAMPLE) m = vm_and(m, vm_not(m));
     if (vm_any(m)) {
-        /* software-pipelined: the next sample's stencil (its gathers) is
-           fetched before this sample is classified, shaded and blended, so
-           the loads' latency overlaps that work (any lattice index gives a
-           valid stencil: grid_cell clamps). Same arithmetic, same bytes. */
-        vfloat t = grid_t_of_k(g, dt, k);
-        gcell cell;
-        grid_cell(g, vf_fma(t, p->ray.dx, p->ray.ox), vf_fma(t, p->ray.dy, p->ray.oy),
-                  vf_fma(t, p->ray.dz, p->ray.oz), &cell);
-        for (;;) {
-            vint kn = vi_add(k, vi_set1(1));
-            vfloat tn = grid_t_of_k(g, dt, kn);
-            if (fast && GRID_PF && g->pairs) grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
-            gcell next;
-            grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
-                      vf_fma(tn, p->ray.dz, p->ray.oz), &next);
-            if (fast) grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
-            else grid_sample_consume(g, f, mode, shade, p, m, k, t, &cell, st);
-            n += (uint64_t)vm_popcnt(m);
-            k = kn, t = tn;
-            m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
-            if (!vm_any(m)) break;
-            cell = next;
+        if (fast) {
+            /* on a local copy of the packlet: no store in the loop can then
+               alias its colour and rays (nor the frame's and grid's fields),
+               so they stay in registers instead of being stored and reloaded
+               every sample */
+            gpk q = *p;
+            n = grid_run(g, f, mode, 1, shade, &q, m, ka, kb, st);
+            p->c = q.c;
+        } else {
+            n = grid_run(g, f, mode, 0, shade, p, m, ka, kb, st);
         }
     }
     st->samples += n;

@@ -19,7 +19,7 @@
 #include "ref/ref_core.h"
 #include "ref/ref_fields.h"
 
-extern int64_t lci_grid_pairs_max; /* host/kinds/grid.c */
+extern int64_t lci_grid_pairs_max, lci_grid_quads_max; /* host/kinds/grid.c */
 
 enum { W = 41, H = 37 };
 
@@ -153,6 +153,7 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
         for (int pairs = 0; pairs < 2; pairs++)
             for (int lay = 0; lay < 2; lay++) {
                 lci_grid_pairs_max = pairs ? (int64_t)1 << 40 : 1000;
+                lci_grid_quads_max = 0; /* the 2-byte pair copy (test_grid_quads.c: the 4-byte one) */
                 lc_grid_desc gd = {.size = {v->n[0], v->n[1], v->n[2]},
                                    .type = LC_VALUE_UINT8,
                                    .data = v->data,
@@ -164,6 +165,7 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                 bytes[pairs][lay] = in.layout_bytes;
             }
         lci_grid_pairs_max = (int64_t)1 << 30;
+        lci_grid_quads_max = (int64_t)1 << 25;
         uint64_t count = (uint64_t)v->n[0] * v->n[1] * v->n[2];
         for (int lay = 0; lay < 2; lay++)
             CHECK_QUIET(bytes[1][lay] >= bytes[0][lay] + 2 * count, "%s layout %d: pair copy %llu vs %llu bytes", tn,

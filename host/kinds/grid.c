@@ -19,6 +19,10 @@
  * voxels (a 2 GiB copy): beyond it the copy's int32 element offsets
  * (kgrid.h) come near 2^31, and larger volumes keep only the bricks. */
 int64_t lci_grid_pairs_max = (int64_t)1 << 30; /* tests lower it (tests/test_grid_nopairs.c) */
+/* ... and up to lci_grid_quads_max voxels the copy is z-paired too (4 bytes a
+ * voxel, lc_kgrid.pair_quads): one 64-bit gather lane per sample instead of
+ * two 32-bit ones (docs/bench/grid.md, session 7). */
+int64_t lci_grid_quads_max = (int64_t)1 << 25; /* tests change it (tests/test_grid_quads.c) */
 /* nodes per axis: every index up to size - 2 is exact in float32 */
 #define MAX_AXIS (1 << 24)
 
@@ -192,6 +196,23 @@ static void build_pairs(const uint8_t *src, const int32_t n[3], uint16_t *pairs)
     memset(pairs + (size_t)n[0] * (size_t)n[1] * (size_t)n[2], 0, GATHER_PAD);
 }
 
+/* quads[e] = v(i, j, k) | v(i, j1, k) << 8 | v(i, j, k1) << 16 | v(i, j1, k1) << 24
+ * with j1 = min(j + 1, ny - 1), k1 = min(k + 1, nz - 1) at the linear index e
+ * of (i, j, k) (lc_kgrid.pair_quads); padding zeroed. */
+static void build_quads(const uint8_t *src, const int32_t n[3], uint32_t *quads)
+{
+    size_t plane = (size_t)n[0] * (size_t)n[1];
+    for (int32_t k = 0; k < n[2]; k++)
+        for (int32_t j = 0; j < n[1]; j++) {
+            size_t e = (size_t)k * plane + (size_t)j * (size_t)n[0];
+            const uint8_t *r0 = src + e, *r1 = j + 1 < n[1] ? r0 + n[0] : r0;
+            const uint8_t *r2 = k + 1 < n[2] ? r0 + plane : r0, *r3 = k + 1 < n[2] ? r1 + plane : r1;
+            for (int32_t i = 0; i < n[0]; i++)
+                quads[e + (size_t)i] = (uint32_t)r0[i] | (uint32_t)r1[i] << 8 | (uint32_t)r2[i] << 16 | (uint32_t)r3[i] << 24;
+        }
+    memset(quads + plane * (size_t)n[2], 0, GATHER_PAD);
+}
+
 static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
 {
     const lc_grid_desc *d = desc;
@@ -247,8 +268,15 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         }
         data = g->owned;
         /* uint8: the y-pair-packed copy the kernels sample (2 bytes a voxel) */
-        if (d->type == LC_VALUE_UINT8 && count <= lci_grid_pairs_max) {
-            g->pairs = voxel_alloc((size_t)count * 2 + GATHER_PAD);
+        if (d->type == LC_VALUE_UINT8 && count <= lci_grid_quads_max) {
+            g->pair_bytes = (size_t)count * 4 + GATHER_PAD;
+            g->pairs = voxel_alloc(g->pair_bytes);
+            if (!g->pairs) goto oom;
+            g->quads = 1;
+            build_quads(src, n, g->pairs);
+        } else if (d->type == LC_VALUE_UINT8 && count <= lci_grid_pairs_max) {
+            g->pair_bytes = (size_t)count * 2 + GATHER_PAD;
+            g->pairs = voxel_alloc(g->pair_bytes);
             if (!g->pairs) goto oom;
             build_pairs(src, n, g->pairs);
         }
@@ -273,6 +301,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     k->ystride = k->bricked ? 64 * ((n[0] + 3) / 4) : n[0];
     k->zstride = k->bricked ? 64 * ((n[0] + 3) / 4) * ((n[1] + 3) / 4) : n[0] * n[1];
     k->pairs = g->pairs;
+    k->pair_quads = g->quads;
     k->pair_ystride = n[0];
     k->pair_zstride = n[0] * n[1];
     k->wide_safe = borrow ? (d->type == LC_VALUE_UINT8 ? count - 3 : count - 1) : INT64_MAX;
@@ -295,7 +324,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     in->data_bytes = (uint64_t)count * (uint64_t)es;
     uint64_t tables = sizeof(int32_t) * ((uint64_t)n[0] + (uint64_t)n[1] + (uint64_t)n[2]);
     in->layout_bytes = (borrow ? 0 : (uint64_t)elements * (uint64_t)es + GATHER_PAD) + tables +
-                       (g->pairs ? (uint64_t)count * 2 + GATHER_PAD : 0);
+                       (uint64_t)g->pair_bytes;
     in->layout_overhead_bytes = borrow ? tables : in->layout_bytes - in->data_bytes;
     in->brick = L;
     in->bvh_nodes = (uint64_t)g->bvh.nnodes;

@@ -13,7 +13,9 @@ typedef struct grid {
     lc_volume base;       /* first: the kind-neutral handle */
     lc_grid_info info;
     void *owned;          /* owned voxels (padded for wide gathers), or NULL if borrowed */
-    uint16_t *pairs;      /* y-pair-packed uint8 voxels (lc_kgrid.pairs), or NULL */
+    void *pairs;          /* y-pair-packed (or with quads y- and z-paired) uint8 voxels (lc_kgrid.pairs), or NULL */
+    int quads;            /* pairs is the z-paired uint32 layout (lc_kgrid.pair_quads) */
+    size_t pair_bytes;    /* its allocation */
     int32_t *offsets;     /* xoff | yoff | zoff */
     lci_grid_bvh bvh;
     lc_kgrid kg;          /* template: per-frame fields filled by prepare */

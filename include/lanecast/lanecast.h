@@ -352,9 +352,9 @@ typedef struct lc_grid_desc {
     lc_vec3 origin;
     int borrow;           /* 1: keep `data` (caller keeps it alive and unchanged until destroy);
                              0: copy it. An owned uint8 grid of up to 1024^3 voxels also keeps
-                             a y-pair-packed copy for sampling (2 bytes a voxel more, counted in
-                             lc_grid_info.layout_bytes; 1.2-1.4x faster frames); borrowed
-                             grids keep neither copy */
+                             a packed copy for sampling (4 bytes a voxel up to 2^25 voxels,
+                             2 above; counted in lc_grid_info.layout_bytes; 1.1-1.4x faster
+                             frames); borrowed grids keep neither copy */
     lc_grid_layout layout;
     int brick;            /* BVH leaf side L in voxels: 1, 2, 4, 8 or 16; 0 = by size */
     lc_grid_params params; /* initial parameters (lc_grid_set_params changes them) */

@@ -68,8 +68,15 @@ typedef struct lc_kgrid {
      * lci_grid_pairs_max): pairs[i + j ystride + k zstride of the linear layout]
      * = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8, so one 32-bit load at
      * element e (byte 2e) holds v(i, j), v(i, j+1), v(i+1, j), v(i+1, j+1)
-     * of plane k: two loads per trilinear sample instead of eight. */
-    const uint16_t *pairs;
+     * of plane k: two loads per trilinear sample instead of eight.
+     * With pair_quads set (smaller volumes, lci_grid_quads_max) the copy is
+     * z-paired too, one uint32 per voxel at the same linear index e:
+     * pairs32[e] = v(i, j, k) | v(i, j1, k) << 8 | v(i, j, k1) << 16 |
+     * v(i, j1, k1) << 24 with j1 = min(j + 1, ny - 1), k1 = min(k + 1, nz - 1),
+     * so one 64-bit load at e (byte 4e) holds the whole 2x2x2 stencil:
+     * two 8-lane qword gathers per 16 samples instead of two 16-lane dword
+     * gathers (a gather costs about one load per lane on Zen 4). */
+    const void *pairs;
     int32_t pair_ystride, pair_zstride;
     /* per frame, one byte per BVH node: the node's TF test bits
      * LC_KGRID_NODE_EMPTY / CONST / DENSE (below), which the host computes
@@ -77,8 +84,10 @@ typedef struct lc_kgrid {
      * child (nnodes bytes, which stay in cache) instead of each child's node
      * and the 1 MiB pre-integrated table (cache misses: ~15% of a BVH frame). */
     const uint8_t *node_tf_bits;
+    int32_t pair_quads; /* pairs holds the z-paired uint32 layout (above) */
+    int32_t pad_;
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8 + 8, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 

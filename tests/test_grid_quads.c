@@ -1,0 +1,255 @@
+/* Session 7: owned uint8 grids up to lci_grid_quads_max voxels sample the
+ * z-paired copy (kgrid.h pair_quads: 4 bytes a voxel, one 64-bit gather lane
+ * per sample), larger ones up to lci_grid_pairs_max the y-pair copy (2 bytes).
+ * Per target: the quad copy's images equal to the pair copy's, bit for bit
+ * (BVH with heuristics off and on, brute force, post-classified and
+ * pre-integrated, unlit, diffuse and Phong), and against the reference core
+ * (tests/ref) at SPEC.md tolerances; camera outside, inside and on an
+ * axis-aligned view, odd sizes, both layouts, and a volume large enough for
+ * the huge-page allocation. A reference of a perturbed volume must fail the
+ * same comparison (the test can fail).
+ * usage: test_grid_quads [OUTDIR]   (diff images of failures go to OUTDIR) */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "host/kinds/grid.h"
+
+#include "check.h"
+#include "imgcmp.h"
+#include "ref/ref_core.h"
+#include "ref/ref_fields.h"
+
+extern int64_t lci_grid_pairs_max, lci_grid_quads_max; /* host/kinds/grid.c */
+
+enum { W = 41, H = 37 };
+
+static const char *diff_dir;
+static imgcmp_worst w_ref = IMGCMP_WORST_INIT, w_same = IMGCMP_WORST_INIT, w_heur = IMGCMP_WORST_INIT,
+                    w_pre = IMGCMP_WORST_INIT;
+
+/* two soft blobs and a shell in [0, 255], 0 (air) below 12 */
+static uint8_t field(double x, double y, double z)
+{
+    double a = exp(-((x - 0.35) * (x - 0.35) + (y - 0.4) * (y - 0.4) + (z - 0.5) * (z - 0.5)) / 0.02);
+    double b = exp(-((x - 0.65) * (x - 0.65) + (y - 0.6) * (y - 0.6) + (z - 0.45) * (z - 0.45)) / 0.01);
+    double r = sqrt((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5) + (z - 0.5) * (z - 0.5));
+    double shell = r > 0.38 && r < 0.45 ? 0.5 + 0.3 * sin(20 * x) * cos(17 * y) : 0;
+    double v = fmax(fmax(a, b), shell) * 255.0;
+    return v < 12 ? 0 : (uint8_t)lround(v);
+}
+
+typedef struct vol {
+    int n[3];
+    uint8_t *data;
+    double *ref;
+} vol;
+
+static void vol_make(vol *v, int nx, int ny, int nz)
+{
+    v->n[0] = nx, v->n[1] = ny, v->n[2] = nz;
+    size_t n = (size_t)nx * ny * nz;
+    v->data = malloc(n);
+    v->ref = malloc(n * sizeof(double));
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++) {
+                size_t id = ((size_t)k * ny + j) * nx + i;
+                v->data[id] = field((double)i / (nx - 1), (double)j / (ny - 1), (double)k / (nz - 1));
+                v->ref[id] = v->data[id];
+            }
+}
+
+static const float tf_color[12] = {0, 0.1f, 0.2f, 0.9f, 0.5f, 0.9f, 0.3f, 0.1f, 1, 1, 1, 0.3f};
+static const float tf_opacity[8] = {0, 0, 0.1f, 0, 0.6f, 0.1f, 1, 0.25f};
+
+typedef struct view {
+    double eye[3], at[3];
+    int shade;
+} view;
+
+static void render(lc_device *dev, lc_volume *g, const lc_tf *tf, const view *vw, lc_method m, int heur, int preint,
+                   float *out)
+{
+    lc_render_desc d = {.width = W,
+                        .height = H,
+                        .tf = tf,
+                        .volume = g,
+                        .dt = 0.4f,
+                        .alpha_stop = 1.0f,
+                        .shading = (lc_shading)vw->shade,
+                        .method = m};
+    d.camera.eye = (lc_vec3){(float)vw->eye[0], (float)vw->eye[1], (float)vw->eye[2]};
+    d.camera.at = (lc_vec3){(float)vw->at[0], (float)vw->at[1], (float)vw->at[2]};
+    d.camera.up = (lc_vec3){0, 1, 0};
+    d.camera.fovy = 40;
+    d.range[0] = 0, d.range[1] = 255;
+    lc_grid_params gp = {0};
+    if (!heur) gp = (lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1};
+    gp.preintegrated = preint;
+    CHECK_QUIET(lc_grid_set_params(g, &gp) == LC_OK, "lc_grid_set_params: %s", lc_last_error());
+    CHECK_QUIET(lc_render(dev, &d, out, NULL) == LC_OK, "render: %s", lc_last_error());
+}
+
+static void ref_image(const vol *v, const view *vw, float *out)
+{
+    double dc[12], dop[8];
+    for (int i = 0; i < 12; i++)
+        dc[i] = tf_color[i];
+    for (int i = 0; i < 8; i++)
+        dop[i] = tf_opacity[i];
+    ref_tf rtf = {0, 255, dc, 3, dop, 4};
+    ref_grid_field rg = {{v->n[0], v->n[1], v->n[2]}, {0, 0, 0}, {1, 1, 1}, v->ref};
+    ref_source src;
+    CHECK_QUIET(ref_grid_source(&rg, &src) == 0, "reference grid source");
+    ref_params p = {0};
+    p.width = W, p.height = H;
+    p.camera = (ref_camera){
+        REF_PERSPECTIVE, {vw->eye[0], vw->eye[1], vw->eye[2]}, {vw->at[0], vw->at[1], vw->at[2]}, {0, 1, 0}, 40.0, 0.0};
+    p.mode = REF_MODE_DVR;
+    p.tf = &rtf;
+    p.dt = 0.4;
+    p.alpha_stop = 1.0;
+    p.shading = (ref_shading)vw->shade;
+    CHECK_QUIET(ref_render_f(&src, &p, out) == 0, "reference render");
+}
+
+static int cmp(const char *label, const float *got, const float *want, double max_255, double min_psnr, imgcmp_worst *w)
+{
+    imgcmp_result r;
+    int rc = imgcmp_check_ex(label, got, want, W, H, max_255, min_psnr, diff_dir, 1, &r);
+    if (rc >= 0 && w) imgcmp_worst_add(w, &r);
+    if (rc != 0) printf("%s: max %.3f/255 psnr %.1f\n", label, r.max_diff_255, r.psnr_db);
+    return rc;
+}
+
+typedef struct grids {
+    lc_volume *g[2][2]; /* [quads][layout: 0 bricked, 1 linear] */
+} grids;
+
+/* One volume under every target: the four grids of each layout with the
+ * quad copy or the pair copy, against the reference and one another. */
+static void check_volume(const vol *v, const view *views, int nviews, int show)
+{
+    float *a = malloc(sizeof(float) * W * H * 4), *b = malloc(sizeof(float) * W * H * 4),
+          *r = malloc(sizeof(float) * W * H * 4);
+    float *refs = malloc(sizeof(float) * W * H * 4 * (size_t)nviews);
+    for (int e = 0; e < nviews; e++) {
+        ref_image(v, &views[e], refs + (size_t)e * W * H * 4);
+        double amax = 0;
+        for (int i = 0; i < W * H; i++)
+            amax = fmax(amax, refs[(size_t)e * W * H * 4 + 4 * i + 3]);
+        CHECK_QUIET(amax > 0.3, "view %d: reference image nearly empty (max alpha %g)", e, amax);
+    }
+    for (int t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++) {
+        if (!lc_target_compiled((lc_target)t) || !lc_target_supported((lc_target)t)) continue;
+        const char *tn = lc_target_name((lc_target)t);
+        lc_device *dev = NULL;
+        if (lc_device_create(&(lc_device_desc){.target = (lc_target)t, .threads = 2}, &dev) != LC_OK) continue;
+        lc_tf_field tff = {.color = tf_color, .ncolor = 3, .opacity = tf_opacity, .nopacity = 4};
+        lc_tf *tf = NULL;
+        CHECK_QUIET(lc_tf_create(dev, &tff, 1, &tf) == LC_OK, "tf: %s", lc_last_error());
+        grids gs;
+        uint64_t bytes[2][2];
+        for (int q = 0; q < 2; q++)
+            for (int lay = 0; lay < 2; lay++) {
+                lci_grid_quads_max = q ? (int64_t)1 << 40 : 0;
+                lc_grid_desc gd = {.size = {v->n[0], v->n[1], v->n[2]},
+                                   .type = LC_VALUE_UINT8,
+                                   .data = v->data,
+                                   .layout = lay ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED};
+                gs.g[q][lay] = NULL;
+                CHECK_QUIET(lc_grid_create(dev, &gd, &gs.g[q][lay]) == LC_OK, "create: %s", lc_last_error());
+                lc_grid_info in = {0};
+                if (gs.g[q][lay]) lc_grid_get_info(gs.g[q][lay], &in);
+                bytes[q][lay] = in.layout_bytes;
+                if (gs.g[q][lay])
+                    CHECK_QUIET(((const grid *)gs.g[q][lay])->kg.pair_quads == q, "%s: quad copy %s", tn,
+                                q ? "absent" : "present");
+            }
+        lci_grid_quads_max = (int64_t)1 << 25;
+        uint64_t count = (uint64_t)v->n[0] * v->n[1] * v->n[2];
+        for (int lay = 0; lay < 2; lay++)
+            CHECK_QUIET(bytes[1][lay] == bytes[0][lay] + 2 * count, "%s layout %d: quad copy %llu vs pair copy %llu bytes",
+                        tn, lay, (unsigned long long)bytes[1][lay], (unsigned long long)bytes[0][lay]);
+        for (int e = 0; e < nviews; e++) {
+            const float *ref = refs + (size_t)e * W * H * 4;
+            char label[160];
+            for (int lay = 0; lay < 2; lay++) {
+                if (!gs.g[0][lay] || !gs.g[1][lay]) continue;
+                for (int m = 0; m < 2; m++) {
+                    lc_method meth = m ? LC_METHOD_BRUTE : LC_METHOD_BVH;
+                    const char *mn = m ? "brute" : "bvh";
+                    render(dev, gs.g[1][lay], tf, &views[e], meth, 0, 0, a);
+                    render(dev, gs.g[0][lay], tf, &views[e], meth, 0, 0, b);
+                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_quads-ref", tn, e, lay, mn);
+                    CHECK_QUIET(cmp(label, a, ref, 0, 0, &w_ref) == 0, "%s", label);
+                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_quads-pairs", tn, e, lay, mn);
+                    CHECK_QUIET(cmp(label, a, b, 0, 0, &w_same) == 0, "%s", label);
+                    /* pre-integrated: with and without the copy alike (the reference has no table) */
+                    render(dev, gs.g[1][lay], tf, &views[e], meth, 0, 1, a);
+                    render(dev, gs.g[0][lay], tf, &views[e], meth, 0, 1, b);
+                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_preint_quads-pairs", tn, e, lay, mn);
+                    CHECK_QUIET(cmp(label, a, b, 0, 0, &w_pre) == 0, "%s", label);
+                }
+                /* the BVH with its default heuristics: test_grid's bound */
+                render(dev, gs.g[0][lay], tf, &views[e], LC_METHOD_BVH, 1, 0, a);
+                snprintf(label, sizeof label, "%s_view%d_layout%d_bvh-heuristics_quads-ref", tn, e, lay);
+                CHECK_QUIET(cmp(label, a, ref, IMGCMP_NO_MAX_BOUND, 40.0, &w_heur) == 0, "%s", label);
+            }
+        }
+        if (show && gs.g[1][0]) {
+            /* the comparison can fail: the same render against the reference of a
+               perturbed volume (one block of voxels 40 higher) */
+            vol p = *v;
+            size_t n = (size_t)v->n[0] * v->n[1] * v->n[2];
+            p.ref = malloc(n * sizeof(double));
+            memcpy(p.ref, v->ref, n * sizeof(double));
+            for (int k = v->n[2] / 3; k < v->n[2] / 2; k++)
+                for (int j = v->n[1] / 3; j < 2 * v->n[1] / 3; j++)
+                    for (int i = v->n[0] / 4; i < 3 * v->n[0] / 4; i++)
+                        p.ref[((size_t)k * v->n[1] + j) * v->n[0] + i] += 40;
+            ref_image(&p, &views[0], r);
+            render(dev, gs.g[1][0], tf, &views[0], LC_METHOD_BVH, 0, 0, a);
+            imgcmp_result res;
+            int rc = imgcmp_check_ex("self-check_perturbed", a, r, W, H, 0, 0, NULL, 1, &res);
+            CHECK(rc == 1, "%s: a perturbed volume's reference fails the comparison (max %.3f/255)", tn,
+                  res.max_diff_255);
+            free(p.ref);
+        }
+        for (int q = 0; q < 2; q++)
+            for (int lay = 0; lay < 2; lay++)
+                lc_volume_destroy(gs.g[q][lay]);
+        lc_tf_destroy(tf);
+        lc_device_destroy(dev);
+    }
+    free(a), free(b), free(r), free(refs);
+}
+
+int main(int argc, char **argv)
+{
+    diff_dir = argc > 1 ? argv[1] : NULL;
+    setvbuf(stdout, NULL, _IOLBF, 0);
+    CHECK(lci_grid_quads_max == (int64_t)1 << 25 && lci_grid_pairs_max == (int64_t)1 << 30,
+          "default copy bounds: quads up to 2^25 voxels (%lld), pairs up to 2^30 (%lld)", (long long)lci_grid_quads_max,
+          (long long)lci_grid_pairs_max);
+    /* odd sizes: outside, inside the volume, and an axis-aligned view down z */
+    vol s;
+    vol_make(&s, 37, 29, 41);
+    view vs[3] = {
+        {{48, 42.5, 86}, {18, 14, 20}, 2}, {{20.3, 16.1, 14.7}, {18, 14, 20}, 1}, {{18, 14, 95}, {18, 14, 20}, 0}};
+    check_volume(&s, vs, 3, 1);
+    free(s.data), free(s.ref);
+    /* 4 MiB of voxels and more: the huge-page allocation */
+    vol b;
+    vol_make(&b, 131, 127, 133);
+    view vb[2] = {{{170, 150, 300}, {65, 63, 66}, 2}, {{65, 63, 320}, {65, 63, 66}, 0}};
+    check_volume(&b, vb, 2, 0);
+    free(b.data), free(b.ref);
+    imgcmp_worst_print("quad copy vs reference (heuristics off)", &w_ref);
+    imgcmp_worst_print("quad copy vs pair copy (heuristics off and on)", &w_same);
+    imgcmp_worst_print("pre-integrated, quad copy vs pair copy", &w_pre);
+    imgcmp_worst_print("quad copy, bvh with heuristics vs reference (PSNR >= 40 only)", &w_heur);
+    printf("%s: %d failure(s)\n", check_failures ? "FAIL" : "ok", check_failures);
+    return check_failures ? 1 : 0;
+}
