@@ -1,13 +1,18 @@
-/* Issue 9, second round: owned uint8 grids above the pair-copy bound
- * (host/kinds/grid.c PAIRS_MAX, lowered here through lci_grid_pairs_max) are
- * sampled from their bricked or linear voxels, and grids of 4 MiB or more
- * take the huge-page voxel allocation. Per target: BVH (heuristics off and
- * on), brute force, post-classified and pre-integrated, camera outside,
- * inside and on an axis-aligned view, odd sizes, both layouts, against the
- * reference core (tests/ref) at SPEC.md tolerances, and the pair copy's
- * images equal to the ones without it. A reference of a perturbed volume
- * must fail the same comparison (the test can fail).
- * usage: test_grid_nopairs [OUTDIR]   (diff images of failures go to OUTDIR) */
+/* The voxel copies an owned uint8 grid samples (host/kinds/grid.c, kgrid.h),
+ * two grids of the same volume side by side, one test per pair:
+ * - nopairs (issue 9, second round): no copy (above lci_grid_pairs_max,
+ *   lowered here), sampled from the bricked or linear voxels, against the
+ *   y-pair copy (2 bytes a voxel);
+ * - quads (session 7): the z-paired copy (pair_quads, 4 bytes a voxel, one
+ *   64-bit gather lane per sample; up to lci_grid_quads_max) against the
+ *   y-pair copy.
+ * Per target: the first grid against the reference core (tests/ref) at
+ * SPEC.md tolerances and the two grids' images equal (BVH with heuristics
+ * off and on, brute force, post-classified and pre-integrated), camera
+ * outside, inside and on an axis-aligned view, odd sizes, both layouts, and
+ * a volume large enough for the huge-page voxel allocation. A reference of a
+ * perturbed volume must fail the same comparison (the test can fail).
+ * usage: test_grid_copies nopairs|quads [OUTDIR]   (diff images of failures go to OUTDIR) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +29,17 @@ extern int64_t lci_grid_pairs_max, lci_grid_quads_max; /* host/kinds/grid.c */
 enum { W = 41, H = 37 };
 
 static const char *diff_dir;
+
+/* the pair of grids compared: [0] against the reference, [1] beside it */
+typedef struct variant {
+    const char *name, *label[2];
+    int64_t pairs_max[2], quads_max[2]; /* the bounds each grid is created under */
+} variant;
+static const variant variants[] = {
+    {"nopairs", {"nopairs", "pairs"}, {1000, (int64_t)1 << 40}, {0, 0}},
+    {"quads", {"quads", "pairs"}, {(int64_t)1 << 40, (int64_t)1 << 40}, {(int64_t)1 << 40, 0}},
+};
+static const variant *var;
 static imgcmp_worst w_ref = IMGCMP_WORST_INIT, w_same = IMGCMP_WORST_INIT, w_heur = IMGCMP_WORST_INIT,
                     w_pre = IMGCMP_WORST_INIT;
 
@@ -123,11 +139,11 @@ static int cmp(const char *label, const float *got, const float *want, double ma
 }
 
 typedef struct grids {
-    lc_volume *g[2][2]; /* [pairs][layout: 0 bricked, 1 linear] */
+    lc_volume *g[2][2]; /* [variant's grid][layout: 0 bricked, 1 linear] */
 } grids;
 
-/* One volume under every target: the four grids of each layout with and
- * without the pair copy, against the reference and one another. */
+/* One volume under every target: the variant's two grids of each layout,
+ * against the reference and one another. */
 static void check_volume(const vol *v, const view *views, int nviews, int show)
 {
     float *a = malloc(sizeof(float) * W * H * 4), *b = malloc(sizeof(float) * W * H * 4),
@@ -150,26 +166,33 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
         CHECK_QUIET(lc_tf_create(dev, &tff, 1, &tf) == LC_OK, "tf: %s", lc_last_error());
         grids gs;
         uint64_t bytes[2][2];
-        for (int pairs = 0; pairs < 2; pairs++)
+        for (int c = 0; c < 2; c++)
             for (int lay = 0; lay < 2; lay++) {
-                lci_grid_pairs_max = pairs ? (int64_t)1 << 40 : 1000;
-                lci_grid_quads_max = 0; /* the 2-byte pair copy (test_grid_quads.c: the 4-byte one) */
+                lci_grid_pairs_max = var->pairs_max[c];
+                lci_grid_quads_max = var->quads_max[c];
                 lc_grid_desc gd = {.size = {v->n[0], v->n[1], v->n[2]},
                                    .type = LC_VALUE_UINT8,
                                    .data = v->data,
                                    .layout = lay ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED};
-                gs.g[pairs][lay] = NULL;
-                CHECK_QUIET(lc_grid_create(dev, &gd, &gs.g[pairs][lay]) == LC_OK, "create: %s", lc_last_error());
+                gs.g[c][lay] = NULL;
+                CHECK_QUIET(lc_grid_create(dev, &gd, &gs.g[c][lay]) == LC_OK, "create: %s", lc_last_error());
                 lc_grid_info in = {0};
-                if (gs.g[pairs][lay]) lc_grid_get_info(gs.g[pairs][lay], &in);
-                bytes[pairs][lay] = in.layout_bytes;
+                if (gs.g[c][lay]) lc_grid_get_info(gs.g[c][lay], &in);
+                bytes[c][lay] = in.layout_bytes;
+                if (gs.g[c][lay])
+                    CHECK_QUIET(((const grid *)gs.g[c][lay])->kg.pair_quads == (var->quads_max[c] > 0), "%s: quad copy %s",
+                                tn, var->quads_max[c] > 0 ? "absent" : "present");
             }
         lci_grid_pairs_max = (int64_t)1 << 30;
         lci_grid_quads_max = (int64_t)1 << 25;
         uint64_t count = (uint64_t)v->n[0] * v->n[1] * v->n[2];
-        for (int lay = 0; lay < 2; lay++)
-            CHECK_QUIET(bytes[1][lay] >= bytes[0][lay] + 2 * count, "%s layout %d: pair copy %llu vs %llu bytes", tn,
-                        lay, (unsigned long long)bytes[1][lay], (unsigned long long)bytes[0][lay]);
+        for (int lay = 0; lay < 2; lay++) {
+            /* nopairs: the pair copy's 2 bytes a voxel (and padding) more; quads: 2 bytes more than pairs */
+            int ok = var->quads_max[0] ? bytes[0][lay] == bytes[1][lay] + 2 * count
+                                       : bytes[1][lay] >= bytes[0][lay] + 2 * count;
+            CHECK_QUIET(ok, "%s layout %d: %s %llu vs %s %llu bytes", tn, lay, var->label[0],
+                        (unsigned long long)bytes[0][lay], var->label[1], (unsigned long long)bytes[1][lay]);
+        }
         for (int e = 0; e < nviews; e++) {
             const float *ref = refs + (size_t)e * W * H * 4;
             char label[160];
@@ -180,19 +203,20 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                     const char *mn = m ? "brute" : "bvh";
                     render(dev, gs.g[0][lay], tf, &views[e], meth, 0, 0, a);
                     render(dev, gs.g[1][lay], tf, &views[e], meth, 0, 0, b);
-                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_nopairs-ref", tn, e, lay, mn);
+                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_%s-ref", tn, e, lay, mn, var->label[0]);
                     CHECK_QUIET(cmp(label, a, ref, 0, 0, &w_ref) == 0, "%s", label);
-                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_nopairs-pairs", tn, e, lay, mn);
+                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_%s-%s", tn, e, lay, mn, var->label[0], var->label[1]);
                     CHECK_QUIET(cmp(label, a, b, 0, 0, &w_same) == 0, "%s", label);
-                    /* pre-integrated: with and without the copy alike (the reference has no table) */
+                    /* pre-integrated: both grids alike (the reference has no table) */
                     render(dev, gs.g[0][lay], tf, &views[e], meth, 0, 1, a);
                     render(dev, gs.g[1][lay], tf, &views[e], meth, 0, 1, b);
-                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_preint_nopairs-pairs", tn, e, lay, mn);
+                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_preint_%s-%s", tn, e, lay, mn, var->label[0],
+                             var->label[1]);
                     CHECK_QUIET(cmp(label, a, b, 0, 0, &w_pre) == 0, "%s", label);
                 }
                 /* the BVH with its default heuristics: test_grid's bound */
                 render(dev, gs.g[0][lay], tf, &views[e], LC_METHOD_BVH, 1, 0, a);
-                snprintf(label, sizeof label, "%s_view%d_layout%d_bvh-heuristics_nopairs-ref", tn, e, lay);
+                snprintf(label, sizeof label, "%s_view%d_layout%d_bvh-heuristics_%s-ref", tn, e, lay, var->label[0]);
                 CHECK_QUIET(cmp(label, a, ref, IMGCMP_NO_MAX_BOUND, 40.0, &w_heur) == 0, "%s", label);
             }
         }
@@ -215,9 +239,9 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                   res.max_diff_255);
             free(p.ref);
         }
-        for (int pairs = 0; pairs < 2; pairs++)
+        for (int c = 0; c < 2; c++)
             for (int lay = 0; lay < 2; lay++)
-                lc_volume_destroy(gs.g[pairs][lay]);
+                lc_volume_destroy(gs.g[c][lay]);
         lc_tf_destroy(tf);
         lc_device_destroy(dev);
     }
@@ -226,9 +250,16 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
 
 int main(int argc, char **argv)
 {
-    diff_dir = argc > 1 ? argv[1] : NULL;
+    for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++)
+        if (argc > 1 && !strcmp(argv[1], variants[i].name)) var = &variants[i];
+    if (!var) {
+        fprintf(stderr, "usage: test_grid_copies nopairs|quads [OUTDIR]\n");
+        return 2;
+    }
+    diff_dir = argc > 2 ? argv[2] : NULL;
     setvbuf(stdout, NULL, _IOLBF, 0);
-    CHECK(lci_grid_pairs_max == (int64_t)1 << 30, "default pair-copy bound 2^30 voxels (%lld)",
+    CHECK(lci_grid_quads_max == (int64_t)1 << 25 && lci_grid_pairs_max == (int64_t)1 << 30,
+          "default copy bounds: quads up to 2^25 voxels (%lld), pairs up to 2^30 (%lld)", (long long)lci_grid_quads_max,
           (long long)lci_grid_pairs_max);
     /* odd sizes: outside, inside the volume, and an axis-aligned view down z */
     vol s;
@@ -237,16 +268,21 @@ int main(int argc, char **argv)
         {{48, 42.5, 86}, {18, 14, 20}, 2}, {{20.3, 16.1, 14.7}, {18, 14, 20}, 1}, {{18, 14, 95}, {18, 14, 20}, 0}};
     check_volume(&s, vs, 3, 1);
     free(s.data), free(s.ref);
-    /* 4 MiB of pairs and more: the huge-page voxel allocation */
+    /* 4 MiB of voxels and more: the huge-page allocation */
     vol b;
     vol_make(&b, 131, 127, 133);
     view vb[2] = {{{170, 150, 300}, {65, 63, 66}, 2}, {{65, 63, 320}, {65, 63, 66}, 0}};
     check_volume(&b, vb, 2, 0);
     free(b.data), free(b.ref);
-    imgcmp_worst_print("no pair copy vs reference (heuristics off)", &w_ref);
-    imgcmp_worst_print("no pair copy vs pair copy", &w_same);
-    imgcmp_worst_print("pre-integrated, no pair copy vs pair copy", &w_pre);
-    imgcmp_worst_print("no pair copy, bvh with heuristics vs reference (PSNR >= 40 only)", &w_heur);
+    char what[160];
+    snprintf(what, sizeof what, "%s vs reference (heuristics off)", var->label[0]);
+    imgcmp_worst_print(what, &w_ref);
+    snprintf(what, sizeof what, "%s vs %s (heuristics off)", var->label[0], var->label[1]);
+    imgcmp_worst_print(what, &w_same);
+    snprintf(what, sizeof what, "pre-integrated, %s vs %s", var->label[0], var->label[1]);
+    imgcmp_worst_print(what, &w_pre);
+    snprintf(what, sizeof what, "%s, bvh with heuristics vs reference (PSNR >= 40 only)", var->label[0]);
+    imgcmp_worst_print(what, &w_heur);
     printf("%s: %d failure(s)\n", check_failures ? "FAIL" : "ok", check_failures);
     return check_failures ? 1 : 0;
 }
