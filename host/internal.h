@@ -79,6 +79,10 @@ lc_status lci_option_float(lc_device *dev, const char *file, const lc_option *o,
 /* n comma-separated floats or ints */
 lc_status lci_option_floats(lc_device *dev, const char *file, const lc_option *o, int n, float *out);
 lc_status lci_option_ints(lc_device *dev, const char *file, const lc_option *o, int n, int lo, int hi, int *out);
+/* An integer knob from the environment (tests and A/B runs, e.g.
+ * LANECAST_PARTICLE_SKIP): its value when set to a whole number in [lo, hi],
+ * else unset. */
+long lci_env_long(const char *name, long lo, long hi, long unset);
 
 /* Optional features (host/api/features.c), indexed like lc_feature_get. */
 enum { LCI_FEATURE_ZLIB = 0, LCI_FEATURE_JSON = 1, LCI_FEATURE_LAPACKE = 2, LCI_FEATURE_NIFTI = 3, LCI_FEATURE_HDF5 = 4 };

@@ -90,3 +90,12 @@ lc_status lci_option_ints(lc_device *dev, const char *file, const lc_option *o, 
     }
     return LC_OK;
 }
+
+long lci_env_long(const char *name, long lo, long hi, long unset)
+{
+    const char *e = getenv(name);
+    if (!e || !*e) return unset;
+    char *end;
+    long v = strtol(e, &end, 10);
+    return *end || v < lo || v > hi ? unset : v;
+}

@@ -452,33 +452,18 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
  * unset or invalid: the kernel's default. */
 static int32_t group_list_cap(void)
 {
-    const char *e = getenv("LANECAST_PARTICLE_GROUP_LIST");
-    if (!e || !*e) return 0;
-    char *end;
-    long v = strtol(e, &end, 10);
-    if (*end || v < 0 || v > (1L << 24)) return 0;
-    return v == 0 ? -1 : (int32_t)v;
+    long v = lci_env_long("LANECAST_PARTICLE_GROUP_LIST", 0, 1L << 24, -1);
+    return v < 0 ? 0 : v == 0 ? -1 : (int32_t)v;
 }
 
 /* LANECAST_PARTICLE_EYE=0 (tests): the coherent kernel treats perspective
  * rays as if their origins differed (the arithmetic per lane, not once per
  * group); the image is the same, bit for bit. */
-static int32_t eye_generic(void)
-{
-    const char *e = getenv("LANECAST_PARTICLE_EYE");
-    return e && strcmp(e, "0") == 0;
-}
+static int32_t eye_generic(void) { return lci_env_long("LANECAST_PARTICLE_EYE", 0, 1, 1) == 0; }
 
 /* LANECAST_PARTICLE_BUFFER_K (A/B runs): samples per ray per pass when the
  * render leaves buffer_samples at 0; unset or invalid: the default. */
-static int32_t env_buffer_k(void)
-{
-    const char *e = getenv("LANECAST_PARTICLE_BUFFER_K");
-    if (!e || !*e) return 0;
-    char *end;
-    long v = strtol(e, &end, 10);
-    return *end || v < 1 || v > 4096 ? 0 : (int32_t)v;
-}
+static int32_t env_buffer_k(void) { return (int32_t)lci_env_long("LANECAST_PARTICLE_BUFFER_K", 1, 4096, 0); }
 
 /* buffer_samples 0: the coherent kernel adapts its pass length per group
  * (particles_coherent.c pass_adapt) up to this many samples per ray and
@@ -543,19 +528,11 @@ static void clear_nodes(const particles *p, lc_kparticles *k, const float *clear
 
 /* LANECAST_PARTICLE_SKIP=0 turns transparent-space skipping off (A/B runs
  * and tests: the images agree within SPEC.md's tolerances). */
-static int skip_enabled(void)
-{
-    const char *e = getenv("LANECAST_PARTICLE_SKIP");
-    return !(e && !strcmp(e, "0"));
-}
+static int skip_enabled(void) { return lci_env_long("LANECAST_PARTICLE_SKIP", 0, 1, 1) != 0; }
 
 /* LANECAST_PARTICLE_CSTEP=0 leaves the recurrence ratios to the kernel
  * (tests: the same image, bit for bit). */
-static int cstep_enabled(void)
-{
-    const char *e = getenv("LANECAST_PARTICLE_CSTEP");
-    return !(e && !strcmp(e, "0"));
-}
+static int cstep_enabled(void) { return lci_env_long("LANECAST_PARTICLE_CSTEP", 0, 1, 1) != 0; }
 
 /* Rays per coherent group side when the render leaves packet at its default
  * (0): 16x16 groups share one BVH walk per chunk among 4x the rays of 8x8
@@ -566,10 +543,7 @@ static int cstep_enabled(void)
 
 static int32_t group_side(const lc_render_desc *d)
 {
-    if (d->packet != 0) return 0;
-    const char *e = getenv("LANECAST_PARTICLE_GROUP");
-    int v = e ? atoi(e) : 0;
-    return v >= 1 && v <= 64 ? v : GROUP_SIDE_DEFAULT;
+    return d->packet != 0 ? 0 : (int32_t)lci_env_long("LANECAST_PARTICLE_GROUP", 1, 64, GROUP_SIDE_DEFAULT);
 }
 
 /* A frame's kernel scene and the cached table it reads (released after the frame). */
