@@ -1,8 +1,9 @@
 #!/bin/sh
 # The concurrency test (tests/test_concurrency.c: one shared scene of each
 # kind rendered from several threads at once, each with its own device) and
-# the grid's cached per-frame tables (tests/test_grid_tables.c: two threads
-# on one volume with alternating TFs, the cache's mutex and references)
+# the per-volume caches (host/api/vcache.c: mutex and references):
+# tests/test_grid_tables.c (two threads on one volume with alternating TFs)
+# and tests/test_particles_cstep.c (two threads alternating the step)
 # under ThreadSanitizer, in ./build-tsan. Any report fails (halt_on_error).
 # Embree and TBB (the BVH builds, before the threads start) are not
 # instrumented: TSan cannot see their internal synchronisation, so reports
@@ -16,11 +17,12 @@ b=build-tsan
 if [ ! -f $b/build.ninja ]; then
     meson setup $b --buildtype=debugoptimized -Db_sanitize=thread -Db_lundef=false -Dwerror=true >/dev/null
 fi
-ninja -C $b tests/test_concurrency tests/test_grid_tables >/dev/null
+ninja -C $b tests/test_concurrency tests/test_grid_tables tests/test_particles_cstep >/dev/null
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 # ASLR with a high entropy breaks TSan's memory layout on newer kernels: run without it when possible
 run=""
 setarch "$(uname -m)" -R true 2>/dev/null && run="setarch $(uname -m) -R"
 $run $b/tests/test_concurrency "${1:-4}"
 $run $b/tests/test_grid_tables "$b/tests"
+$run $b/tests/test_particles_cstep
 echo "tsan.sh: no data race reported" >&2
