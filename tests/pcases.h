@@ -7,7 +7,9 @@
 #ifndef LANECAST_TESTS_PCASES_H
 #define LANECAST_TESTS_PCASES_H
 #include <stdint.h>
+#include <stdio.h>
 #include "lanecast/lanecast.h"
+#include "check.h"
 #include "pclusters.h"
 
 #define NCL 140
@@ -39,5 +41,37 @@ static const ccase cases[] = {
 static const float colr[] = {0.0f, 0.9f, 0.3f, 0.1f, 0.5f, 0.2f, 0.8f, 0.3f, 1.0f, 1.0f, 1.0f, 0.6f};
 static const float opa[] = {0.0f, 0.0f, 0.15f, 0.0f, 1.0f, 3.0f};
 static const lc_camera cam = {LC_PERSPECTIVE, {5, 5, 20}, {5, 5, 5}, {0, 1, 0}, 42.0f, 0.0f};
+
+/* The device of target t (2 threads), or NULL: not compiled in or not
+ * supported here (said on stdout), or a CHECK failure. */
+static lc_device *pcases_device(int t)
+{
+    const char *tn = lc_target_name((lc_target)t);
+    if (!lc_target_compiled((lc_target)t) || !lc_target_supported((lc_target)t)) {
+        printf("skip target %s: not compiled in or not supported here\n", tn);
+        return NULL;
+    }
+    lc_device *dev = NULL;
+    if (lc_device_create(&(lc_device_desc){.target = (lc_target)t, .threads = 2}, &dev) != LC_OK) {
+        CHECK(0, "lc_device_create(%s): %s", tn, lc_last_error());
+        return NULL;
+    }
+    return dev;
+}
+
+/* Case c's particles (the scene above) with its parameters, or NULL (a CHECK failure). */
+static lc_volume *pcases_volume(lc_device *dev, const ccase *c)
+{
+    lc_volume *p = NULL;
+    lc_particles_desc pd = {.count = N, .positions = xyz, .radii = rad, .values = val,
+                            .fields = c->nfields > 1 ? fid : NULL, .nfields = c->nfields};
+    if (lc_particles_create(dev, &pd, &p) != LC_OK) {
+        CHECK(0, "lc_particles_create: %s", lc_last_error());
+        return NULL;
+    }
+    lc_particle_params pp = {.sigma = c->sigma, .kappa = c->kappa, .sphere_scale = c->scale};
+    CHECK(lc_particles_set_params(p, &pp) == LC_OK, "set_params: %s", lc_last_error());
+    return p;
+}
 
 #endif

@@ -88,26 +88,12 @@ int main(void)
     int tested = 0;
     for (int t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++) {
         const char *tn = lc_target_name((lc_target)t);
-        if (!lc_target_compiled((lc_target)t) || !lc_target_supported((lc_target)t)) {
-            printf("skip target %s: not compiled in or not supported here\n", tn);
-            continue;
-        }
-        lc_device *dev = NULL;
-        if (lc_device_create(&(lc_device_desc){.target = (lc_target)t, .threads = 2}, &dev) != LC_OK) {
-            CHECK(0, "lc_device_create(%s): %s", tn, lc_last_error());
-            continue;
-        }
+        lc_device *dev = pcases_device(t);
+        if (!dev) continue;
         for (int ci = 0; ci < NCASES; ci++) {
             const ccase *c = &cases[ci];
-            lc_volume *p = NULL;
-            lc_particles_desc pd = {.count = N, .positions = xyz, .radii = rad, .values = val,
-                                    .fields = c->nfields > 1 ? fid : NULL, .nfields = c->nfields};
-            if (lc_particles_create(dev, &pd, &p) != LC_OK) {
-                CHECK(0, "lc_particles_create: %s", lc_last_error());
-                continue;
-            }
-            lc_particle_params pp = {.sigma = c->sigma, .kappa = c->kappa, .sphere_scale = c->scale};
-            CHECK(lc_particles_set_params(p, &pp) == LC_OK, "set_params: %s", lc_last_error());
+            lc_volume *p = pcases_volume(dev, c);
+            if (!p) continue;
             for (int packet = 8; packet >= 1; packet -= 7) {
                 /* each step with the cache and without; then the steps again, the cache rebuilt each time */
                 for (int si = 0; si < 3; si++) {
