@@ -10,8 +10,9 @@
 /* kernels index voxels with int32 element offsets */
 #define MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
 #define GATHER_PAD 64
-/* uint8 grids up to lci_grid_pairs_max voxels keep the y-pair-packed copy
- * (lc_kgrid.pairs), 2 bytes a voxel more. Measured at 1024^2, avx512, 2
+/* Owned uint8 grids up to lci_grid_pairs_max voxels keep the y-pair-packed
+ * copy (lc_kgrid.pairs) in place of the voxels: 2 bytes a voxel instead of 1
+ * (the kernels sample only the copy). Measured at 1024^2, avx512, 2
  * threads (docs/bench/grid.md, sessions 5 and 7): 512^3 1.2-1.3x less CPU per
  * frame with it; since the software-pipelined sample loop also 768^3 and
  * 896^3 (1.2-1.4x) and 1024^3 (1.14-1.38x; in session 5, before the
@@ -246,8 +247,13 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
                       name);
         goto fail;
     }
-    const void *data = src;
-    if (!borrow) {
+    /* owned uint8: a packed copy the kernels sample (2 or 4 bytes a voxel)
+     * instead of the voxels; the kernels then never read the voxels, nor
+     * does the host after the BVH build (lc_grid_histogram reads the copy) */
+    int copy = 0;
+    if (!borrow && d->type == LC_VALUE_UINT8) copy = count <= lci_grid_quads_max ? 2 : count <= lci_grid_pairs_max;
+    const void *data = copy ? NULL : src;
+    if (!borrow && !copy) {
         g->owned = voxel_alloc((size_t)elements * (size_t)es + GATHER_PAD);
         if (!g->owned) goto oom;
         if (layout == LC_LAYOUT_LINEAR) {
@@ -267,19 +273,14 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
                 }
         }
         data = g->owned;
-        /* uint8: the y-pair-packed copy the kernels sample (2 bytes a voxel) */
-        if (d->type == LC_VALUE_UINT8 && count <= lci_grid_quads_max) {
-            g->pair_bytes = (size_t)count * 4 + GATHER_PAD;
-            g->pairs = voxel_alloc(g->pair_bytes);
-            if (!g->pairs) goto oom;
-            g->quads = 1;
-            build_quads(src, n, g->pairs);
-        } else if (d->type == LC_VALUE_UINT8 && count <= lci_grid_pairs_max) {
-            g->pair_bytes = (size_t)count * 2 + GATHER_PAD;
-            g->pairs = voxel_alloc(g->pair_bytes);
-            if (!g->pairs) goto oom;
-            build_pairs(src, n, g->pairs);
-        }
+    }
+    if (copy) {
+        g->pair_bytes = (size_t)count * (copy == 2 ? 4 : 2) + GATHER_PAD;
+        g->pairs = voxel_alloc(g->pair_bytes);
+        if (!g->pairs) goto oom;
+        g->quads = copy == 2;
+        if (copy == 2) build_quads(src, n, g->pairs);
+        else build_pairs(src, n, g->pairs);
     }
     float origin[3] = {d->origin.x, d->origin.y, d->origin.z}, spacing[3] = {sp.x, sp.y, sp.z};
     double t0 = lci_now();
@@ -323,7 +324,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     in->borrowed = borrow;
     in->data_bytes = (uint64_t)count * (uint64_t)es;
     uint64_t tables = sizeof(int32_t) * ((uint64_t)n[0] + (uint64_t)n[1] + (uint64_t)n[2]);
-    in->layout_bytes = (borrow ? 0 : (uint64_t)elements * (uint64_t)es + GATHER_PAD) + tables +
+    in->layout_bytes = (borrow || copy ? 0 : (uint64_t)elements * (uint64_t)es + GATHER_PAD) + tables +
                        (uint64_t)g->pair_bytes;
     in->layout_overhead_bytes = borrow ? tables : in->layout_bytes - in->data_bytes;
     in->brick = L;
@@ -533,8 +534,11 @@ lc_status lc_grid_histogram(const lc_volume *v, int nbins, uint64_t *counts)
         for (int32_t y = 0; y < k->size[1]; y++)
             for (int32_t x = 0; x < k->size[0]; x++) {
                 int64_t e = (int64_t)k->xoff[x] + k->yoff[y] + k->zoff[z];
+                int64_t el = x + (int64_t)y * k->pair_ystride + (int64_t)z * k->pair_zstride; /* the copy's */
                 double val;
-                switch (k->type) {
+                if (k->pairs) /* the copy's low byte is the voxel (kgrid.h) */
+                    val = k->pair_quads ? ((const uint32_t *)k->pairs)[el] & 0xff : ((const uint16_t *)k->pairs)[el] & 0xff;
+                else switch (k->type) {
                 case LC_KVAL_U8: val = ((const uint8_t *)k->data)[e]; break;
                 case LC_KVAL_U16: val = ((const uint16_t *)k->data)[e]; break;
                 case LC_KVAL_I16: val = ((const int16_t *)k->data)[e]; break;
