@@ -191,6 +191,10 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
             for (int lay = 0; lay < 2; lay++) {
                 /* a copy replaces the voxels: its bytes (and 64 of padding) and the offset tables only */
                 uint64_t per = var->quads_max[c] ? 4 : var->pairs_max[c] > (int64_t)count ? 2 : 0;
+                lc_grid_info in = {0};
+                if (gs.g[c][lay]) lc_grid_get_info(gs.g[c][lay], &in);
+                CHECK_QUIET(in.copy_voxel_bytes == (int)per, "%s layout %d: %s reports a copy of %d bytes a voxel", tn,
+                            lay, var->label[c], in.copy_voxel_bytes);
                 int ok = per ? bytes[c][lay] == tables + per * count + 64 : bytes[c][lay] >= tables + count;
                 CHECK_QUIET(ok, "%s layout %d: %s holds %llu bytes (%llu voxels)", tn, lay, var->label[c],
                             (unsigned long long)bytes[c][lay], (unsigned long long)count);

@@ -128,8 +128,11 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
     fprintf(f, "volume        %dx%dx%d %s, spacing %g,%g,%g, values %g..%g\n", in.size[0], in.size[1], in.size[2],
             types[in.type >= 1 && in.type <= 4 ? in.type : 0], (double)in.spacing.x, (double)in.spacing.y,
             (double)in.spacing.z, (double)in.value_min, (double)in.value_max);
-    fprintf(f, "layout        %s, %.2f MB voxels + %.2f MB overhead (%.1f%%)\n",
-            in.layout == LC_LAYOUT_BRICKED ? "4^3 bricks" : "linear", (double)in.data_bytes / 1e6,
+    char copy[64];
+    snprintf(copy, sizeof copy, "sampling copy, %d bytes a voxel,", in.copy_voxel_bytes);
+    fprintf(f, "layout        %s %.2f MB voxels + %.2f MB overhead (%.1f%%)\n",
+            in.copy_voxel_bytes ? copy : in.layout == LC_LAYOUT_BRICKED ? "4^3 bricks," : "linear,",
+            (double)in.data_bytes / 1e6,
             (double)in.layout_overhead_bytes / 1e6, 100.0 * (double)in.layout_overhead_bytes / (double)in.data_bytes);
     fprintf(f, "bvh           L=%d, %llu nodes (%llu leaves), depth %d, %.2f MB, build %.3f s\n", in.brick,
             (unsigned long long)in.bvh_nodes, (unsigned long long)in.bvh_leaves, in.bvh_depth,

@@ -328,6 +328,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
                        (uint64_t)g->pair_bytes;
     in->layout_overhead_bytes = borrow ? tables : in->layout_bytes - in->data_bytes;
     in->brick = L;
+    in->copy_voxel_bytes = copy == 2 ? 4 : copy ? 2 : 0;
     in->bvh_nodes = (uint64_t)g->bvh.nnodes;
     in->bvh_leaves = (uint64_t)g->bvh.nleaves;
     in->bvh_bytes = g->bvh.bytes;
@@ -337,8 +338,10 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         s = lci_error(dev, LC_ERROR_INTERNAL, "%s: BVH depth %d exceeds the traversal stack", name, g->bvh.depth);
         goto fail;
     }
-    lci_log(dev, LC_LOG_INFO, "%s: %dx%dx%d %s, %s layout (+%llu bytes), BVH L=%d: %d nodes, %llu bytes, depth %d, %.3f s",
-            name, n[0], n[1], n[2], type_name(d->type), layout == LC_LAYOUT_BRICKED ? "bricked" : "linear",
+    lci_log(dev, LC_LOG_INFO, "%s: %dx%dx%d %s, %s (+%llu bytes), BVH L=%d: %d nodes, %llu bytes, depth %d, %.3f s",
+            name, n[0], n[1], n[2], type_name(d->type),
+            copy == 2 ? "z-paired sampling copy" : copy ? "y-paired sampling copy"
+            : layout == LC_LAYOUT_BRICKED ? "bricked layout" : "linear layout",
             (unsigned long long)in->layout_overhead_bytes, L, g->bvh.nnodes, (unsigned long long)g->bvh.bytes,
             g->bvh.depth, g->bvh.seconds);
     *out = &g->base;

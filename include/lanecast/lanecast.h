@@ -369,13 +369,15 @@ typedef struct lc_grid_info {
     lc_grid_layout layout;
     int borrowed;
     uint64_t data_bytes;     /* voxel bytes as the caller's linear array */
-    uint64_t layout_bytes;   /* bytes the grid holds for voxels and offset tables */
-    uint64_t layout_overhead_bytes; /* layout_bytes - data_bytes when owned (brick padding, tables) */
+    uint64_t layout_bytes;   /* bytes the grid holds for voxels (or its sampling copy) and offset tables */
+    uint64_t layout_overhead_bytes; /* layout_bytes - data_bytes when owned (brick padding, tables, copy) */
     int brick;               /* BVH leaf side L */
     uint64_t bvh_nodes, bvh_leaves, bvh_bytes;
     int bvh_depth;
     double bvh_build_seconds;
     lc_grid_params params;   /* current */
+    int copy_voxel_bytes;    /* 2 or 4: an owned uint8 grid keeps a packed sampling copy of this many
+                                bytes a voxel instead of its voxels (`layout` does not apply); 0: none */
 } lc_grid_info;
 
 /* Creates a grid from caller memory, builds its implicit min-max BVH.
