@@ -53,8 +53,8 @@ typedef struct pgauss_consts {
     vfloat c;
 } pgauss_consts;
 
-/* c = exp(2 nir dt^2), rounded once from double. */
-static inline float pgauss_c(float nir, float dt) { return (float)exp(2.0 * (double)nir * (double)dt * (double)dt); }
+/* c = exp(2 nir dt^2), rounded once from double (kparticles.h). */
+static inline float pgauss_c(float nir, float dt) { return lc_kparticles_ratio(nir, dt); }
 
 static inline pgauss_consts pgauss_consts_make(float nir, float kk, float dt, float c)
 {

@@ -366,8 +366,11 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     s = keep_valid(dev, d, nfields, &k);
     if (s == LC_OK && !(p = calloc(1, sizeof *p)))
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory");
+    if (s == LC_OK && pthread_mutex_init(&p->cs_mu, NULL) != 0) {
+        free(p), p = NULL; /* destroy would destroy the mutex */
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory (a mutex)");
+    }
     if (s == LC_OK) {
-        pthread_mutex_init(&p->cs_mu, NULL);
         p->base.ops = &lci_particles_ops;
         p->base.device = dev;
         lc_particles_info *info = &p->info;

@@ -5,7 +5,7 @@
  * radius and the frame's step, but the kernel computed it per particle and
  * pass wherever neighbours in leaf order differ in radius (every particle of
  * a set with varied radii: one double exp each, ~5% of a uniform 1e6 frame).
- * Here it is computed once per volume and step, with the same expression, so
+ * Here it is computed once per volume and step, with the same function, so
  * the kernel reads the same float (images bit for bit the same;
  * tests/test_particles_cstep.c). 4 bytes per particle; ~10 ms per million
  * particles, serial, in the first frame with a new step.
@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include "host/internal.h"
 #include "host/kinds/particles_cstep.h"
+#include "kernels/shared/kparticles.h"
 
 struct lci_pcstep {
     lci_vcache_entry head; /* first (vcache.h) */
@@ -46,10 +47,10 @@ static lci_vcache_entry *build(const void *key)
     lci_pcstep *t = (lci_pcstep *)mem;
     t->dt = dt, t->n = n;
     t->c = (float *)(mem + head_bytes());
-    /* pgauss_c's expression and rounding, neighbours sharing a radius share one exp */
+    /* the kernels' ratio (kparticles.h), neighbours sharing a radius share one exp */
     float last = 1.0f, cl = 0.0f; /* nir < 0: never equal to 1 */
     for (size_t i = 0; i < n; i++) {
-        if (nir[i] != last) last = nir[i], cl = (float)exp(2.0 * (double)nir[i] * (double)dt * (double)dt);
+        if (nir[i] != last) last = nir[i], cl = lc_kparticles_ratio(nir[i], dt);
         t->c[i] = cl;
     }
     return &t->head;

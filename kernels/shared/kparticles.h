@@ -13,6 +13,7 @@
 #ifndef LC_KPARTICLES_H
 #define LC_KPARTICLES_H
 
+#include <math.h>
 #include <stdint.h>
 #include "kframe.h"
 
@@ -65,8 +66,8 @@ typedef struct lc_kparticles {
     int32_t eye_generic; /* coherent: 1 = perspective rays take the per-lane origin arithmetic too
                             (tests: LANECAST_PARTICLE_EYE=0; the same image, bit for bit) */
     /* coherent, this frame: per particle (leaf order) the recurrence ratio
-       c_i = pgauss_c(neg_inv_2r2[i], cstep_dt), the same float the kernel would
-       compute (host/kinds/particles_cstep.c); used where cstep_dt is the frame's
+       c_i = lc_kparticles_ratio(neg_inv_2r2[i], cstep_dt), the same float the
+       kernel would compute (host/kinds/particles_cstep.c); used where cstep_dt is the frame's
        dt. NULL: the kernel computes it. */
     float cstep_dt;
     const float *cstep;
@@ -75,5 +76,14 @@ typedef struct lc_kparticles {
     int32_t pad_;
 } lc_kparticles;
 _Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32, "lc_kparticles layout");
+
+/* The recurrence ratio of a Gaussian with neg_inv_2r2 nir stepped by dt
+ * along a ray (g *= q, q *= c): c = exp(2 nir dt^2), rounded once from
+ * double. One definition for the kernels (particles_common.h) and the host's
+ * per-volume table (host/kinds/particles_cstep.c), so both give the same float. */
+static inline float lc_kparticles_ratio(float nir, float dt)
+{
+    return (float)exp(2.0 * (double)nir * (double)dt * (double)dt);
+}
 
 #endif
