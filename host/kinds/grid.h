@@ -12,7 +12,7 @@
 typedef struct grid {
     lc_volume base;       /* first: the kind-neutral handle */
     lc_grid_info info;
-    void *owned;          /* owned voxels (padded for wide gathers), or NULL if borrowed */
+    void *owned;          /* owned voxels (padded for wide gathers), or NULL if borrowed or a copy replaces them */
     void *pairs;          /* y-pair-packed (or with quads y- and z-paired) uint8 voxels (lc_kgrid.pairs), or NULL */
     int quads;            /* pairs is the z-paired uint32 layout (lc_kgrid.pair_quads) */
     size_t pair_bytes;    /* its allocation */
