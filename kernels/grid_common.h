@@ -282,14 +282,15 @@ static inline __attribute__((always_inline)) uint64_t grid_run(const lc_kgrid *g
     gcell cell;
     grid_cell(g, vf_fma(t, p->ray.dx, p->ray.ox), vf_fma(t, p->ray.dy, p->ray.oy), vf_fma(t, p->ray.dz, p->ray.oz),
               &cell);
-    /* the quad copy's prefetch every other sample: one line per lane holds
-       both planes, and a ray crosses a plane every step or two (measured:
-       1.01-1.08x over every sample, 4 rounds, docs/bench/grid.md session 7) */
+    /* the copies' prefetch every other sample: a ray crosses a plane every
+       step or two (measured for the quad copy: 1.01-1.08x over every sample,
+       4 rounds, docs/bench/grid.md session 7; for the pair copy with every
+       lane, 1.03-1.08x, session 8) */
     unsigned it = 0;
     for (;;) {
         vint kn = vi_add(k, vi_set1(1));
         vfloat tn = grid_t_of_k(g, dt, kn);
-        if (fast && GRID_PF && g->pairs && (!g->pair_quads || (it++ & 1)))
+        if (fast && GRID_PF && g->pairs && (it++ & 1))
             grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
         gcell next;
         grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
