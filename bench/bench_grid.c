@@ -228,6 +228,8 @@ static const char help[] =
     "  --brick L           BVH leaf side 1, 2, 4, 8 or 16 (default: the library's choice by size)\n"
     "  --repeats N         renders per case after one warm-up (default 5)\n"
     "  --max-seconds S     stop repeating a case after S seconds (default 10)\n"
+    "  --mode M            dvr (default), mip, or iso:V (the iso-surface at value V in the volume's units,\n"
+    "                      e.g. iso:128); shading applies to dvr and iso\n"
     "  --profile           stage profile (CPU ms) instead of fps: the kernel variants of bench/grid_prof.c\n"
     "                      (avx2 and avx512 when compiled), repeats interleaved; see docs/bench/grid.md\n";
 
@@ -240,6 +242,7 @@ int main(int argc, char **argv)
     split(&vols, dflt_vol), split(&sizes, dflt_size), split(&views, dflt_view), split(&shades, dflt_shade);
     split(&meths, dflt_meth), split(&tgts, dflt_tgt), split(&thrs, dflt_thr), split(&pks, dflt_pk);
     int repeats = 5, heur = 1, profile = 0;
+    const char *mode = "dvr";
     double max_s = 10;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -270,12 +273,25 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--repeats")) repeats = atoi(v);
         else if (!strcmp(a, "--layout")) layout = !strcmp(v, "linear") ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED;
         else if (!strcmp(a, "--max-seconds")) max_s = atof(v);
+        else if (!strcmp(a, "--mode")) mode = v;
         else {
             fprintf(stderr, "bench_grid: unknown option %s\n", a);
             return 2;
         }
     }
     if (repeats < 1) repeats = 1;
+    lc_mode rmode = LC_MODE_DVR;
+    float iso = 0.0f;
+    if (!strcmp(mode, "mip")) rmode = LC_MODE_MIP;
+    else if (!strncmp(mode, "iso:", 4)) rmode = LC_MODE_ISO, iso = (float)atof(mode + 4);
+    else if (strcmp(mode, "dvr")) {
+        fprintf(stderr, "bench_grid: --mode %s: expected dvr, mip or iso:V\n", mode);
+        return 2;
+    }
+    if (profile && rmode != LC_MODE_DVR) {
+        fprintf(stderr, "bench_grid: --profile measures dvr frames only\n");
+        return 2;
+    }
     lc_device *dev0 = NULL;
     if (lc_device_create(&(lc_device_desc){.threads = 1}, &dev0) != LC_OK) return 1;
     for (int vi = 0; vi < vols.n; vi++) {
@@ -345,6 +361,7 @@ int main(int argc, char **argv)
                                     d.shading = !strcmp(shades.v[shi], "phong") ? LC_SHADE_PHONG
                                                 : !strcmp(shades.v[shi], "diffuse") ? LC_SHADE_DIFFUSE : LC_SHADE_NONE;
                                     d.method = !strcmp(meths.v[mi], "brute") ? LC_METHOD_BRUTE : LC_METHOD_BVH;
+                                    d.mode = rmode, d.iso = iso;
                                     if (profile) {
                                         run_profile(dev, &d, vn, W, view, shades.v[shi], meths.v[mi], nth, repeats);
                                         continue;
@@ -371,11 +388,11 @@ int main(int argc, char **argv)
                                     double med = ts[n / 2];
                                     printf("grid volume=%s size=%d view=%s shade=%s method=%s target=%s threads=%d packet=%s "
                                            "heuristics=%s fps=%.3f fps_min=%.3f fps_max=%.3f ms=%.1f reps=%d "
-                                           "msamples=%.2f nodes=%llu leaves=%llu cpu_ms=%.1f cpu_ms_min=%.1f cpu_ms_max=%.1f\n",
+                                           "msamples=%.2f nodes=%llu leaves=%llu cpu_ms=%.1f cpu_ms_min=%.1f cpu_ms_max=%.1f mode=%s\n",
                                            vn, W, view, shades.v[shi], meths.v[mi], lc_target_name(at), nth, pks.v[pi],
                                            heur ? "on" : "off", 1.0 / med, 1.0 / ts[n - 1], 1.0 / ts[0], 1e3 * med, n,
                                            (double)st.samples / 1e6, (unsigned long long)st.nodes, (unsigned long long)st.leaves,
-                                           1e3 * cs[n / 2], 1e3 * cs[0], 1e3 * cs[n - 1]);
+                                           1e3 * cs[n / 2], 1e3 * cs[0], 1e3 * cs[n - 1], mode);
                                     fflush(stdout);
                                     free(rgba);
                                 }
