@@ -80,9 +80,11 @@ static void split(list *l, char *s)
 static lc_grid_layout layout = LC_LAYOUT_DEFAULT;
 static int brick; /* BVH leaf side (0: the library default) */
 
-static lc_status procedural(lc_device *dev, int n, lc_volume **out)
+/* "proc512" etc.: the gyroid lattice as uint8; "proc512u16": the same
+ * values times 257 as uint16 (no pair copy: the bricked or linear voxels). */
+static lc_status procedural(lc_device *dev, int n, int u16, lc_volume **out)
 {
-    uint8_t *v = malloc((size_t)n * n * n);
+    uint8_t *v = malloc((size_t)n * n * n * (u16 ? 2 : 1));
     float *s = malloc(sizeof(float) * n * 3), *c = s + n, *q = c + n;
     if (!v || !s) return LC_ERROR_OUT_OF_MEMORY;
     for (int i = 0; i < n; i++) {
@@ -101,7 +103,12 @@ static lc_status procedural(lc_device *dev, int n, lc_volume **out)
             }
         }
     free(s);
-    lc_grid_desc d = {.size = {n, n, n}, .type = LC_VALUE_UINT8, .data = v, .layout = layout, .brick = brick};
+    if (u16) { /* widen in place, from the end */
+        uint16_t *w = (uint16_t *)(void *)v;
+        for (size_t e = (size_t)n * n * n; e-- > 0;) w[e] = (uint16_t)(v[e] * 257u);
+    }
+    lc_grid_desc d = {.size = {n, n, n}, .type = u16 ? LC_VALUE_UINT16 : LC_VALUE_UINT8, .data = v, .layout = layout,
+                      .brick = brick};
     lc_status st = lc_grid_create(dev, &d, out);
     free(v);
     return st;
@@ -214,7 +221,7 @@ static const char help[] =
     "usage: bench_grid [options]\n"
     "  --data DIR          shared data folder (default ../shared/data)\n"
     "  --volumes a,b,...   engine, neghip, headsq, hydrogen, embryo, HeadMRVolume, proc512, proc1024,\n"
-    "                      blob256 (any procN / blobN; default engine)\n"
+    "                      blob256 (any procN / blobN; procNu16: uint16; default engine)\n"
     "  --sizes 512,1024    image sides (default 512)\n"
     "  --views far,medium,close (default medium)\n"
     "  --shades none,diffuse,phong (default none)\n"
@@ -299,7 +306,7 @@ int main(int argc, char **argv)
         const char *vn = vols.v[vi];
         double t0 = now();
         lc_status s;
-        if (!strncmp(vn, "proc", 4)) s = procedural(dev0, atoi(vn + 4), &g);
+        if (!strncmp(vn, "proc", 4)) s = procedural(dev0, atoi(vn + 4), strstr(vn, "u16") != NULL, &g);
         else if (!strncmp(vn, "blob", 4)) s = blobs(dev0, atoi(vn + 4), &g);
         else {
             char p[1024];
