@@ -126,7 +126,9 @@ static inline __attribute__((always_inline)) void grid_packlet_init(const lc_kgr
 /* The post-classified dvr sample's first half, taken before the loop
  * fetches the next stencil (grid_run): the trilinear value, whether any lane
  * in m is visible (the TF not exactly transparent there), and where the
- * frame shades and some lane is visible, the gradient. After it only phi and
+ * frame shades, the gradient: taken whether or not a lane is visible, as a
+ * branch on visibility cost more than the 15 operations it saved (embryo
+ * Phong 1.02-1.06x without it, docs/bench/grid.md session 8). After it only phi and
  * the gradient of this stencil stay live while the next one is fetched and
  * this sample classified (4 registers instead of the 8 voxel values and 3
  * weights: the Phong loop spilled the colour and the stencils). */
@@ -143,7 +145,7 @@ static inline __attribute__((always_inline)) void grid_dvr_pre(const lc_kgrid *g
      * add (a = 0), the sample is skipped */
     s->visible = (GRID_PROF & GP_CLASS) || vm_any(dvr_visible(&f->tf[0], m, s->phi));
     s->gx = s->gy = s->gz = vf_zero();
-    if (shade && s->visible) grid_cell_grad(g, cell, &s->gx, &s->gy, &s->gz);
+    if (shade) grid_cell_grad(g, cell, &s->gx, &s->gy, &s->gz);
 }
 
 /* The post-classified dvr sample (rda off), second half: classify through
