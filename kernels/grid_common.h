@@ -123,18 +123,41 @@ static inline __attribute__((always_inline)) void grid_packlet_init(const lc_kgr
 
 #include "grid_fetch.h"
 
-/* The post-classified dvr sample (rda off): classify through the step
- * table, take the gradient and shade only where some lane is visible
- * (a > 0), blend premultiplied: C += (1 - A) (a rgb), A += (1 - A) a.
- * GRID_PROF stand-ins as in grid_prof_consume. */
-static inline __attribute__((always_inline)) void grid_dvr_step(const lc_kgrid *g, const lc_kframe *f, int shade, gpk *p,
-                                                                vmask m, const gcell *cell, vfloat phi)
+/* The post-classified dvr sample's first half, taken before the loop
+ * fetches the next stencil (grid_run): the trilinear value, whether any lane
+ * in m is visible (the TF not exactly transparent there), and where the
+ * frame shades, the gradient: taken whether or not a lane is visible, as a
+ * branch on visibility cost more than the 15 operations it saved (embryo
+ * Phong 1.02-1.06x without it, docs/bench/grid.md session 8). After it only phi and
+ * the gradient of this stencil stay live while the next one is fetched and
+ * this sample classified (4 registers instead of the 8 voxel values and 3
+ * weights: the Phong loop spilled the colour and the stencils). */
+typedef struct gdvr {
+    vfloat phi, gx, gy, gz;
+    int visible;
+} gdvr;
+
+static inline __attribute__((always_inline)) void grid_dvr_pre(const lc_kgrid *g, const lc_kframe *f, int shade,
+                                                               vmask m, const gcell *cell, gdvr *s)
+{
+    s->phi = grid_cell_value(cell);
+    /* every lane at a value where the TF is exactly transparent: nothing to
+     * add (a = 0), the sample is skipped */
+    s->visible = (GRID_PROF & GP_CLASS) || vm_any(dvr_visible(&f->tf[0], m, s->phi));
+    s->gx = s->gy = s->gz = vf_zero();
+    if (shade) grid_cell_grad(g, cell, &s->gx, &s->gy, &s->gz);
+}
+
+/* The post-classified dvr sample (rda off), second half: classify through
+ * the step table, shade only where some lane is visible (a > 0) with the
+ * gradient grid_dvr_pre took, blend premultiplied: C += (1 - A) (a rgb),
+ * A += (1 - A) a. GRID_PROF stand-ins as in grid_prof_consume. */
+static inline __attribute__((always_inline)) void grid_dvr_step(const lc_kframe *f, int shade, gpk *p, vmask m,
+                                                                const gdvr *s)
 {
     const lc_ktf *tf = &f->tf[0];
-    vfloat pr, pg, pb, a;
-    /* every lane at a value where the TF is exactly transparent: nothing to
-     * add (a = 0), skip the table */
-    if (!(GRID_PROF & GP_CLASS) && vm_none(dvr_visible(tf, m, phi))) return;
+    vfloat pr, pg, pb, a, phi = s->phi;
+    if (!s->visible) return;
     if (GRID_PROF & GP_CLASS) {
         pr = pg = pb = phi;
         a = vf_mul(phi, vf_set1(1e-3f));
@@ -142,10 +165,8 @@ static inline __attribute__((always_inline)) void grid_dvr_step(const lc_kgrid *
         dvr_classify_step(tf, phi, &pr, &pg, &pb, &a);
     }
     if (shade && vm_any(vm_and(m, vf_gt(a, vf_zero())))) {
-        vfloat gx, gy, gz;
-        grid_cell_grad(g, cell, &gx, &gy, &gz);
-        if (GRID_PROF & GP_SHADE) pr = vf_add(pr, gx), pg = vf_add(pg, gy), pb = vf_add(pb, gz);
-        else dvr_shade_pm(f, tf->grad_eps, &p->ray, gx, gy, gz, a, &pr, &pg, &pb);
+        if (GRID_PROF & GP_SHADE) pr = vf_add(pr, s->gx), pg = vf_add(pg, s->gy), pb = vf_add(pb, s->gz);
+        else dvr_shade_pm(f, tf->grad_eps, &p->ray, s->gx, s->gy, s->gz, a, &pr, &pg, &pb);
     }
     if (GRID_PROF & GP_BLEND) {
         p->c.r = vf_add(p->c.r, vf_select(m, pr, vf_zero()));
@@ -293,10 +314,12 @@ static inline __attribute__((always_inline)) uint64_t grid_run(const lc_kgrid *g
         vfloat tn = grid_t_of_k(g, dt, kn);
         if ((fast || !GRID_PROF) && GRID_PF && g->pairs && (it++ & 1))
             grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
+        gdvr s;
+        if (fast) grid_dvr_pre(g, f, shade, m, &cell, &s);
         gcell next;
         grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
                   vf_fma(tn, p->ray.dz, p->ray.oz), &next);
-        if (fast) grid_dvr_step(g, f, shade, p, m, &cell, grid_cell_value(&cell));
+        if (fast) grid_dvr_step(f, shade, p, m, &s);
         else grid_sample_consume(g, f, mode, shade, p, m, k, t, &cell, st);
         n += (uint64_t)vm_popcnt(m);
         k = kn, t = tn;
