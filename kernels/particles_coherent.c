@@ -9,6 +9,7 @@
 #include "particles_common.h"
 
 #define MAX_GROUP_RAYS 4096
+#define VCONE_ROWS 5 /* cscratch.vc: axis x, y, z, tan and sec of the half-angle bounds */
 
 typedef struct pgroup {
     int gw, gh; /* group size in pixels, multiples of DVR_PW x DVR_PH */
@@ -45,6 +46,8 @@ typedef struct cscratch {
                                                           k = kp - PG_ANCHOR .. kend + 1 */
     float *vq;                                         /* per vector: interval bounds (walk's vcull) */
     int32_t nvq;                                       /* vq's row length: nv rounded up to LC_W */
+    float *vc;                                         /* per vector: its rays' cone (list deposits'
+                                                          pre-test, vcone_make); NULL: no pre-test */
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
     int32_t K;                                         /* buffer rows per field (buf_rows) */
@@ -137,6 +140,8 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     c->nvq = (g.nv + LC_W - 1) / LC_W * LC_W;
     if (base) c->vq = (float *)(base + off);
     off += align64((uint64_t)c->nvq * 8 * 4);
+    if (base) c->vc = (float *)(base + off);
+    off += align64((uint64_t)c->nvq * VCONE_ROWS * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
     c->cap = list_cap(s);
@@ -381,11 +386,16 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     const pprobe pc = {s, c.stack, st};
     const mprobe probe = {particles_probe, &pc};
     const mprobe *pr = mode == LC_KMODE_ISO ? &probe : NULL;
+    /* the cone pre-test of list deposits: rays from the eye, one list bit per vector,
+       vectors in at most VCULL_MAX_SETS vector operations */
+    const int cones = c.list && vcone_on(s, f, nv);
+    if (!cones) c.vc = NULL;
     for (int gy = t->y0; gy < t->y1; gy += g.gh) {
         for (int gx = t->x0; gx < t->x1; gx += g.gw) {
             /* Listing 3, line 3: rays, their box interval and lattice range */
             int kmin, kmax;
             setup_group(s, f, t, &c, gx, gy, nv, vpr, &kmin, &kmax, st);
+            if (cones) vcone_make(&c, nv);
             /* Listing 3, lines 4-6: passes of K samples until every ray is opaque,
                in chunks of passes that share one BVH walk (the group list) */
             int chunk = GL_FIRST_PASSES, done = 0;

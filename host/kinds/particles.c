@@ -464,6 +464,11 @@ static int32_t group_list_cap(void)
  * group); the image is the same, bit for bit. */
 static int32_t eye_generic(void) { return lci_env_long("LANECAST_PARTICLE_EYE", 0, 1, 1) == 0; }
 
+/* LANECAST_PARTICLE_CONE=0 (tests, A/B runs): list deposits test every
+ * particle against each vector's rays without the per-vector cone pre-test
+ * (particles_walk.h vcone_bits); the image is the same, bit for bit. */
+static int32_t cone_off(void) { return lci_env_long("LANECAST_PARTICLE_CONE", 0, 1, 1) == 0; }
+
 /* LANECAST_PARTICLE_BUFFER_K (A/B runs): samples per ray per pass when the
  * render leaves buffer_samples at 0; unset or invalid: the default. */
 static int32_t env_buffer_k(void) { return (int32_t)lci_env_long("LANECAST_PARTICLE_BUFFER_K", 1, 4096, 0); }
@@ -504,6 +509,7 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->sphere_scale = q->sphere_scale;
     k->group_list_cap = group_list_cap();
     k->eye_generic = eye_generic();
+    k->cone_off = cone_off();
     lc_box3 b = grown_bounds(p);
     k->lo[0] = b.lo.x, k->lo[1] = b.lo.y, k->lo[2] = b.lo.z, k->lo[3] = 0.0f;
     k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;
