@@ -82,9 +82,13 @@ _Static_assert(sizeof(gent) == 24, "gent layout");
 #define GL_FIRST_PASSES 2
 #define GL_MAX_PASSES 16
 
-static int32_t list_cap(const lc_kparticles *s)
+/* The default grows with the group beyond 256 rays (32x32 groups: 32768
+ * entries, 768 KB): a chunk's list holds the leaves of every ray of the
+ * group, and a list that does not fit costs a walk per pass. */
+static int32_t list_cap(const lc_kparticles *s, int nv)
 {
-    return s->group_list_cap < 0 ? 0 : s->group_list_cap > 0 ? s->group_list_cap : GL_DEFAULT_CAP;
+    int32_t grow = nv * LC_W > 256 ? nv * LC_W / 256 : 1;
+    return s->group_list_cap < 0 ? 0 : s->group_list_cap > 0 ? s->group_list_cap : GL_DEFAULT_CAP * grow;
 }
 
 /* Floats between two rows (sample k, component) of the sample buffer: the
@@ -144,7 +148,7 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     off += align64((uint64_t)c->nvq * VCONE_ROWS * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
-    c->cap = list_cap(s);
+    c->cap = list_cap(s, g.nv);
     c->list = NULL;
     if (base && c->cap > 0) c->list = (gent *)(base + off);
     off += align64((uint64_t)c->cap * sizeof(gent));
@@ -175,6 +179,15 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
         }
     }
     return period;
+}
+
+void LC_KFN(lc_pexp_probe)(const float *x, int n, float *a, float *b)
+{
+    for (int i = 0; i + LC_W <= n; i += LC_W) {
+        vfloat v = vf_load(x + i);
+        vf_store(a + i, pg_exp(v));
+        vf_store(b + i, vf_exp(v));
+    }
 }
 
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
