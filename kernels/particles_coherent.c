@@ -144,14 +144,15 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     c->nvq = (g.nv + LC_W - 1) / LC_W * LC_W;
     if (base) c->vq = (float *)(base + off);
     off += align64((uint64_t)c->nvq * 8 * 4);
-    if (base) c->vc = (float *)(base + off);
-    off += align64((uint64_t)c->nvq * VCONE_ROWS * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
     c->cap = list_cap(s, g.nv);
     c->list = NULL;
     if (base && c->cap > 0) c->list = (gent *)(base + off);
     off += align64((uint64_t)c->cap * sizeof(gent));
+    /* last, so the offsets above stay those of the layout before the cones */
+    if (base) c->vc = (float *)(base + off);
+    off += align64((uint64_t)c->nvq * VCONE_ROWS * 4);
     return off;
 }
 

@@ -151,9 +151,26 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
  * counts, every target). */
 #define VCONE_MAX_SETS 4
 
+/* The targets that take the pre-test: avx512 and avx2 (their default groups
+ * are 16 and 32 vectors). Compiled out elsewhere: sse4's and scalar's
+ * default groups have more than VCONE_MAX_SETS x LC_W vectors, and with the
+ * code merely present (never run) 1tw7 frames were 1-2% (sse4) and 5-10%
+ * (avx512_8) slower, a code generation effect of the bigger list deposit
+ * (session 8). */
+#if defined(LC_TARGET_AVX512) || defined(LC_TARGET_AVX2)
+#define VCONES 1
+#else
+#define VCONES 0
+#endif
+
 static inline int vcone_on(const lc_kparticles *s, const lc_kframe *f, int nv)
 {
+#if VCONES
     return !f->cam.ortho && !s->eye_generic && !s->cone_off && nv <= 64 && nv <= VCONE_MAX_SETS * LC_W;
+#else
+    (void)s, (void)f, (void)nv;
+    return 0;
+#endif
 }
 
 static inline void vcone_make(const cscratch *c, int nv)
@@ -236,7 +253,9 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
     /* vshift 0: the set bits of vbits (the list found the support misses
        the other vectors) among the live vectors, in order */
     uint64_t todo = vshift ? 0 : vbits & live;
+#if VCONES
     if (eye && c->vc && todo) todo = vcone_bits(c, todo, cx - eye[0], cy - eye[1], cz - eye[2], x2);
+#endif
     for (int v = 0; v < nv; v++) {
         if (!vshift) {
             if (!todo) break;

@@ -2,7 +2,8 @@
  * 8; kernels/particles_walk.h vcone_bits): a list deposit tests each particle
  * against the cones of its entry's vectors, LC_W vectors at once, before the
  * per-vector support test, and skips the vectors whose cones its support
- * cannot reach. The pre-test must be conservative: on every compiled and
+ * cannot reach (compiled in on avx2 and avx512; elsewhere both renders take
+ * the same path). The pre-test must be conservative: on every compiled and
  * supported target, for dvr (1 and 2 fields, diffuse and phong shading,
  * opaque spheres, sigma and kappa changed after the build, early
  * termination), mip and iso, with the eye outside the particles and inside
