@@ -32,11 +32,14 @@ def stage(fn, f, ln):
         return "anchor"
     if fn in ("pgauss_step", "deposit_samples"):
         return "deposit loop"
-    if fn in ("perp2", "deposit", "deposit_entry", "support_reach"):
+    if fn in ("vcone_bits", "vcone_make"):
+        return "cone pre-test"
+    if fn in ("perp2", "deposit", "deposit_entry", "support_reach", "particle_cstep"):
         return "chord setup"
-    if fn in ("grow", "walk_group", "traverse_pass", "collect_group", "node_clear", "dvr_slab"):
+    if fn in ("grow", "walk_group", "traverse_pass", "collect_group", "node_clear", "dvr_slab", "slab_eye",
+              "gcull_make", "gcull_axis", "gcull_misses", "vcull_make", "vcull_node", "fmin2", "fmax2"):
         return "traversal"
-    if fn == "deposit_list":
+    if fn in ("deposit_list", "deposit_list_as"):
         return "list scan"
     if fn == "integrate_buffer":
         return "integration"
@@ -74,7 +77,7 @@ def main():
     for a in addrs:
         k = None
         for fn, loc in frames[a]:  # innermost first: the first frame of the kernel files decides
-            if loc.startswith("particles_co") or loc.startswith("particles_common"):
+            if loc.startswith("particles_co") or loc.startswith("particles_walk"):
                 ln = loc.split(":")[1] if ":" in loc else "0"
                 k = stage(fn, loc, int(ln) if ln.isdigit() else 0)
                 if k:

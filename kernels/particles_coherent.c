@@ -9,6 +9,7 @@
 #include "particles_common.h"
 
 #define MAX_GROUP_RAYS 4096
+#define VCONE_ROWS 5 /* cscratch.vc: axis x, y, z, tan and sec of the half-angle bounds */
 
 typedef struct pgroup {
     int gw, gh; /* group size in pixels, multiples of DVR_PW x DVR_PH */
@@ -45,6 +46,8 @@ typedef struct cscratch {
                                                           k = kp - PG_ANCHOR .. kend + 1 */
     float *vq;                                         /* per vector: interval bounds (walk's vcull) */
     int32_t nvq;                                       /* vq's row length: nv rounded up to LC_W */
+    float *vc;                                         /* per vector: its rays' cone (list deposits'
+                                                          pre-test, vcone_make); NULL: no pre-test */
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
     int32_t K;                                         /* buffer rows per field (buf_rows) */
@@ -79,9 +82,13 @@ _Static_assert(sizeof(gent) == 24, "gent layout");
 #define GL_FIRST_PASSES 2
 #define GL_MAX_PASSES 16
 
-static int32_t list_cap(const lc_kparticles *s)
+/* The default grows with the group beyond 256 rays (32x32 groups: 32768
+ * entries, 768 KB): a chunk's list holds the leaves of every ray of the
+ * group, and a list that does not fit costs a walk per pass. */
+static int32_t list_cap(const lc_kparticles *s, int nv)
 {
-    return s->group_list_cap < 0 ? 0 : s->group_list_cap > 0 ? s->group_list_cap : GL_DEFAULT_CAP;
+    int32_t grow = nv * LC_W > 256 ? nv * LC_W / 256 : 1;
+    return s->group_list_cap < 0 ? 0 : s->group_list_cap > 0 ? s->group_list_cap : GL_DEFAULT_CAP * grow;
 }
 
 /* Floats between two rows (sample k, component) of the sample buffer: the
@@ -139,10 +146,13 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     off += align64((uint64_t)c->nvq * 8 * 4);
     if (base) c->stack = (int32_t *)(base + off);
     off += align64((uint64_t)(s->depth + 4) * 4);
-    c->cap = list_cap(s);
+    c->cap = list_cap(s, g.nv);
     c->list = NULL;
     if (base && c->cap > 0) c->list = (gent *)(base + off);
     off += align64((uint64_t)c->cap * sizeof(gent));
+    /* last, so the offsets above stay those of the layout before the cones */
+    if (base) c->vc = (float *)(base + off);
+    off += align64((uint64_t)c->nvq * VCONE_ROWS * 4);
     return off;
 }
 
@@ -170,6 +180,15 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
         }
     }
     return period;
+}
+
+void LC_KFN(lc_pexp_probe)(const float *x, int n, float *a, float *b)
+{
+    for (int i = 0; i + LC_W <= n; i += LC_W) {
+        vfloat v = vf_load(x + i);
+        vf_store(a + i, pg_exp(v));
+        vf_store(b + i, vf_exp(v));
+    }
 }
 
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
@@ -381,11 +400,16 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     const pprobe pc = {s, c.stack, st};
     const mprobe probe = {particles_probe, &pc};
     const mprobe *pr = mode == LC_KMODE_ISO ? &probe : NULL;
+    /* the cone pre-test of list deposits: rays from the eye, one list bit per vector,
+       vectors in at most VCULL_MAX_SETS vector operations */
+    const int cones = c.list && vcone_on(s, f, nv);
+    if (!cones) c.vc = NULL;
     for (int gy = t->y0; gy < t->y1; gy += g.gh) {
         for (int gx = t->x0; gx < t->x1; gx += g.gw) {
             /* Listing 3, line 3: rays, their box interval and lattice range */
             int kmin, kmax;
             setup_group(s, f, t, &c, gx, gy, nv, vpr, &kmin, &kmax, st);
+            if (cones) vcone_make(&c, nv);
             /* Listing 3, lines 4-6: passes of K samples until every ray is opaque,
                in chunks of passes that share one BVH walk (the group list) */
             int chunk = GL_FIRST_PASSES, done = 0;

@@ -128,6 +128,109 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     }
 }
 
+/* Per-vector cones (issue 8, session 8): a cheap pre-test of a particle
+ * against the vectors of a list entry, LC_W vectors per vector operation,
+ * before the per-vector support test (tc, d_perp^2 on every lane).
+ *
+ * With rays from the eye, each lane's support test passes when its line
+ * (through the eye, direction d) comes within sqrt(x2) of the centre: d2 =
+ * |oc - (oc.d) d|^2 <= x2. The valid lanes of a vector lie in a cone around
+ * an axis a (unit, through the eye) of half-angle theta, and a point at oc
+ * whose distance from the axis's line is p, with ta = oc.a, lies at
+ * p cos(theta) - |ta| sin(theta) from the nearest line of the (double) cone,
+ * so no lane's line comes within R of it unless p <= |ta| T + R S for any
+ * T >= tan(theta), S >= sec(theta). vcone_make stores a, T and S per vector
+ * (rows of c->vc, VCONE_ROWS x nvq); vcone_bits tests the centre with
+ * R = sqrt(x2) grown for the float arithmetic of both tests (the lane's d2
+ * errs by a few ulps of |oc| in each component of q: in exact arithmetic a
+ * direction of norm s != 1 adds (1 - s^2)^2 (oc.n)^2, so only round-off can
+ * make it smaller), and T, S grown by 1e-3 relative and 1e-6 absolute for
+ * the cross product's round-off. Conservative: a vector the pre-test drops
+ * would have failed the support test on every lane, so the same terms land
+ * in the same order (tests/test_particles_cone.c: on = off, memcmp and term
+ * counts, every target). */
+#define VCONE_MAX_SETS 4
+
+/* The targets that take the pre-test: avx512 and avx2 (their default groups
+ * are 16 and 32 vectors). Compiled out elsewhere: sse4's and scalar's
+ * default groups have more than VCONE_MAX_SETS x LC_W vectors, and with the
+ * code merely present (never run) 1tw7 frames were 1-2% (sse4) and 5-10%
+ * (avx512_8) slower, a code generation effect of the bigger list deposit
+ * (session 8). */
+#if defined(LC_TARGET_AVX512) || defined(LC_TARGET_AVX2)
+#define VCONES 1
+#else
+#define VCONES 0
+#endif
+
+static inline int vcone_on(const lc_kparticles *s, const lc_kframe *f, int nv)
+{
+#if VCONES
+    return !f->cam.ortho && !s->eye_generic && !s->cone_off && nv <= 64 && nv <= VCONE_MAX_SETS * LC_W;
+#else
+    (void)s, (void)f, (void)nv;
+    return 0;
+#endif
+}
+
+static inline void vcone_make(const cscratch *c, int nv)
+{
+    const int q = c->nvq;
+    float *r = c->vc;
+    for (int v = 0; v < q; v++) {
+        float ax = 0.0f, ay = 0.0f, az = 0.0f, T = 0.0f, S = 0.0f; /* no valid lane: any centre fails */
+        if (v < nv) {
+            int o = v * LC_W;
+            /* every lane set_windows may make live: kf <= kl + 1 (an empty range kl + 1
+               still has a window of zero width, w0 = w1, and the deposit runs on it) */
+            vmask valid = vi_lt(vi_load(c->kf + o), vi_add(vi_load(c->kl + o), vi_set1(2)));
+            vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
+            float sx = vf_reduce_add_masked(valid, dx), sy = vf_reduce_add_masked(valid, dy);
+            float sz = vf_reduce_add_masked(valid, dz);
+            float n = sqrtf(sx * sx + sy * sy + sz * sz);
+            if (vm_any(valid) && n > 0.0f) {
+                ax = sx / n, ay = sy / n, az = sz / n;
+                vfloat vax = vf_set1(ax), vay = vf_set1(ay), vaz = vf_set1(az);
+                vfloat cs = vf_madd(vax, dx, vf_madd(vay, dy, vf_mul(vaz, dz)));
+                vfloat kx = vf_sub(vf_mul(vay, dz), vf_mul(vaz, dy));
+                vfloat ky = vf_sub(vf_mul(vaz, dx), vf_mul(vax, dz));
+                vfloat kz = vf_sub(vf_mul(vax, dy), vf_mul(vay, dx));
+                vfloat sn2 = vf_madd(kx, kx, vf_madd(ky, ky, vf_mul(kz, kz)));
+                float cmin = vf_reduce_min(vf_select(valid, cs, vf_set1(1.0f)));
+                float t2 = vf_reduce_max(vf_select(valid, vf_div(sn2, vf_mul(cs, cs)), vf_zero()));
+                if (cmin > 0.5f) {
+                    T = sqrtf(t2) * 1.001f + 1e-6f;
+                    S = sqrtf(1.0f + T * T) * 1.0001f;
+                } else { /* a wide cone (no such vector at sane fields of view): always test */
+                    T = S = 1e30f;
+                }
+            }
+        }
+        r[v] = ax, r[q + v] = ay, r[2 * q + v] = az, r[3 * q + v] = T, r[4 * q + v] = S;
+    }
+}
+
+/* The vectors among todo (bit v: vector v) whose cones a support of squared
+ * radius x2 centred at oc (from the eye) may reach. */
+static inline uint64_t vcone_bits(const cscratch *c, uint64_t todo, float ocx, float ocy, float ocz, float x2)
+{
+    const int q = c->nvq;
+    const float *r = c->vc;
+    const float rg = (sqrtf(x2) + 1e-5f * (fabsf(ocx) + fabsf(ocy) + fabsf(ocz))) * 1.0001f + 1e-6f;
+    const vfloat ox = vf_set1(ocx), oy = vf_set1(ocy), oz = vf_set1(ocz), vr = vf_set1(rg);
+    uint64_t bits = 0;
+    for (int v = 0; v < q; v += LC_W) {
+        if (!((todo >> v) & (((uint64_t)1 << LC_W) - 1))) continue;
+        vfloat ax = vf_load(r + v), ay = vf_load(r + q + v), az = vf_load(r + 2 * q + v);
+        vfloat ta = vf_madd(ax, ox, vf_madd(ay, oy, vf_mul(az, oz)));
+        vfloat px = vf_nmadd(ta, ax, ox), py = vf_nmadd(ta, ay, oy), pz = vf_nmadd(ta, az, oz);
+        vfloat p2 = vf_madd(px, px, vf_madd(py, py, vf_mul(pz, pz)));
+        vfloat rhs = vf_madd(vf_abs(ta), vf_load(r + 3 * q + v), vf_mul(vr, vf_load(r + 4 * q + v)));
+        bits |= (uint64_t)vm_bits(vf_le(p2, vf_mul(rhs, rhs))) << v;
+    }
+    return todo & bits;
+}
+
 /* The same from a group list entry (one walk per group): samples ka..kb
  * (the entry's range over the group, clipped to the pass) on the vectors of
  * vbits. No chord per vector: every live lane whose ray passes within the
@@ -150,6 +253,9 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
     /* vshift 0: the set bits of vbits (the list found the support misses
        the other vectors) among the live vectors, in order */
     uint64_t todo = vshift ? 0 : vbits & live;
+#if VCONES
+    if (eye && c->vc && todo) todo = vcone_bits(c, todo, cx - eye[0], cy - eye[1], cz - eye[2], x2);
+#endif
     for (int v = 0; v < nv; v++) {
         if (!vshift) {
             if (!todo) break;

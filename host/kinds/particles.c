@@ -464,6 +464,11 @@ static int32_t group_list_cap(void)
  * group); the image is the same, bit for bit. */
 static int32_t eye_generic(void) { return lci_env_long("LANECAST_PARTICLE_EYE", 0, 1, 1) == 0; }
 
+/* LANECAST_PARTICLE_CONE=0 (tests, A/B runs): list deposits test every
+ * particle against each vector's rays without the per-vector cone pre-test
+ * (particles_walk.h vcone_bits); the image is the same, bit for bit. */
+static int32_t cone_off(void) { return lci_env_long("LANECAST_PARTICLE_CONE", 0, 1, 1) == 0; }
+
 /* LANECAST_PARTICLE_BUFFER_K (A/B runs): samples per ray per pass when the
  * render leaves buffer_samples at 0; unset or invalid: the default. */
 static int32_t env_buffer_k(void) { return (int32_t)lci_env_long("LANECAST_PARTICLE_BUFFER_K", 1, 4096, 0); }
@@ -504,6 +509,7 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->sphere_scale = q->sphere_scale;
     k->group_list_cap = group_list_cap();
     k->eye_generic = eye_generic();
+    k->cone_off = cone_off();
     lc_box3 b = grown_bounds(p);
     k->lo[0] = b.lo.x, k->lo[1] = b.lo.y, k->lo[2] = b.lo.z, k->lo[3] = 0.0f;
     k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;
@@ -540,13 +546,31 @@ static int cstep_enabled(void) { return lci_env_long("LANECAST_PARTICLE_CSTEP", 
 /* Rays per coherent group side when the render leaves packet at its default
  * (0): 16x16 groups share one BVH walk per chunk among 4x the rays of 8x8
  * (session 7, docs/bench/particles.md: 8-17% less CPU per close frame on
- * the benchmark sets, far frames within noise); the image is the same.
- * LANECAST_PARTICLE_GROUP=N (A/B runs, tests) sets another side. */
+ * the benchmark sets, far frames within noise). With the eye outside the
+ * particles' grown box (a perspective view from outside: the benchmarks'
+ * far views) and 16 lanes, 32x32 (session 8: with the kernel's cone pre-test and a list
+ * capacity that grows with the group, 1e6 far 4-6% and 1tw7 far 1-3% less
+ * CPU, dense1e6 far within noise; close views stay at 16, where 32 cost
+ * dense1e6 3%). The image is the same whatever the side
+ * (tests/test_particles_gsize.c). LANECAST_PARTICLE_GROUP=N (A/B runs, tests)
+ * sets another side for every frame. */
 #define GROUP_SIDE_DEFAULT 16
+#define GROUP_SIDE_OUTSIDE 32
 
-static int32_t group_side(const lc_render_desc *d)
+static int32_t group_side(const lc_render_desc *d, const lc_kparticles *k, int lanes)
 {
-    return d->packet != 0 ? 0 : (int32_t)lci_env_long("LANECAST_PARTICLE_GROUP", 1, 64, GROUP_SIDE_DEFAULT);
+    if (d->packet != 0) return 0;
+    long env = lci_env_long("LANECAST_PARTICLE_GROUP", 1, 64, 0);
+    if (env > 0) return (int32_t)env;
+    const lc_camera *c = &d->camera;
+    const float e[3] = {c->eye.x, c->eye.y, c->eye.z};
+    int outside = 0;
+    for (int a = 0; a < 3; a++) outside |= e[a] < k->lo[a] || e[a] > k->hi[a];
+    /* 32x32 only where a group stays within 64 ray vectors (16 lanes): one list
+       bit and one cone per vector; narrower targets would share bits and lose
+       the culls (particles_walk.h vcull_on, vcone_on) */
+    int wide = GROUP_SIDE_OUTSIDE * GROUP_SIDE_OUTSIDE <= 64 * lanes;
+    return c->projection == LC_PERSPECTIVE && outside && wide ? GROUP_SIDE_OUTSIDE : GROUP_SIDE_DEFAULT;
 }
 
 /* A frame's kernel scene and the cached table it reads (released after the frame). */
@@ -576,7 +600,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (!pf) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
     lc_kparticles *k = &pf->k;
     kscene(p, k);
-    k->group_side = group_side(d);
+    k->group_side = group_side(d, k, lc_target_lanes(dev->target));
     if (m == LC_METHOD_COHERENT && frame->mode != LC_KMODE_SLICE && p->info.count > 0 && cstep_enabled()) {
         particles *pm = (particles *)v; /* the cache only: behind its mutex */
         pf->cs = lci_pcstep_get(&pm->cs_mu, &pm->cs, p->nir, p->info.count, frame->dt);

@@ -73,7 +73,8 @@ typedef struct lc_kparticles {
     const float *cstep;
     int32_t group_side; /* coherent: rays per group side when > 0 (the render desc left packet at its
                            default; particles_coherent.c group_dims), else the frame's packet */
-    int32_t pad_;
+    int32_t cone_off; /* coherent: 1 = no per-vector cone pre-test in list deposits (tests and A/B
+                         runs: LANECAST_PARTICLE_CONE=0; the same image, bit for bit) */
 } lc_kparticles;
 _Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32, "lc_kparticles layout");
 
