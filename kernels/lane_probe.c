@@ -34,6 +34,7 @@ void LC_KFN(lc_lane_apply)(const lc_lane_args *g)
         case LC_OP_FLOOR: vf_store(o, vf_floor(a)); break;
         case LC_OP_EXP: vf_store(o, vf_exp(a)); break;
         case LC_OP_POWI: vf_store(o, vf_powi(a, 16)); break;
+        case LC_OP_SCALE2: vf_store(o, vf_scale2(a, vi_to_vf(ia))); break;
         case LC_OP_CLAMP: vf_store(o, vf_clamp(a, vf_min(b, c), vf_max(b, c))); break;
         case LC_OP_LERP: vf_store(o, vf_lerp(a, b, c)); break;
         case LC_OP_TO_VI: vi_store(io, vf_to_vi(a)); break;

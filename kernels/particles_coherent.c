@@ -182,15 +182,6 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
     return period;
 }
 
-void LC_KFN(lc_pexp_probe)(const float *x, int n, float *a, float *b)
-{
-    for (int i = 0; i + LC_W <= n; i += LC_W) {
-        vfloat v = vf_load(x + i);
-        vf_store(a + i, pg_exp(v));
-        vf_store(b + i, vf_exp(v));
-    }
-}
-
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
  * group, front to back through the mode (a constant, so each mode gets its
  * own loop). */

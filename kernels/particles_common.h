@@ -64,40 +64,12 @@ static inline pgauss_consts pgauss_consts_make(float nir, float kk, float dt, fl
     return gc;
 }
 
-/* vf_exp (lane/lane_math.h), the same bits, for the anchors: on the avx512
- * target p * 2^n by one vscalefps instead of building 2^n from the integer
- * n (convert, add, shift) and multiplying. fx is an integer in [-126, 128]
- * after the clamp, and p * 2^fx is the exact product rounded once either
- * way (tests/test_particles_recurrence.c compares both over 2^22 arguments
- * on every target, bit for bit). Not on avx512_8: the ymm form measured
- * 5-10% slower frames on 1tw7 there (session 8). */
-static inline vfloat pg_exp(vfloat x)
-{
-#if defined(LC_TARGET_AVX512)
-    x = vf_clamp(x, vf_set1(-87.3f), vf_set1(88.37f));
-    vfloat fx = vf_floor(vf_fma(x, vf_set1(1.44269504088896341f), vf_set1(0.5f)));
-    vfloat r = vf_fnma(fx, vf_set1(0.693359375f), x);
-    r = vf_fnma(fx, vf_set1(-2.12194440e-4f), r);
-    vfloat p = vf_set1(1.9875691500e-4f);
-    p = vf_fma(p, r, vf_set1(1.3981999507e-3f));
-    p = vf_fma(p, r, vf_set1(8.3334519073e-3f));
-    p = vf_fma(p, r, vf_set1(4.1665795894e-2f));
-    p = vf_fma(p, r, vf_set1(1.6666665459e-1f));
-    p = vf_fma(p, r, vf_set1(5.0000001201e-1f));
-    vfloat r2 = vf_mul(r, r);
-    p = vf_fma(p, r2, vf_add(r, vf_set1(1.0f)));
-    return _mm512_scalef_ps(p, fx);
-#else
-    return vf_exp(x);
-#endif
-}
-
 /* g and q at offset u from the centre's foot tc (lanes outside m: g = 0). */
 static inline void pgauss_anchor(const pgauss_consts *gc, vfloat d2, vfloat u, vmask m, vfloat *g, vfloat *q)
 {
     vfloat a = vf_madd(u, u, d2);
-    *g = vf_select(m, vf_mul(vf_set1(gc->kk), pg_exp(vf_mul(a, vf_set1(gc->nir)))), vf_zero());
-    *q = pg_exp(vf_mul(vf_set1(gc->nirdt), vf_fma(u, vf_set1(2.0f), vf_set1(gc->dt))));
+    *g = vf_select(m, vf_mul(vf_set1(gc->kk), vf_exp(vf_mul(a, vf_set1(gc->nir)))), vf_zero());
+    *q = vf_exp(vf_mul(vf_set1(gc->nirdt), vf_fma(u, vf_set1(2.0f), vf_set1(gc->dt))));
 }
 
 static inline void pgauss_step(const pgauss_consts *gc, vfloat *g, vfloat *q)
@@ -112,10 +84,6 @@ static inline void pgauss_step(const pgauss_consts *gc, vfloat *g, vfloat *q)
  * samples (0: PG_ANCHOR), into out[(k - ka) * LC_W + l]. Returns the period. */
 int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float kk, float dt, int ka, int kb,
                             int period, float *out);
-
-/* Test hook (tests/test_particles_recurrence.c): pg_exp and vf_exp of the
- * n values x (n a multiple of LC_W) into a and b. */
-void LC_KFN(lc_pexp_probe)(const float *x, int n, float *a, float *b);
 
 /* Boxes grow a little more than sigma * rmax so float round-off in the slab
  * test never drops a sample that lies within the truncation radius. */

@@ -26,7 +26,7 @@
 
 static const char *const op_names[] = {
     "add", "sub", "mul", "div", "min", "max", "abs", "neg", "sqrt", "fma", "fms", "fnma", "rcp", "rsqrt",
-    "floor", "exp", "powi", "clamp", "lerp", "to_vi", "vi_to_vf", "as_vi_roundtrip", "lt", "le", "gt", "ge",
+    "floor", "exp", "powi", "scale2", "clamp", "lerp", "to_vi", "vi_to_vf", "as_vi_roundtrip", "lt", "le", "gt", "ge",
     "eq", "ne", "select", "vi_add", "vi_sub", "vi_mul", "vi_min", "vi_max", "vi_and", "vi_or", "vi_sll",
     "vi_srl", "vi_lt", "vi_gt", "vi_eq", "vi_select", "mask_and", "mask_or", "mask_xor", "mask_andnot",
     "mask_not", "load_masked", "store_masked", "gather", "gather_masked", "vi_gather",
@@ -36,7 +36,7 @@ static const char *const op_names[] = {
 _Static_assert(sizeof op_names / sizeof op_names[0] == LC_OP_COUNT, "op_names must follow enum lc_lane_op");
 
 /* Input flavours: the same op is run on several value ranges. */
-enum gen { GEN_GENERAL, GEN_EXP_FULL, GEN_EXP_GAUSS, GEN_EXP_EDGE, GEN_POSITIVE_RANGE, GEN_MODERATE };
+enum gen { GEN_GENERAL, GEN_EXP_FULL, GEN_EXP_GAUSS, GEN_EXP_EDGE, GEN_POSITIVE_RANGE, GEN_MODERATE, GEN_SCALE2 };
 
 typedef struct bufs {
     float a[N], b[N], c[N], out[N];
@@ -91,6 +91,8 @@ static float gen_value(enum gen g)
     switch (g) {
     case GEN_EXP_FULL: return (float)uni(-87.0, 88.0);
     case GEN_EXP_GAUSS: return (float)uni(-4.0, 0.0);
+    case GEN_SCALE2: /* exp's e^r, |r| <= ln2 / 2, and beyond: both signs */
+        return (float)(uni(0.5, 2.0) * ((rnd() % 2) ? 1 : -1));
     case GEN_EXP_EDGE: {
         /* around and beyond the clamp, where 2^n must stay finite and normal */
         static const float e[] = {-87.3f, -87.0f, -90.0f, -100.0f, -1e30f, 88.0f, 88.3f, 88.37f, 88.5f,
@@ -126,6 +128,8 @@ static void gen_inputs(bufs *in, int op, enum gen g)
     gen_masks(in->mk);
     if (op >= LC_OP_LT && op <= LC_OP_NE)
         for (int i = 0; i < N; i += 7) (i % 2 ? in->a : in->b)[i] = NAN; /* unordered compares */
+    if (op == LC_OP_SCALE2) /* the exponent n, every value the contract allows: subnormal results too */
+        for (int i = 0; i < N; i++) in->ia[i] = irange(-126, 127);
     if (op == LC_OP_TO_VI)
         for (int i = 0; i < N; i++) in->a[i] = fmaxf(fminf(in->a[i], 2.1e9f), -2.1e9f); /* stays defined in C */
     if (op == LC_OP_AS_VI_ROUNDTRIP)
@@ -199,6 +203,7 @@ static float ref_float(const bufs *in, int op, int i, int l, int s)
     case LC_OP_SQRT: return (float)sqrt(fabs((double)a));
     case LC_OP_FLOOR: return (float)floor((double)a);
     case LC_OP_POWI: { float x = a * a; x *= x; x *= x; return x * x; } /* a^16 by squaring */
+    case LC_OP_SCALE2: return (float)ldexp((double)a, in->ia[i]); /* exact in double, rounded once */
     case LC_OP_CLAMP: return ref_min(ref_max(a, ref_min(b, c)), ref_max(b, c));
     case LC_OP_VI_TO_VF: return (float)in->ia[i];
     case LC_OP_AS_VI_ROUNDTRIP: return a;
@@ -430,6 +435,7 @@ static int gens_of(int op, enum gen *g)
     case LC_OP_RCP: case LC_OP_RSQRT: g[0] = GEN_POSITIVE_RANGE; return 1;
     case LC_OP_FMA: case LC_OP_FMS: case LC_OP_FNMA: case LC_OP_LERP: g[0] = GEN_MODERATE, g[1] = GEN_GENERAL; return 2;
     case LC_OP_POWI: g[0] = GEN_MODERATE, g[1] = GEN_GENERAL; return 2;
+    case LC_OP_SCALE2: g[0] = GEN_SCALE2; return 1;
     default: g[0] = GEN_GENERAL; return 1;
     }
 }

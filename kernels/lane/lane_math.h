@@ -28,8 +28,20 @@ static inline vfloat vf_rsqrt(vfloat a)
     return vf_mul(hr, vf_sub(vf_set1(3.0f), arr));
 }
 
+/* p 2^n for integral n in [-126, 127] (2^n a normal float): the exact
+ * product rounded once. Built here from 2^n's exponent field and a multiply;
+ * a backend with a direct instruction defines LC_LANE_SCALE2 and its own
+ * (avx512: vscalefps, the same bits; tests/test_lane.c checks every target
+ * against ldexp). */
+#ifndef LC_LANE_SCALE2
+static inline vfloat vf_scale2(vfloat p, vfloat n)
+{
+    return vf_mul(p, vi_as_vf(vi_sll(vi_add(vf_to_vi(n), vi_set1(127)), 23)));
+}
+#endif
+
 /* exp(x): Cephes-style range reduction x = n ln2 + r, |r| <= ln2/2, a degree-6
- * polynomial for e^r and the exponent-bit trick for 2^n. The argument is
+ * polynomial for e^r, times 2^n (vf_scale2). The argument is
  * clamped to [-87.3, 88.37]: below that the result would be denormal, which
  * both loses precision and slows SIMD code (NOTES.md); above 88.37,
  * n = floor(x log2(e) + 0.5) reaches 128 and n + 127 is the exponent field of
@@ -50,9 +62,7 @@ static inline vfloat vf_exp(vfloat x)
     p = vf_fma(p, r, vf_set1(5.0000001201e-1f));
     vfloat r2 = vf_mul(r, r);
     p = vf_fma(p, r2, vf_add(r, vf_set1(1.0f)));
-    vint n = vf_to_vi(fx);
-    vfloat pow2n = vi_as_vf(vi_sll(vi_add(n, vi_set1(127)), 23));
-    return vf_mul(p, pow2n);
+    return vf_scale2(p, fx); /* fx in [-126, 127] after the clamp */
 }
 
 /* x^p for a small non-negative integer p, by repeated squaring (Phong). */
