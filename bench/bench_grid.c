@@ -235,6 +235,8 @@ static const char help[] =
     "  --brick L           BVH leaf side 1, 2, 4, 8 or 16 (default: the library's choice by size)\n"
     "  --repeats N         renders per case after one warm-up (default 5)\n"
     "  --max-seconds S     stop repeating a case after S seconds (default 10)\n"
+    "  --dir X,Y,Z         the eye's direction from the centre (default 0.5,0.4,0.767: oblique), e.g.\n"
+    "                      --dir 0,0,1 to look down -z along the volume's rows of planes\n"
     "  --mode M            dvr (default), mip, or iso:V (the iso-surface at value V in the volume's units,\n"
     "                      e.g. iso:128); shading applies to dvr and iso\n"
     "  --profile           stage profile (CPU ms) instead of fps: the kernel variants of bench/grid_prof.c\n"
@@ -250,6 +252,7 @@ int main(int argc, char **argv)
     split(&meths, dflt_meth), split(&tgts, dflt_tgt), split(&thrs, dflt_thr), split(&pks, dflt_pk);
     int repeats = 5, heur = 1, profile = 0;
     const char *mode = "dvr";
+    float dir[3] = {0.5f, 0.4f, 0.767f};
     double max_s = 10;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -281,6 +284,14 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--layout")) layout = !strcmp(v, "linear") ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED;
         else if (!strcmp(a, "--max-seconds")) max_s = atof(v);
         else if (!strcmp(a, "--mode")) mode = v;
+        else if (!strcmp(a, "--dir")) {
+            if (sscanf(v, "%f,%f,%f", &dir[0], &dir[1], &dir[2]) != 3 || !(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2] > 0)) {
+                fprintf(stderr, "bench_grid: --dir %s: expected X,Y,Z, not all zero\n", v);
+                return 2;
+            }
+            float l = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            dir[0] /= l, dir[1] /= l, dir[2] /= l;
+        }
         else {
             fprintf(stderr, "bench_grid: unknown option %s\n", a);
             return 2;
@@ -360,7 +371,6 @@ int main(int argc, char **argv)
                                     int W = atoi(sizes.v[si]);
                                     const char *view = views.v[wi];
                                     float dist = !strcmp(view, "far") ? 2.5f : !strcmp(view, "close") ? 0.75f : 1.3f;
-                                    float dir[3] = {0.5f, 0.4f, 0.767f};
                                     lc_render_desc d = {.width = W, .height = W, .tf = tf, .volume = g, .packet = atoi(pks.v[pi])};
                                     d.camera.at = (lc_vec3){0.5f * (lo[0] + hi[0]), 0.5f * (lo[1] + hi[1]), 0.5f * (lo[2] + hi[2])};
                                     d.camera.eye = (lc_vec3){d.camera.at.x + dist * diag * dir[0], d.camera.at.y + dist * diag * dir[1],

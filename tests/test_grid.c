@@ -548,7 +548,8 @@ static void test_images(lc_target t)
         lc_grid_desc gd = {.size = {37, 29, 41}, .type = (lc_value_type)type, .data = v.data, .spacing = {1, 1.25f, 0.8f},
                            .brick = type == LC_VALUE_UINT16 ? 8 : 4, .borrow = type == LC_VALUE_INT16,
                            .layout = type == LC_VALUE_INT16 || type == LC_VALUE_UINT16 ? LC_LAYOUT_LINEAR : LC_LAYOUT_DEFAULT};
-        /* layouts covered: u8 and f32 bricked, u16 linear owned (pair gathers), i16 linear borrowed */
+        /* layouts covered: u8 the default (its sampling copy), f32 the default (bricked), u16 linear owned
+           (pair gathers), i16 linear borrowed; every type in both layouts: tests/test_volume.c */
         CHECK_QUIET(lc_grid_create(dev, &gd, &g) == LC_OK, "create: %s", lc_last_error());
         ref_grid_field rg = {{37, 29, 41}, {0, 0, 0}, {1, 1.25, 0.8}, v.ref};
         ref_source src;
