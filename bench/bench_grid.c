@@ -81,10 +81,12 @@ static lc_grid_layout layout = LC_LAYOUT_DEFAULT;
 static int brick; /* BVH leaf side (0: the library default) */
 
 /* "proc512" etc.: the gyroid lattice as uint8; "proc512u16": the same
- * values times 257 as uint16 (no pair copy: the bricked or linear voxels). */
-static lc_status procedural(lc_device *dev, int n, int u16, lc_volume **out)
+ * values times 257 as uint16, "proc512f32" as float32 (no pair copy: the
+ * bricked or linear voxels). */
+static lc_status procedural(lc_device *dev, int n, lc_value_type type, lc_volume **out)
 {
-    uint8_t *v = malloc((size_t)n * n * n * (u16 ? 2 : 1));
+    int u16 = type == LC_VALUE_UINT16, f32 = type == LC_VALUE_FLOAT32;
+    uint8_t *v = malloc((size_t)n * n * n * (f32 ? 4 : u16 ? 2 : 1));
     float *s = malloc(sizeof(float) * n * 3), *c = s + n, *q = c + n;
     if (!v || !s) return LC_ERROR_OUT_OF_MEMORY;
     for (int i = 0; i < n; i++) {
@@ -107,7 +109,11 @@ static lc_status procedural(lc_device *dev, int n, int u16, lc_volume **out)
         uint16_t *w = (uint16_t *)(void *)v;
         for (size_t e = (size_t)n * n * n; e-- > 0;) w[e] = (uint16_t)(v[e] * 257u);
     }
-    lc_grid_desc d = {.size = {n, n, n}, .type = u16 ? LC_VALUE_UINT16 : LC_VALUE_UINT8, .data = v, .layout = layout,
+    if (f32) {
+        float *w = (float *)(void *)v;
+        for (size_t e = (size_t)n * n * n; e-- > 0;) w[e] = (float)v[e] / 255.0f;
+    }
+    lc_grid_desc d = {.size = {n, n, n}, .type = type, .data = v, .layout = layout,
                       .brick = brick};
     lc_status st = lc_grid_create(dev, &d, out);
     free(v);
@@ -221,7 +227,7 @@ static const char help[] =
     "usage: bench_grid [options]\n"
     "  --data DIR          shared data folder (default ../shared/data)\n"
     "  --volumes a,b,...   engine, neghip, headsq, hydrogen, embryo, HeadMRVolume, proc512, proc1024,\n"
-    "                      blob256 (any procN / blobN; procNu16: uint16; default engine)\n"
+    "                      blob256 (any procN / blobN; procNu16 / procNf32: uint16 / float32; default engine)\n"
     "  --sizes 512,1024    image sides (default 512)\n"
     "  --views far,medium,close (default medium)\n"
     "  --shades none,diffuse,phong (default none)\n"
@@ -317,7 +323,8 @@ int main(int argc, char **argv)
         const char *vn = vols.v[vi];
         double t0 = now();
         lc_status s;
-        if (!strncmp(vn, "proc", 4)) s = procedural(dev0, atoi(vn + 4), strstr(vn, "u16") != NULL, &g);
+        if (!strncmp(vn, "proc", 4)) s = procedural(dev0, atoi(vn + 4),
+                                                  strstr(vn, "u16") ? LC_VALUE_UINT16 : strstr(vn, "f32") ? LC_VALUE_FLOAT32 : LC_VALUE_UINT8, &g);
         else if (!strncmp(vn, "blob", 4)) s = blobs(dev0, atoi(vn + 4), &g);
         else {
             char p[1024];

@@ -43,29 +43,6 @@ static inline vfloat grid_fetch(const lc_kgrid *g, vint idx)
 
 static inline vint grid_sext16(vint v) { return vi_sub(vi_and(vi_add(v, vi_set1(0x8000)), vi_set1(0xffff)), vi_set1(0x8000)); }
 
-/* Values at idx and idx + 1 of an owned (padded) linear u8/u16/i16 grid. */
-static inline void grid_fetch_pair(const lc_kgrid *g, vint idx, vfloat *a, vfloat *b)
-{
-    vint lo, hi;
-    if (GRID_PROF & GP_FETCH) {
-        *a = vi_to_vf(vi_and(idx, vi_set1(0xff)));
-        *b = vi_to_vf(vi_and(vi_add(idx, vi_set1(1)), vi_set1(0xff)));
-        return;
-    }
-    if (g->type == LC_KVAL_U8) {
-        vint w = vi_gather_u8pair((const uint8_t *)g->data, idx);
-        lo = vi_and(w, vi_set1(0xff));
-        hi = vi_srl(w, 8);
-    } else {
-        vint w = vi_gather_u16pair((const uint16_t *)g->data, idx);
-        lo = vi_and(w, vi_set1(0xffff));
-        hi = vi_srl(w, 16);
-        if (g->type == LC_KVAL_I16) lo = grid_sext16(lo), hi = grid_sext16(hi);
-    }
-    *a = vi_to_vf(lo);
-    *b = vi_to_vf(hi);
-}
-
 /* The z-paired copy (kgrid.h pair_quads): d0 = pairs32[e], d1 = pairs32[e + 1]
  * per lane, i.e. the 2x2 (j, k) voxels of columns i and i + 1. Where the
  * target has 64-bit gathers, one 8-byte load per lane and two dword
@@ -91,6 +68,38 @@ static inline __attribute__((always_inline)) void grid_fetch_quads(const uint32_
     *d0 = vi_gather((const int32_t *)(const void *)q, e);
     *d1 = vi_gather((const int32_t *)(const void *)q, vi_add(e, vi_set1(1)));
 #endif
+}
+
+/* Values at idx and idx + 1 of a linear grid: owned (padded) u8/u16/i16, or
+ * float32 (owned or borrowed: idx + 1 is the cell's other x corner, inside
+ * the array), whose two floats are one 8-byte load per lane where the target
+ * has 64-bit gathers (grid_fetch_quads). */
+static inline void grid_fetch_pair(const lc_kgrid *g, vint idx, vfloat *a, vfloat *b)
+{
+    vint lo, hi;
+    if (GRID_PROF & GP_FETCH) {
+        *a = vi_to_vf(vi_and(idx, vi_set1(0xff)));
+        *b = vi_to_vf(vi_and(vi_add(idx, vi_set1(1)), vi_set1(0xff)));
+        return;
+    }
+    if (g->type == LC_KVAL_F32) {
+        grid_fetch_quads((const uint32_t *)g->data, idx, &lo, &hi);
+        *a = vi_as_vf(lo);
+        *b = vi_as_vf(hi);
+        return;
+    }
+    if (g->type == LC_KVAL_U8) {
+        vint w = vi_gather_u8pair((const uint8_t *)g->data, idx);
+        lo = vi_and(w, vi_set1(0xff));
+        hi = vi_srl(w, 8);
+    } else {
+        vint w = vi_gather_u16pair((const uint16_t *)g->data, idx);
+        lo = vi_and(w, vi_set1(0xffff));
+        hi = vi_srl(w, 16);
+        if (g->type == LC_KVAL_I16) lo = grid_sext16(lo), hi = grid_sext16(hi);
+    }
+    *a = vi_to_vf(lo);
+    *b = vi_to_vf(hi);
 }
 
 /* A sample's trilinear stencil: the 8 voxel values of its cell
@@ -167,8 +176,8 @@ static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, v
     }
     vint yz00 = vi_add(y0, z0), yz10 = vi_add(y1, z0), yz01 = vi_add(y0, z1), yz11 = vi_add(y1, z1);
     vfloat *v = c->v;
-    if (!g->bricked && g->type != LC_KVAL_F32 && g->wide_safe > INT32_MAX) {
-        /* linear narrow voxels: x neighbours are adjacent, one gather per pair */
+    if (!g->bricked && (g->type == LC_KVAL_F32 || g->wide_safe > INT32_MAX)) {
+        /* linear voxels: x neighbours are adjacent, one gather per pair */
         grid_fetch_pair(g, vi_add(x0, yz00), &v[0], &v[1]);
         grid_fetch_pair(g, vi_add(x0, yz10), &v[2], &v[3]);
         grid_fetch_pair(g, vi_add(x0, yz01), &v[4], &v[5]);
