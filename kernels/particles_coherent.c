@@ -206,6 +206,9 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
         if (mode == LC_KMODE_ISO) r.ox = vf_load(c->ox + o), r.oy = vf_load(c->oy + o), r.oz = vf_load(c->oz + o);
         vcolor col = {vf_load(c->cr + o), vf_load(c->cg + o), vf_load(c->cb + o), vf_load(c->ca + o)};
         vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
+        /* the pass's last sample of each lane's range (for the waste below) */
+        const vint klp = vi_min(kl, vi_set1(kend));
+        float dead = 0.0f; /* lane samples of the pass behind the sample where their lane became opaque */
         for (int k = kp; k <= kend; k++) {
             vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
             if (vm_none(m)) continue;
@@ -220,12 +223,21 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
                 mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL, vi_set1(k),
                                vf_set1((float)k * f->dt), probe);
             }
-            live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
-            if (vm_none(live)) {
-                /* the terms deposited behind this sample were for nothing */
-                waste += (float)c->touched[v] * (float)(kend - k) / (float)(kend - kp + 1);
-                break;
+            vmask died = vm_andnot(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
+            if (vm_any(died)) { /* rare: once per lane at most */
+                live = vm_andnot(live, died);
+                dead += vf_reduce_add_masked(died, vi_to_vf(vi_max(vi_sub(klp, vi_set1(k)), vi_set1(0))));
+                if (vm_none(live)) break;
             }
+        }
+        if (dead > 0.0f) {
+            /* the terms deposited behind those samples were for nothing: the vector's
+               terms times the share of its lanes' samples in the pass behind them
+               (each lane's own opacity, not only the whole vector's: session 8) */
+            vmask wl = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
+            vint kfp = vi_max(kf, vi_set1(kp));
+            float all = vf_reduce_add_masked(wl, vi_to_vf(vi_max(vi_sub(vi_add(klp, vi_set1(1)), kfp), vi_set1(0))));
+            if (all > 0.0f) waste += (float)c->touched[v] * dead / all;
         }
         vf_store(c->cr + o, col.r), vf_store(c->cg + o, col.g);
         vf_store(c->cb + o, col.b), vf_store(c->ca + o, col.a);
@@ -338,9 +350,11 @@ static inline int pass_end(int kp, int len, int kmax)
 }
 
 /* Pass length (issue 8, session 6). Passes change no image, only the work:
- * a long pass deposits terms behind the sample where a vector's rays all
+ * a long pass deposits terms behind the samples where a vector's rays
  * became opaque (integrate_buffer counts them: the vector's terms of the
- * pass times the share of the pass behind that sample); a short one costs
+ * pass times the share of its lanes' samples in the pass behind each lane's
+ * opaque sample; session 8, it counted only those behind the sample where
+ * the whole vector became opaque before); a short one costs
  * its fixed part again: windows, list scan, the set-up again of every
  * particle and vector pair whose entry spans the boundary, the integration's
  * per-vector setup, each BVH walk for fewer samples. With s->buffer_adapt,
@@ -357,9 +371,18 @@ static inline int pass_end(int kp, int len, int kmax)
 #endif
 #define PASS_FIRST 32
 
-static inline int pass_first(const lc_kparticles *s, int K)
+/* Groups of more than 256 rays (32x32 on 16 lanes) fill a whole 32-pixel
+ * tile, so their P is never adapted: they start (and stay) at
+ * PASS_FIRST_BIG (session 8: with 32, dense1e6 far deposited 60% of its
+ * terms behind opaque samples; 24 took dense1e6 far 5% faster and 1e6 and
+ * 1tw7 far the same or 2% faster, 16 dense1e6 7% faster but 1e6 and 1tw7
+ * far 3-4% slower). */
+#define PASS_FIRST_BIG 24
+
+static inline int pass_first(const lc_kparticles *s, int K, int nv)
 {
-    return s->buffer_adapt && K > PASS_FIRST ? PASS_FIRST : K;
+    int first = nv * LC_W > 256 ? PASS_FIRST_BIG : PASS_FIRST;
+    return s->buffer_adapt && K > first ? first : K;
 }
 
 static inline int pass_adapt(const lc_kparticles *s, int K, int P, float waste, float over)
@@ -382,7 +405,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     coherent_layout(s, f, scratch->mem, &c);
     pgroup g = group_dims(s, f);
     const int nv = g.nv, rays = buf_stride(nv), K = c.K, nf = s->nfields;
-    int P = pass_first(s, K); /* samples per pass: K, or adapted per group (pass_adapt) */
+    int P = pass_first(s, K, nv); /* samples per pass: K, or adapted per group (pass_adapt) */
     const int comps = mode_needs_grad(f) ? 4 : 1;
     const int vpr = g.gw / DVR_PW; /* vectors per group row */
     int vshift = 0; /* list bit of vector v: v >> vshift, < 64 */
