@@ -1,5 +1,5 @@
 /* The clustered particle scene and render cases two bit-identity tests share
- * (tests/test_particles_cstep.c, test_particles_gsize.c): 3 clusters of NCL
+ * (tests/test_particles_cstep.c, test_particles_gsize.c, test_particles_cone.c): 3 clusters of NCL
  * particles and NBG background ones (pclusters.h), radii that differ from one
  * particle to the next, and dvr (1 and 2 fields, diffuse and phong shading,
  * opaque spheres, sigma and kappa changed, early termination), mip and iso
@@ -8,6 +8,7 @@
 #define LANECAST_TESTS_PCASES_H
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include "lanecast/lanecast.h"
 #include "check.h"
 #include "pclusters.h"
@@ -72,6 +73,29 @@ static lc_volume *pcases_volume(lc_device *dev, const ccase *c)
     lc_particle_params pp = {.sigma = c->sigma, .kappa = c->kappa, .sphere_scale = c->scale};
     CHECK(lc_particles_set_params(p, &pp) == LC_OK, "set_params: %s", lc_last_error());
     return p;
+}
+
+/* Case c of p, coherent, w x h under camera cm into img (0, or -1 with the
+ * error printed), with the A/B knobs: LANECAST_PARTICLE_GROUP = side (NULL:
+ * unset) and, when cone is 0, LANECAST_PARTICLE_CONE=0. */
+static __attribute__((unused)) int pcases_render(lc_device *dev, lc_volume *p, const ccase *c, const lc_camera *cm,
+                                                int w, int h, int packet, const char *side, int cone, float *img,
+                                                lc_render_stats *st)
+{
+    lc_tf_field f[2] = {{colr, 3, opa, 3, 1, {0.0f, 3.0f}}, {colr, 3, opa, 3, 1, {0.0f, 3.0f}}};
+    lc_tf *tf = NULL;
+    if (lc_tf_create(dev, f, c->nfields, &tf) != LC_OK) return -1;
+    if (side) setenv("LANECAST_PARTICLE_GROUP", side, 1);
+    if (!cone) setenv("LANECAST_PARTICLE_CONE", "0", 1);
+    lc_render_desc d = {.width = w, .height = h, .camera = *cm, .tf = tf, .volume = p, .mode = c->mode,
+                        .iso = c->iso, .dt = 0.06f, .alpha_stop = c->alpha_stop, .shading = c->shading,
+                        .method = LC_METHOD_COHERENT, .packet = packet};
+    lc_status s = lc_render(dev, &d, img, st);
+    unsetenv("LANECAST_PARTICLE_GROUP");
+    unsetenv("LANECAST_PARTICLE_CONE");
+    lc_tf_destroy(tf);
+    if (s != LC_OK) printf("lc_render: %s\n", lc_last_error());
+    return s == LC_OK ? 0 : -1;
 }
 
 #endif

@@ -23,25 +23,6 @@
 #define W 70
 #define H 50
 
-static int render(lc_device *dev, lc_volume *p, const ccase *c, const lc_camera *cm, int packet, const char *side,
-                  int cone, float *img, lc_render_stats *st)
-{
-    lc_tf_field f[2] = {{colr, 3, opa, 3, 1, {0.0f, 3.0f}}, {colr, 3, opa, 3, 1, {0.0f, 3.0f}}};
-    lc_tf *tf = NULL;
-    if (lc_tf_create(dev, f, c->nfields, &tf) != LC_OK) return -1;
-    if (side) setenv("LANECAST_PARTICLE_GROUP", side, 1);
-    if (!cone) setenv("LANECAST_PARTICLE_CONE", "0", 1);
-    lc_render_desc d = {.width = W, .height = H, .camera = *cm, .tf = tf, .volume = p, .mode = c->mode,
-                        .iso = c->iso, .dt = 0.06f, .alpha_stop = c->alpha_stop, .shading = c->shading,
-                        .method = LC_METHOD_COHERENT, .packet = packet};
-    lc_status s = lc_render(dev, &d, img, st);
-    unsetenv("LANECAST_PARTICLE_GROUP");
-    unsetenv("LANECAST_PARTICLE_CONE");
-    lc_tf_destroy(tf);
-    if (s != LC_OK) printf("lc_render: %s\n", lc_last_error());
-    return s == LC_OK ? 0 : -1;
-}
-
 static int same_bits(const float *a, const float *b) { return memcmp(a, b, sizeof(float) * 4 * W * H) == 0; }
 
 int main(void)
@@ -67,8 +48,8 @@ int main(void)
             for (int vi = 0; vi < 2; vi++) {
                 for (size_t k = 0; k < sizeof groups / sizeof groups[0]; k++) {
                     lc_render_stats so, sf;
-                    int ok = render(dev, p, c, &cams[vi], groups[k].packet, groups[k].side, 1, on, &so) == 0 &&
-                             render(dev, p, c, &cams[vi], groups[k].packet, groups[k].side, 0, off, &sf) == 0;
+                    int ok = pcases_render(dev, p, c, &cams[vi], W, H, groups[k].packet, groups[k].side, 1, on, &so) == 0 &&
+                             pcases_render(dev, p, c, &cams[vi], W, H, groups[k].packet, groups[k].side, 0, off, &sf) == 0;
                     if (k == 0 && ok) {
                         double a = 0.0;
                         for (int i = 0; i < W * H; i++) a += on[4 * i + 3];

@@ -20,23 +20,6 @@
 #define W 70
 #define H 50
 
-static int render(lc_device *dev, lc_volume *p, const ccase *c, int packet, const char *side, float *img,
-                  lc_render_stats *st)
-{
-    lc_tf_field f[2] = {{colr, 3, opa, 3, 1, {0.0f, 3.0f}}, {colr, 3, opa, 3, 1, {0.0f, 3.0f}}};
-    lc_tf *tf = NULL;
-    if (lc_tf_create(dev, f, c->nfields, &tf) != LC_OK) return -1;
-    if (side) setenv("LANECAST_PARTICLE_GROUP", side, 1);
-    lc_render_desc d = {.width = W, .height = H, .camera = cam, .tf = tf, .volume = p, .mode = c->mode,
-                        .iso = c->iso, .dt = 0.06f, .alpha_stop = c->alpha_stop, .shading = c->shading,
-                        .method = LC_METHOD_COHERENT, .packet = packet};
-    lc_status s = lc_render(dev, &d, img, st);
-    unsetenv("LANECAST_PARTICLE_GROUP");
-    lc_tf_destroy(tf);
-    if (s != LC_OK) printf("lc_render: %s\n", lc_last_error());
-    return s == LC_OK ? 0 : -1;
-}
-
 static int same_bits(const float *a, const float *b) { return memcmp(a, b, sizeof(float) * 4 * W * H) == 0; }
 
 int main(void)
@@ -60,7 +43,7 @@ int main(void)
             lc_volume *p = pcases_volume(dev, c);
             if (!p) continue;
             lc_render_stats sd, so;
-            if (render(dev, p, c, 0, NULL, def, &sd)) {
+            if (pcases_render(dev, p, c, &cam, W, H, 0, NULL, 1, def, &sd)) {
                 CHECK(0, "%s %s: default render", tn, c->name);
                 lc_volume_destroy(p);
                 continue;
@@ -69,7 +52,7 @@ int main(void)
             for (int i = 0; i < W * H; i++) a += def[4 * i + 3];
             CHECK(a / (W * H) > 0.02, "%s %s: the scene is visible (mean A %.3f)", tn, c->name, a / (W * H));
             for (size_t k = 0; k < sizeof alts / sizeof alts[0]; k++) {
-                int ok = render(dev, p, c, alts[k].packet, alts[k].side, other, &so) == 0;
+                int ok = pcases_render(dev, p, c, &cam, W, H, alts[k].packet, alts[k].side, 1, other, &so) == 0;
                 CHECK(ok && same_bits(def, other), "%s %s: default groups = packet %d side %s, bit for bit", tn,
                       c->name, alts[k].packet, alts[k].side ? alts[k].side : "-");
                 if (alts[k].side && !strcmp(alts[k].side, want))
