@@ -182,13 +182,6 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
     return period;
 }
 
-/* The waste integrate_buffer counts for pass_adapt: on 16-lane targets the
- * terms behind each lane's opaque sample (session 8: 1e6 close 5% and 1tw7
- * close 10% faster on avx512); on narrower ones, as before, only those behind
- * the sample where the whole vector went opaque (the per-lane count made 1e6
- * far 5% slower on avx2 and avx512_8, 3 rounds). */
-#define WASTE_PER_LANE (LC_W >= 16)
-
 /* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
  * group, front to back through the mode (a constant, so each mode gets its
  * own loop). */
@@ -229,14 +222,6 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
                 if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
                 mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL, vi_set1(k),
                                vf_set1((float)k * f->dt), probe);
-            }
-            if (!WASTE_PER_LANE) {
-                live = vm_and(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
-                if (vm_none(live)) { /* the terms behind this sample were for nothing */
-                    waste += (float)c->touched[v] * (float)(kend - k) / (float)(kend - kp + 1);
-                    break;
-                }
-                continue;
             }
             vmask died = vm_andnot(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
             if (vm_any(died)) { /* rare: once per lane at most */
