@@ -20,6 +20,13 @@
 static float xyz[3 * N], rad[N], val[N];
 static uint8_t fid[N];
 
+/* The scene from seed: its three clusters, spread and radii, the same in every test that shares it. */
+static void pcases_scene(uint64_t seed)
+{
+    pclusters_make(seed, NCL, NBG, (const float[3][3]){{3, 3, 4}, {6.5f, 5.5f, 5}, {4, 6.5f, 6.5f}}, 0.8f, 0.3f, 0.2f,
+                   xyz, rad, val, fid);
+}
+
 typedef struct ccase {
     const char *name;
     lc_mode mode;

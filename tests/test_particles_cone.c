@@ -27,8 +27,7 @@ static int same_bits(const float *a, const float *b) { return memcmp(a, b, sizeo
 
 int main(void)
 {
-    pclusters_make(0x2545f4914f6cdd1dull, NCL, NBG, (const float[3][3]){{3, 3, 4}, {6.5f, 5.5f, 5}, {4, 6.5f, 6.5f}},
-                   0.8f, 0.3f, 0.2f, xyz, rad, val, fid);
+    pcases_scene(0x2545f4914f6cdd1dull);
     static float on[W * H * 4], off[W * H * 4];
     /* outside the particles (pcases' camera), and inside a cluster looking across the others */
     const lc_camera cams[2] = {cam, {LC_PERSPECTIVE, {4.2f, 3.8f, 4.5f}, {6.5f, 5.5f, 5}, {0, 1, 0}, 70.0f, 0.0f}};

@@ -79,8 +79,7 @@ static void *thread_main(void *arg)
 
 int main(void)
 {
-    pclusters_make(0x9e3779b97f4a7c15ull, NCL, NBG, (const float[3][3]){{3, 3, 4}, {6.5f, 5.5f, 5}, {4, 6.5f, 6.5f}},
-                   0.8f, 0.3f, 0.2f, xyz, rad, val, fid);
+    pcases_scene(0x9e3779b97f4a7c15ull);
     int distinct = 0;
     for (int i = 1; i < N; i++) distinct += rad[i] != rad[i - 1];
     CHECK(distinct > N / 2, "neighbouring radii differ (%d of %d)", distinct, N - 1);

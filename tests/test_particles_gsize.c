@@ -24,8 +24,7 @@ static int same_bits(const float *a, const float *b) { return memcmp(a, b, sizeo
 
 int main(void)
 {
-    pclusters_make(0x2545f4914f6cdd1dull, NCL, NBG, (const float[3][3]){{3, 3, 4}, {6.5f, 5.5f, 5}, {4, 6.5f, 6.5f}},
-                   0.8f, 0.3f, 0.2f, xyz, rad, val, fid);
+    pcases_scene(0x2545f4914f6cdd1dull);
     static float def[W * H * 4], other[W * H * 4];
     static const struct {
         int packet;
