@@ -7,8 +7,10 @@
  * independent reference core (tests/ref) at SPEC.md tolerances, and against
  * the BVH gather and the octree at the same tolerances. The skipping must
  * be active where the bias is transparent (fewer samples integrated than
- * the BVH gather's), the default method must be the coherent one, and a set
- * whose bias was dropped must fail the comparison. */
+ * the BVH gather's), the default method must be the coherent one, the
+ * kernel's cone pre-test (LANECAST_PARTICLE_CONE=0 turns it off) must change
+ * no bit and no term count, and a set whose bias was dropped must fail the
+ * comparison. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdint.h>
@@ -136,6 +138,15 @@ static void test_scene(const scene *s, int expect_skip, float *want, float *coh,
             snprintf(label, sizeof label, "rbf_coherent_vs_octree_%s_%s", s->name, tn);
             if (render(dev, vo, s, LC_METHOD_DEFAULT, other, NULL) == 0) compare(label, coh, other, &worst_methods);
             else CHECK(0, "%s: %s", label, lc_last_error());
+            /* the particle kernel's cone pre-test changes no bit and no term (as tests/test_particles_cone.c) */
+            lc_render_stats sf;
+            snprintf(label, sizeof label, "rbf_coherent_cone_%s_%s", s->name, tn);
+            setenv("LANECAST_PARTICLE_CONE", "0", 1);
+            int rc = render(dev, v, s, LC_METHOD_COHERENT, other, &sf);
+            unsetenv("LANECAST_PARTICLE_CONE");
+            CHECK_QUIET(rc == 0 && !memcmp(other, coh, sizeof(float) * 4 * W * H) && sf.kernel_evals == sc.kernel_evals,
+                        "%s: cone pre-test on = off, bit for bit and term for term (%llu, %llu)", label,
+                        (unsigned long long)sc.kernel_evals, (unsigned long long)sf.kernel_evals);
             if (ti == 0)
                 printf("%s: %llu samples, %llu gaussians, %llu passes (bvh: %llu samples, %llu gaussians)\n", s->name,
                        (unsigned long long)sc.samples, (unsigned long long)sc.kernel_evals,

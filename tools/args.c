@@ -104,6 +104,29 @@ int arg_vec3(const char *cmd, const char *flag, const char *s, lc_vec3 *out)
     return 0;
 }
 
+int arg_lighting(const char *cmd, const char *flag, const char *s, lc_lighting *out)
+{
+    float v[4] = {0, 0, 0, 16};
+    int n = 0;
+    for (const char *c = s; *c; c++) n += *c == ',';
+    if ((n != 2 && n != 3) || floats(s, v, n + 1)) {
+        fprintf(stderr, "%s: %s: expected KA,KD,KS or KA,KD,KS,P (three or four numbers), got '%s'\n", cmd, flag, s);
+        return -1;
+    }
+    for (int k = 0; k < 3; k++)
+        if (!(v[k] >= 0.0f)) {
+            fprintf(stderr, "%s: %s: %s is %g; the coefficients must be >= 0 (got '%s')\n", cmd, flag,
+                    k == 0 ? "KA" : k == 1 ? "KD" : "KS", (double)v[k], s);
+            return -1;
+        }
+    if (!(v[3] >= 1.0f && v[3] <= 256.0f) || v[3] != (float)(int)v[3]) {
+        fprintf(stderr, "%s: %s: the exponent P must be an integer from 1 to 256 (got '%s')\n", cmd, flag, s);
+        return -1;
+    }
+    out->ka = v[0], out->kd = v[1], out->ks = v[2], out->phong_exp = (int)v[3];
+    return 0;
+}
+
 int arg_pair(const char *cmd, const char *flag, const char *s, float out[2])
 {
     if (floats(s, out, 2)) {

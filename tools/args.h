@@ -17,6 +17,9 @@ int arg_memory(const char *cmd, const char *flag, const char *s);
 int arg_int(const char *cmd, const char *flag, const char *s, long lo, long hi, int *out);
 int arg_size_t(const char *cmd, const char *flag, const char *s, size_t *out);
 int arg_vec3(const char *cmd, const char *flag, const char *s, lc_vec3 *out);
+/* KA,KD,KS[,P]: the lighting coefficients (>= 0) and the integer Phong
+ * exponent P in 1..256 (16 when omitted). */
+int arg_lighting(const char *cmd, const char *flag, const char *s, lc_lighting *out);
 int arg_pair(const char *cmd, const char *flag, const char *s, float out[2]);
 int arg_size(const char *cmd, const char *flag, const char *s, int *w, int *h);
 /* px,py,pz,nx,ny,nz: a point and a non-zero normal. */

@@ -73,12 +73,16 @@ static const char render_help[] =
     "                        to 4 planes\n"
     "  --field N             iso, slice: the field of multi-field data they show (default 0)\n"
     "  --shade [MODE]        none, diffuse (the default when MODE is omitted) or phong\n"
+    "  --lighting KA,KD,KS[,P]  the headlight's ambient, diffuse and specular weights (>= 0) and\n"
+    "                        the integer Phong exponent P in 1..256: diffuse gives rgb (KA + KD |n.l|),\n"
+    "                        phong adds KS |n.h|^P (default 0.2,0.8,0.4,16; P 16 when omitted)\n"
     "  --alpha-stop A        early ray termination opacity in (0, 1] (default 0.97; 1 = never)\n"
     "  --background r,g,b    background colour (default 0,0,0)\n"
     "  --alpha               write an alpha channel instead of compositing the background (PNG:\n"
     "                        straight RGBA; EXR: premultiplied)\n"
     "  examples: lanecast render headsq.nhdr -o head.png --colormap cool-warm --shade\n"
     "            lanecast render engine.nhdr -o e.png --colormap inferno --opacity 0:0,0.4:0,1:0.2\n"
+    "            lanecast render engine.nhdr -o shiny.png --shade phong --lighting 0.1,0.7,0.8,64\n"
     "            lanecast render neghip.nhdr -o n.exr --tf 'Blue Orange.json' --alpha\n"
     "\n"
     "execution:\n"
@@ -225,7 +229,7 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
     }
     static const char *const flags[] = {"--tf",     "--tau",    "--range",   "--dt",   "--alpha-stop", "--method",
                                         "--packet", "--target", "--threads", "--tile", "--mode",       "--colormap",
-                                        "--opacity", "--iso",   "--plane",   "--field"};
+                                        "--opacity", "--iso",   "--plane",   "--field", "--lighting"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -250,6 +254,7 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
         }
         return 1;
     }
+    if (!strcmp(a, "--lighting")) return arg_lighting(o->cmd, a, v, &o->rd.lighting) ? -1 : 1;
     if (!strcmp(a, "--dt")) return arg_float(o->cmd, a, v, 1e-30f, 1e30f, &o->rd.dt) ? -1 : 1;
     if (!strcmp(a, "--alpha-stop")) return arg_float(o->cmd, a, v, 1e-6f, 1.0f, &o->rd.alpha_stop) ? -1 : 1;
     if (!strcmp(a, "--method")) return parse_method(o, v) ? -1 : 1;

@@ -512,6 +512,9 @@ static lc_status prepare_coherent(lc_device *dev, const rbf *p, const lc_kframe 
     k->lo[0] = b->lo.x, k->lo[1] = b->lo.y, k->lo[2] = b->lo.z;
     k->hi[0] = b->hi.x, k->hi[1] = b->hi.y, k->hi[2] = b->hi.z;
     k->bias = p->info.bias;
+    /* LANECAST_PARTICLE_CONE=0 turns off the particle kernel's per-vector cone
+       pre-test here as for particles (tests, A/B runs): the same image, bit for bit */
+    k->cone_off = lci_env_long("LANECAST_PARTICLE_CONE", 0, 1, 1) == 0;
     if (dvr) {
         float cb = lci_tf_clear_below(&frame->tf[0]);
         k->bias_clear = k->bias <= cb;
