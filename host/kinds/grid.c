@@ -232,8 +232,9 @@ static void build_quads(const uint8_t *src, const int32_t n[3], int64_t ys, int6
  * every line a ray's stencil needs at one x maps to one or two of the L1's 64
  * sets (and the planes to one of the L2's), so the lines prefetched ahead
  * evicted each other before the gathers read them. Measured (docs/bench/grid.md
- * session 9): proc1024 medium 1.3x less CPU. Costs at most 2 lines a row and a
- * plane (proc1024: +3 %); the copy's int32 element offsets stay below 2^31. */
+ * session 9): proc1024 medium 1.20-1.28x less CPU a frame, far 1.5x. Costs at
+ * most 2 lines a row and a plane, i.e. at most 12 % (rows just over 1 KiB;
+ * proc1024 +3 %); the copy's int32 element offsets stay below 2^31. */
 static void pair_strides(const int32_t n[3], int64_t *ys, int64_t *zs)
 {
     const int64_t line = 64 / 2;
