@@ -10,7 +10,8 @@
  * SPEC.md tolerances and the two grids' images equal (BVH with heuristics
  * off and on, brute force, post-classified and pre-integrated), camera
  * outside, inside and on an axis-aligned view, odd sizes, both layouts, and
- * a volume large enough for the huge-page voxel allocation. A reference of a
+ * a volume large enough for the huge-page voxel allocation, and rows wide
+ * enough for the pair copy's padded strides. A reference of a
  * perturbed volume must fail the same comparison (the test can fail).
  * usage: test_grid_copies nopairs|quads [OUTDIR]   (diff images of failures go to OUTDIR) */
 #include <math.h>
@@ -195,7 +196,21 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                 if (gs.g[c][lay]) lc_grid_get_info(gs.g[c][lay], &in);
                 CHECK_QUIET(in.copy_voxel_bytes == (int)per, "%s layout %d: %s reports a copy of %d bytes a voxel", tn,
                             lay, var->label[c], in.copy_voxel_bytes);
-                int ok = per ? bytes[c][lay] == tables + per * count + 64 : bytes[c][lay] >= tables + count;
+                /* the pair copy's rows and planes padded to an odd number of 64-byte
+                   lines from 1 KiB and 4 KiB (host/kinds/grid.c pair_strides); the quad copy unpadded */
+                uint64_t elems = count;
+                if (per == 2 && gs.g[c][lay]) {
+                    const lc_kgrid *kg = &((const grid *)gs.g[c][lay])->kg;
+                    int64_t ys = kg->pair_ystride, zs = kg->pair_zstride;
+                    int rows_ok = v->n[0] * 2 >= 1024 ? ys >= v->n[0] && ys * 2 % 64 == 0 && (ys * 2 / 64) % 2 == 1
+                                                      : ys == v->n[0];
+                    int planes_ok = ys * v->n[1] * 2 >= 4096 ? zs >= ys * v->n[1] && zs * 2 % 64 == 0 && (zs * 2 / 64) % 2 == 1
+                                                             : zs == ys * v->n[1];
+                    CHECK_QUIET(rows_ok && planes_ok, "%s layout %d: pair copy strides %lld / %lld for %dx%d voxels", tn,
+                                lay, (long long)ys, (long long)zs, v->n[0], v->n[1]);
+                    elems = (uint64_t)zs * (uint64_t)v->n[2];
+                }
+                int ok = per ? bytes[c][lay] == tables + per * elems + 64 : bytes[c][lay] >= tables + count;
                 CHECK_QUIET(ok, "%s layout %d: %s holds %llu bytes (%llu voxels)", tn, lay, var->label[c],
                             (unsigned long long)bytes[c][lay], (unsigned long long)count);
             }
@@ -290,6 +305,12 @@ int main(int argc, char **argv)
     view vb[2] = {{{170, 150, 300}, {65, 63, 66}, 2}, {{65, 63, 320}, {65, 63, 66}, 0}};
     check_volume(&b, vb, 2, 0);
     free(b.data), free(b.ref);
+    /* rows of 1 KiB and more: the pair copy pads its rows and planes (pair_strides) */
+    vol wd;
+    vol_make(&wd, 601, 23, 19);
+    view vw[2] = {{{250, 60, 75}, {230, 11, 9}, 2}, {{212, 9.5, 10.2}, {260, 11, 9}, 1}};
+    check_volume(&wd, vw, 2, 0);
+    free(wd.data), free(wd.ref);
     char what[160];
     snprintf(what, sizeof what, "%s vs reference (heuristics off)", var->label[0]);
     imgcmp_worst_print(what, &w_ref);

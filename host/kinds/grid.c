@@ -83,7 +83,11 @@ static void destroy(lc_volume *v);
 static void *voxel_alloc(size_t bytes)
 {
     const size_t huge = (size_t)2 << 20;
-    if (bytes < 2 * huge) return lci_aligned_alloc(64, bytes);
+    if (bytes < 2 * huge) {
+        void *s = lci_aligned_alloc(64, bytes);
+        if (s) memset(s, 0, bytes); /* the copies' padding is zero */
+        return s;
+    }
     void *p = NULL;
     if (posix_memalign(&p, huge, bytes) != 0) return NULL;
 #ifdef MADV_HUGEPAGE
@@ -194,32 +198,58 @@ static lc_status validate(lc_device *dev, const lc_grid_desc *d, const char *nam
 
 /* pairs[e] = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8 at the linear
  * index e of (i, j, k) (lc_kgrid.pairs); padding zeroed. */
-static void build_pairs(const uint8_t *src, const int32_t n[3], uint16_t *pairs)
+static void build_pairs(const uint8_t *src, const int32_t n[3], int64_t ys, int64_t zs, uint16_t *pairs)
 {
     for (int32_t k = 0; k < n[2]; k++)
         for (int32_t j = 0; j < n[1]; j++) {
             size_t e = ((size_t)k * (size_t)n[1] + (size_t)j) * (size_t)n[0];
+            size_t o = (size_t)k * (size_t)zs + (size_t)j * (size_t)ys;
             const uint8_t *r0 = src + e, *r1 = j + 1 < n[1] ? r0 + n[0] : r0;
-            for (int32_t i = 0; i < n[0]; i++) pairs[e + (size_t)i] = (uint16_t)(r0[i] | r1[i] << 8);
+            for (int32_t i = 0; i < n[0]; i++) pairs[o + (size_t)i] = (uint16_t)(r0[i] | r1[i] << 8);
         }
-    memset(pairs + (size_t)n[0] * (size_t)n[1] * (size_t)n[2], 0, GATHER_PAD);
 }
 
 /* quads[e] = v(i, j, k) | v(i, j1, k) << 8 | v(i, j, k1) << 16 | v(i, j1, k1) << 24
  * with j1 = min(j + 1, ny - 1), k1 = min(k + 1, nz - 1) at the linear index e
  * of (i, j, k) (lc_kgrid.pair_quads); padding zeroed. */
-static void build_quads(const uint8_t *src, const int32_t n[3], uint32_t *quads)
+static void build_quads(const uint8_t *src, const int32_t n[3], int64_t ys, int64_t zs, uint32_t *quads)
 {
     size_t plane = (size_t)n[0] * (size_t)n[1];
     for (int32_t k = 0; k < n[2]; k++)
         for (int32_t j = 0; j < n[1]; j++) {
             size_t e = (size_t)k * plane + (size_t)j * (size_t)n[0];
+            size_t o = (size_t)k * (size_t)zs + (size_t)j * (size_t)ys;
             const uint8_t *r0 = src + e, *r1 = j + 1 < n[1] ? r0 + n[0] : r0;
             const uint8_t *r2 = k + 1 < n[2] ? r0 + plane : r0, *r3 = k + 1 < n[2] ? r1 + plane : r1;
             for (int32_t i = 0; i < n[0]; i++)
-                quads[e + (size_t)i] = (uint32_t)r0[i] | (uint32_t)r1[i] << 8 | (uint32_t)r2[i] << 16 | (uint32_t)r3[i] << 24;
+                quads[o + (size_t)i] = (uint32_t)r0[i] | (uint32_t)r1[i] << 8 | (uint32_t)r2[i] << 16 | (uint32_t)r3[i] << 24;
         }
-    memset(quads + plane * (size_t)n[2], 0, GATHER_PAD);
+}
+
+/* The 2-byte pair copy's row and plane strides in elements. Rows of at least
+ * 1 KiB and planes of at least 4 KiB are padded to an odd number of 64-byte
+ * lines: with power-of-two strides (proc1024: rows of 2 KiB, planes of 2 MiB)
+ * every line a ray's stencil needs at one x maps to one or two of the L1's 64
+ * sets (and the planes to one of the L2's), so the lines prefetched ahead
+ * evicted each other before the gathers read them. Measured (docs/bench/grid.md
+ * session 9): proc1024 medium 1.20-1.28x less CPU a frame, far 1.5x. Costs at
+ * most 2 lines a row and a plane, i.e. at most 12 % (rows just over 1 KiB;
+ * proc1024 +3 %); the copy's int32 element offsets stay below 2^31. */
+static void pair_strides(const int32_t n[3], int64_t *ys, int64_t *zs)
+{
+    const int64_t line = 64 / 2;
+    int64_t y = n[0];
+    if (y * 2 >= 1024) {
+        y = (y + line - 1) / line * line;
+        if ((y / line) % 2 == 0) y += line;
+    }
+    int64_t z = y * n[1];
+    if (z * 2 >= 4096) {
+        z = (z + line - 1) / line * line;
+        if ((z / line) % 2 == 0) z += line;
+    }
+    if (z * n[2] + GATHER_PAD > INT32_MAX) y = n[0], z = (int64_t)n[0] * n[1]; /* not reached at 2^30 voxels */
+    *ys = y, *zs = z;
 }
 
 static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
@@ -282,13 +312,15 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         }
         data = g->owned;
     }
+    int64_t pys = n[0], pzs = (int64_t)n[0] * n[1];
     if (copy) {
-        g->pair_bytes = (size_t)count * (copy == 2 ? 4 : 2) + GATHER_PAD;
+        if (copy == 1) pair_strides(n, &pys, &pzs);
+        g->pair_bytes = (size_t)(pzs * n[2]) * (copy == 2 ? 4 : 2) + GATHER_PAD;
         g->pairs = voxel_alloc(g->pair_bytes);
         if (!g->pairs) goto oom;
         g->quads = copy == 2;
-        if (copy == 2) build_quads(src, n, g->pairs);
-        else build_pairs(src, n, g->pairs);
+        if (copy == 2) build_quads(src, n, pys, pzs, g->pairs);
+        else build_pairs(src, n, pys, pzs, g->pairs);
     }
     float origin[3] = {d->origin.x, d->origin.y, d->origin.z}, spacing[3] = {sp.x, sp.y, sp.z};
     double t0 = lci_now();
@@ -311,8 +343,8 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     k->zstride = k->bricked ? 64 * ((n[0] + 3) / 4) * ((n[1] + 3) / 4) : n[0] * n[1];
     k->pairs = g->pairs;
     k->pair_quads = g->quads;
-    k->pair_ystride = n[0];
-    k->pair_zstride = n[0] * n[1];
+    k->pair_ystride = (int32_t)pys;
+    k->pair_zstride = (int32_t)pzs;
     k->wide_safe = borrow ? (d->type == LC_VALUE_UINT8 ? count - 3 : count - 1) : INT64_MAX;
     k->nodes = g->bvh.nodes;
     k->nnodes = g->bvh.nnodes;

@@ -65,8 +65,11 @@ typedef struct lc_kgrid {
     int32_t run_max;    /* BVH: longest run of lattice samples deferred before integrating */
     /* y-pair-packed copy of uint8 voxels (NULL: none), built when the grid owns
      * its voxels and has at most 2^30 of them (host/kinds/grid.c
-     * lci_grid_pairs_max): pairs[i + j ystride + k zstride of the linear layout]
-     * = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8, so one 32-bit load at
+     * lci_grid_pairs_max): pairs[i + j pair_ystride + k pair_zstride]
+     * = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8 (the 2-byte copy pads rows
+     * of 1 KiB or more and planes of 4 KiB or more to an odd number of 64-byte
+     * lines, grid.c pair_strides; the 4-byte one is unpadded: pair_ystride = nx,
+     * pair_zstride = nx ny), so one 32-bit load at
      * element e (byte 2e) holds v(i, j), v(i, j+1), v(i+1, j), v(i+1, j+1)
      * of plane k: two loads per trilinear sample instead of eight.
      * With pair_quads set (smaller volumes, lci_grid_quads_max) the copy is
