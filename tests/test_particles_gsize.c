@@ -1,8 +1,11 @@
 /* The coherent particle kernel's group size (issue 8, sessions 7 and 8):
  * with the render desc's packet left at 0 the particle kind picks 16x16
- * groups, 32x32 when a perspective eye lies outside the particles' box, as
- * here, on 16-lane targets (host/kinds/particles.c group_side), LANECAST_PARTICLE_GROUP=N another
- * side. Groups change the work, not the image: on every compiled and
+ * groups, 32x32 with a perspective camera on 16-lane targets (the eye outside
+ * the particles' box, and since session 9 inside it too; both checked here;
+ * host/kinds/particles.c group_side), LANECAST_PARTICLE_GROUP=N another side.
+ * A 32x32 group fills its tile and keeps its first pass length
+ * (particles_coherent.c pass_first: 24 samples with the eye outside, 16
+ * inside): the default's pass count is that of fixed passes of that length. Groups change the work, not the image: on every compiled and
  * supported target, for dvr (1 and 2 fields, diffuse and phong shading,
  * opaque spheres, sigma and kappa changed after the build, early
  * termination), mip and iso, on a 70x50 image (groups cut by the image's
@@ -26,6 +29,10 @@ int main(void)
 {
     pcases_scene(0x2545f4914f6cdd1dull);
     static float def[W * H * 4], other[W * H * 4];
+    /* outside the particles (pcases' camera), and inside a cluster looking across the
+       others (session 9: 32x32 groups there too, with a first pass of 16 samples) */
+    const lc_camera cams[2] = {cam, {LC_PERSPECTIVE, {4.2f, 3.8f, 4.5f}, {6.5f, 5.5f, 5}, {0, 1, 0}, 70.0f, 0.0f}};
+    static const char *where[2] = {"outside", "inside"};
     static const struct {
         int packet;
         const char *side;
@@ -41,25 +48,36 @@ int main(void)
             const ccase *c = &cases[ci];
             lc_volume *p = pcases_volume(dev, c);
             if (!p) continue;
-            lc_render_stats sd, so;
-            if (pcases_render(dev, p, c, &cam, W, H, 0, NULL, 1, def, &sd)) {
-                CHECK(0, "%s %s: default render", tn, c->name);
-                lc_volume_destroy(p);
-                continue;
-            }
-            double a = 0.0;
-            for (int i = 0; i < W * H; i++) a += def[4 * i + 3];
-            CHECK(a / (W * H) > 0.02, "%s %s: the scene is visible (mean A %.3f)", tn, c->name, a / (W * H));
-            for (size_t k = 0; k < sizeof alts / sizeof alts[0]; k++) {
-                int ok = pcases_render(dev, p, c, &cam, W, H, alts[k].packet, alts[k].side, 1, other, &so) == 0;
-                CHECK(ok && same_bits(def, other), "%s %s: default groups = packet %d side %s, bit for bit", tn,
-                      c->name, alts[k].packet, alts[k].side ? alts[k].side : "-");
-                if (alts[k].side && !strcmp(alts[k].side, want))
-                    CHECK(so.nodes == sd.nodes, "%s %s: with the eye outside the default side is %s (nodes %llu, %llu)",
-                          tn, c->name, want, (unsigned long long)sd.nodes, (unsigned long long)so.nodes);
-                if (k == 0)
-                    CHECK(so.nodes != sd.nodes, "%s %s: the default and 8x8 groups walk differently (nodes %llu, %llu)",
-                          tn, c->name, (unsigned long long)sd.nodes, (unsigned long long)so.nodes);
+            for (int e = 0; e < 2; e++) {
+                lc_render_stats sd, so;
+                if (pcases_render(dev, p, c, &cams[e], W, H, 0, NULL, 1, def, &sd)) {
+                    CHECK(0, "%s %s %s: default render", tn, c->name, where[e]);
+                    continue;
+                }
+                double a = 0.0;
+                for (int i = 0; i < W * H; i++) a += def[4 * i + 3];
+                CHECK(a / (W * H) > 0.02, "%s %s %s: the scene is visible (mean A %.3f)", tn, c->name, where[e],
+                      a / (W * H));
+                for (size_t k = 0; k < sizeof alts / sizeof alts[0]; k++) {
+                    int ok = pcases_render(dev, p, c, &cams[e], W, H, alts[k].packet, alts[k].side, 1, other, &so) == 0;
+                    CHECK(ok && same_bits(def, other), "%s %s %s: default groups = packet %d side %s, bit for bit", tn,
+                          c->name, where[e], alts[k].packet, alts[k].side ? alts[k].side : "-");
+                    if (alts[k].side && !strcmp(alts[k].side, want))
+                        CHECK(so.nodes == sd.nodes, "%s %s: with the eye %s the default side is %s (nodes %llu, %llu)",
+                              tn, c->name, where[e], want, (unsigned long long)sd.nodes, (unsigned long long)so.nodes);
+                    if (k == 0)
+                        CHECK(so.nodes != sd.nodes, "%s %s %s: the default and 8x8 groups walk differently (nodes %llu, %llu)",
+                              tn, c->name, where[e], (unsigned long long)sd.nodes, (unsigned long long)so.nodes);
+                }
+                if (lc_target_lanes((lc_target)t) >= 16) {
+                    const char *len = e ? "16" : "24";
+                    setenv("LANECAST_PARTICLE_BUFFER_K", len, 1);
+                    int ok = pcases_render(dev, p, c, &cams[e], W, H, 0, NULL, 1, other, &so) == 0;
+                    unsetenv("LANECAST_PARTICLE_BUFFER_K");
+                    CHECK(ok && same_bits(def, other) && so.passes == sd.passes,
+                          "%s %s %s: default = fixed passes of %s samples (passes %llu, %llu)", tn, c->name, where[e],
+                          len, (unsigned long long)sd.passes, (unsigned long long)so.passes);
+                }
             }
             lc_volume_destroy(p);
         }

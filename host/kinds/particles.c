@@ -546,31 +546,30 @@ static int cstep_enabled(void) { return lci_env_long("LANECAST_PARTICLE_CSTEP", 
 /* Rays per coherent group side when the render leaves packet at its default
  * (0): 16x16 groups share one BVH walk per chunk among 4x the rays of 8x8
  * (session 7, docs/bench/particles.md: 8-17% less CPU per close frame on
- * the benchmark sets, far frames within noise). With the eye outside the
- * particles' grown box (a perspective view from outside: the benchmarks'
- * far views) and 16 lanes, 32x32 (session 8: with the kernel's cone pre-test and a list
- * capacity that grows with the group, 1e6 far 4-6% and 1tw7 far 1-3% less
- * CPU, dense1e6 far within noise; close views stay at 16, where 32 cost
- * dense1e6 3%). The image is the same whatever the side
+ * the benchmark sets, far frames within noise). With a perspective camera
+ * and 16 lanes, 32x32 (session 8, the eye outside the particles' grown box:
+ * with the kernel's cone pre-test and a list capacity that grows with the
+ * group, 1e6 far 4-6% and 1tw7 far 1-3% less CPU, dense1e6 far within noise;
+ * session 9, the eye inside too: a 32x32 group fills its tile and keeps its
+ * first pass length, 16 samples there (particles_coherent.c pass_first),
+ * 1e6, 1tw7 and dense1e6 close 8-13% less CPU than 16x16 groups). The image
+ * is the same whatever the side
  * (tests/test_particles_gsize.c). LANECAST_PARTICLE_GROUP=N (A/B runs, tests)
  * sets another side for every frame. */
 #define GROUP_SIDE_DEFAULT 16
-#define GROUP_SIDE_OUTSIDE 32
+#define GROUP_SIDE_WIDE 32
 
-static int32_t group_side(const lc_render_desc *d, const lc_kparticles *k, int lanes)
+static int32_t group_side(const lc_render_desc *d, int lanes)
 {
     if (d->packet != 0) return 0;
     long env = lci_env_long("LANECAST_PARTICLE_GROUP", 1, 64, 0);
     if (env > 0) return (int32_t)env;
     const lc_camera *c = &d->camera;
-    const float e[3] = {c->eye.x, c->eye.y, c->eye.z};
-    int outside = 0;
-    for (int a = 0; a < 3; a++) outside |= e[a] < k->lo[a] || e[a] > k->hi[a];
     /* 32x32 only where a group stays within 64 ray vectors (16 lanes): one list
        bit and one cone per vector; narrower targets would share bits and lose
        the culls (particles_walk.h vcull_on, vcone_on) */
-    int wide = GROUP_SIDE_OUTSIDE * GROUP_SIDE_OUTSIDE <= 64 * lanes;
-    return c->projection == LC_PERSPECTIVE && outside && wide ? GROUP_SIDE_OUTSIDE : GROUP_SIDE_DEFAULT;
+    int wide = GROUP_SIDE_WIDE * GROUP_SIDE_WIDE <= 64 * lanes;
+    return c->projection == LC_PERSPECTIVE && wide ? GROUP_SIDE_WIDE : GROUP_SIDE_DEFAULT;
 }
 
 /* A frame's kernel scene and the cached table it reads (released after the frame). */
@@ -600,7 +599,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (!pf) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
     lc_kparticles *k = &pf->k;
     kscene(p, k);
-    k->group_side = group_side(d, k, lc_target_lanes(dev->target));
+    k->group_side = group_side(d, lc_target_lanes(dev->target));
     if (m == LC_METHOD_COHERENT && frame->mode != LC_KMODE_SLICE && p->info.count > 0 && cstep_enabled()) {
         particles *pm = (particles *)v; /* the cache only: behind its mutex */
         pf->cs = lci_pcstep_get(&pm->cs_mu, &pm->cs, p->nir, p->info.count, frame->dt);
