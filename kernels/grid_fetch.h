@@ -116,7 +116,9 @@ typedef struct gcell {
  * product and partial sum is an integer below 2^24, so exact, and one
  * conversion instead of three, no vpmulld), and the bytes of the two
  * gathered words zero-extended with one vpshufb each instead of a shift and
- * a mask. Same voxel values, same bytes as grid_cell's general path. */
+ * a mask. Same voxel values, same bytes as grid_cell's general path
+ * (docs/bench/grid.md session 9: avx512 close 0.99-1.05x alone, within
+ * the run-to-run spread; tests: test_grid_copies' quad copy, test_grid). */
 static inline __attribute__((always_inline)) void grid_cell_quads16(const lc_kgrid *g, vfloat fx0, vfloat fy0,
                                                                      vfloat fz0, gcell *c)
 {
