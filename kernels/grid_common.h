@@ -316,14 +316,21 @@ static inline __attribute__((always_inline)) uint64_t grid_run(const lc_kgrid *g
             grid_prefetch_pairs(g, p, vf_add(tn, vf_set1((GRID_PF - 1) * dt)));
         gdvr s;
         if (fast) grid_dvr_pre(g, f, shade, m, &cell, &s);
+        /* the next stencil only when some lane has a next sample: a run's
+           last fetch was otherwise wasted (1 of the ~20-35 a run takes at
+           1024^2; docs/bench/grid.md session 9) */
+        vmask mn = vm_and(m, vm_not(vi_gt(kn, kb)));
         gcell next;
-        grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
-                  vf_fma(tn, p->ray.dz, p->ray.oz), &next);
+        if (vm_any(mn))
+            grid_cell(g, vf_fma(tn, p->ray.dx, p->ray.ox), vf_fma(tn, p->ray.dy, p->ray.oy),
+                      vf_fma(tn, p->ray.dz, p->ray.oz), &next);
+        else
+            next = cell; /* unused: the loop ends below */
         if (fast) grid_dvr_step(f, shade, p, m, &s);
         else grid_sample_consume(g, f, mode, shade, p, m, k, t, &cell, st);
         n += (uint64_t)vm_popcnt(m);
         k = kn, t = tn;
-        m = vm_and(m, vm_and(vm_not(vi_gt(k, kb)), grid_below_stop(p->c.a, astop)));
+        m = vm_and(mn, grid_below_stop(p->c.a, astop));
         if (!vm_any(m)) break;
         cell = next;
     }

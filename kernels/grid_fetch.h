@@ -110,6 +110,33 @@ typedef struct gcell {
     vfloat wx, wy, wz;
 } gcell;
 
+#if defined(LC_TARGET_AVX512) && LC_W == 16
+/* The quad copy's stencil on 16 lanes (AVX-512) for volumes of at most 2^24
+ * voxels: the element index i + j Y + k Z taken in float with two FMAs (every
+ * product and partial sum is an integer below 2^24, so exact, and one
+ * conversion instead of three, no vpmulld), and the bytes of the two
+ * gathered words zero-extended with one vpshufb each instead of a shift and
+ * a mask. Same voxel values, same bytes as grid_cell's general path
+ * (docs/bench/grid.md session 9: avx512 close 0.99-1.05x alone, within
+ * the run-to-run spread; tests: test_grid_copies' quad copy, test_grid). */
+static inline __attribute__((always_inline)) void grid_cell_quads16(const lc_kgrid *g, vfloat fx0, vfloat fy0,
+                                                                     vfloat fz0, gcell *c)
+{
+    vfloat ef = vf_fma(fz0, vf_set1((float)g->pair_zstride), vf_fma(fy0, vf_set1((float)g->pair_ystride), fx0));
+    vint w0, w1;
+    grid_fetch_quads(g->pairs, vf_to_vi(ef), &w0, &w1);
+    /* vpshufb indexes bytes within each 128-bit block: dword p's byte n is 4 p + n */
+    const __m512i b1 = _mm512_broadcast_i32x4(_mm_setr_epi32((int)0x80808001u, (int)0x80808005u, (int)0x80808009u,
+                                                            (int)0x8080800du));
+    const __m512i b2 = _mm512_add_epi32(b1, _mm512_set1_epi32(1));
+    vint ff = vi_set1(0xff);
+    c->v[0] = vi_to_vf(vi_and(w0, ff)), c->v[2] = vi_to_vf(_mm512_shuffle_epi8(w0, b1));
+    c->v[4] = vi_to_vf(_mm512_shuffle_epi8(w0, b2)), c->v[6] = vi_to_vf(vi_srl(w0, 24));
+    c->v[1] = vi_to_vf(vi_and(w1, ff)), c->v[3] = vi_to_vf(_mm512_shuffle_epi8(w1, b1));
+    c->v[5] = vi_to_vf(_mm512_shuffle_epi8(w1, b2)), c->v[7] = vi_to_vf(vi_srl(w1, 24));
+}
+#endif
+
 /* The stencil at world positions (x, y, z). Always inlined (see grid_sample). */
 static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, vfloat x, vfloat y, vfloat z, gcell *c)
 {
@@ -126,6 +153,12 @@ static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, v
     c->wx = vf_clamp(vf_sub(ux, fx0), vf_zero(), vf_set1(1.0f));
     c->wy = vf_clamp(vf_sub(uy, fy0), vf_zero(), vf_set1(1.0f));
     c->wz = vf_clamp(vf_sub(uz, fz0), vf_zero(), vf_set1(1.0f));
+#if defined(LC_TARGET_AVX512) && LC_W == 16
+    if (g->pair_quads && !(GRID_PROF & GP_FETCH) && (int64_t)g->pair_zstride * g->size[2] <= (1 << 24)) {
+        grid_cell_quads16(g, fx0, fy0, fz0, c);
+        return;
+    }
+#endif
     vint i = vf_to_vi(fx0), j = vf_to_vi(fy0), k = vf_to_vi(fz0);
     if (g->pairs) {
         /* y-pair-packed uint8 (kgrid.h): one 32-bit load per z plane holds the
