@@ -85,6 +85,9 @@ static lc_volume *pcases_volume(lc_device *dev, const ccase *c)
 /* Case c of p, coherent, w x h under camera cm into img (0, or -1 with the
  * error printed), with the A/B knobs: LANECAST_PARTICLE_GROUP = side (NULL:
  * unset) and, when cone is 0, LANECAST_PARTICLE_CONE=0. */
+/* The render desc's tile side for pcases_render (0: the kind's choice). */
+static int pcases_tile;
+
 static __attribute__((unused)) int pcases_render(lc_device *dev, lc_volume *p, const ccase *c, const lc_camera *cm,
                                                 int w, int h, int packet, const char *side, int cone, float *img,
                                                 lc_render_stats *st)
@@ -96,7 +99,7 @@ static __attribute__((unused)) int pcases_render(lc_device *dev, lc_volume *p, c
     if (!cone) setenv("LANECAST_PARTICLE_CONE", "0", 1);
     lc_render_desc d = {.width = w, .height = h, .camera = *cm, .tf = tf, .volume = p, .mode = c->mode,
                         .iso = c->iso, .dt = 0.06f, .alpha_stop = c->alpha_stop, .shading = c->shading,
-                        .method = LC_METHOD_COHERENT, .packet = packet};
+                        .method = LC_METHOD_COHERENT, .packet = packet, .tile = pcases_tile};
     lc_status s = lc_render(dev, &d, img, st);
     unsetenv("LANECAST_PARTICLE_GROUP");
     unsetenv("LANECAST_PARTICLE_CONE");

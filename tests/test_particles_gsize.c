@@ -3,9 +3,14 @@
  * groups, 32x32 with a perspective camera on 16-lane targets (the eye outside
  * the particles' box, and since session 9 inside it too; both checked here;
  * host/kinds/particles.c group_side), LANECAST_PARTICLE_GROUP=N another side.
- * A 32x32 group fills its tile and keeps its first pass length
+ * A 32x32 group alone in a 32-pixel tile keeps its first pass length
  * (particles_coherent.c pass_first: 24 samples with the eye outside, 16
- * inside): the default's pass count is that of fixed passes of that length. Groups change the work, not the image: on every compiled and
+ * inside): with the eye outside the default's pass count is that of fixed
+ * passes of 24, and with 32-pixel tiles inside that of fixed passes of 16.
+ * With the eye inside the default tile is 64 pixels (host/kinds/particles.c
+ * tile_side), where the length adapts from group to group: the default's
+ * pass count is that of explicit 64-pixel tiles. Groups and tiles change
+ * the work, not the image: on every compiled and
  * supported target, for dvr (1 and 2 fields, diffuse and phong shading,
  * opaque spheres, sigma and kappa changed after the build, early
  * termination), mip and iso, on a 70x50 image (groups cut by the image's
@@ -70,13 +75,25 @@ int main(void)
                               tn, c->name, where[e], (unsigned long long)sd.nodes, (unsigned long long)so.nodes);
                 }
                 if (lc_target_lanes((lc_target)t) >= 16) {
+                    /* 32-pixel tiles: one group a tile, fixed passes of the first length */
+                    lc_render_stats s32;
+                    pcases_tile = 32;
+                    int ok = pcases_render(dev, p, c, &cams[e], W, H, 0, NULL, 1, other, &s32) == 0;
+                    CHECK(ok && same_bits(def, other), "%s %s %s: 32-pixel tiles, bit for bit", tn, c->name, where[e]);
                     const char *len = e ? "16" : "24";
                     setenv("LANECAST_PARTICLE_BUFFER_K", len, 1);
-                    int ok = pcases_render(dev, p, c, &cams[e], W, H, 0, NULL, 1, other, &so) == 0;
+                    ok = pcases_render(dev, p, c, &cams[e], W, H, 0, NULL, 1, other, &so) == 0;
                     unsetenv("LANECAST_PARTICLE_BUFFER_K");
+                    CHECK(ok && same_bits(def, other) && so.passes == s32.passes,
+                          "%s %s %s: 32-pixel tiles = fixed passes of %s samples (passes %llu, %llu)", tn, c->name,
+                          where[e], len, (unsigned long long)s32.passes, (unsigned long long)so.passes);
+                    /* the default tile: 32 outside, 64 inside */
+                    pcases_tile = e ? 64 : 32;
+                    ok = pcases_render(dev, p, c, &cams[e], W, H, 0, NULL, 1, other, &so) == 0;
                     CHECK(ok && same_bits(def, other) && so.passes == sd.passes,
-                          "%s %s %s: default = fixed passes of %s samples (passes %llu, %llu)", tn, c->name, where[e],
-                          len, (unsigned long long)sd.passes, (unsigned long long)so.passes);
+                          "%s %s %s: the default tile is %d pixels (passes %llu, %llu)", tn, c->name, where[e],
+                          pcases_tile, (unsigned long long)sd.passes, (unsigned long long)so.passes);
+                    pcases_tile = 0;
                 }
             }
             lc_volume_destroy(p);

@@ -175,8 +175,7 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
                          d->width, d->height, LC_MAX_IMAGE_SIDE);
     if (!d->volume) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: desc->volume is NULL");
     const lc_volume *vol = d->volume;
-    int tile = d->tile == 0 ? 32 : d->tile;
-    if (tile < 1 || tile > 4096)
+    if (d->tile < 0 || d->tile > 4096)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: tile = %d pixels, expected 1 to 4096", d->tile);
     double t0 = lci_now();
     lci_frame_info info;
@@ -204,6 +203,7 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
     if (s != LC_OK) goto done;
     s = vol->ops->prepare(dev, vol, d, frame, &prep);
     if (s != LC_OK) goto done;
+    int tile = d->tile ? d->tile : prep.tile_side ? prep.tile_side : 32;
     int nthreads = lci_pool_threads(dev->pool);
     uint64_t sb = (prep.scratch_bytes + 63) & ~(uint64_t)63;
     scratch = lci_aligned_alloc(64, (size_t)sb * (size_t)nthreads);

@@ -25,6 +25,7 @@ typedef struct lci_prepared {
     uint64_t scratch_bytes; /* per worker */
     void *owned;            /* freed with free() after the frame, or */
     void (*release)(void *owned); /* if not NULL, passed to this instead */
+    int tile_side;          /* the kind's tile side in pixels when the desc leaves tile at 0 (0: 32) */
 } lci_prepared;
 
 typedef struct lci_kind_ops {

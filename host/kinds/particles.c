@@ -572,6 +572,23 @@ static int32_t group_side(const lc_render_desc *d, int lanes)
     return c->projection == LC_PERSPECTIVE && wide ? GROUP_SIDE_WIDE : GROUP_SIDE_DEFAULT;
 }
 
+/* Pixels per tile side when the render leaves tile at 0: 64 for wide groups
+ * with the eye inside the particles' grown box (the kernel's eye_inside), so
+ * that a tile holds four 32x32 groups and the pass length adapts from group
+ * to group (particles_coherent.c pass_adapt; a 32x32 group alone in a 32-pixel
+ * tile keeps its first length). Session 9, avx512, 2 threads, CPU s, tile 32
+ * -> 64, 2 rounds: dense1e6 close 0.839-0.846 -> 0.780-0.792; 1e6 and 1tw7
+ * close within noise; far views slower with 64 (dense1e6 0.447 -> 0.463, 1e6
+ * 0.106 -> 0.117), so they keep 32. Adaptation stays within a tile, which
+ * one worker runs in a fixed order: counters do not depend on scheduling. */
+static int tile_side(const lc_kframe *f, const lc_kparticles *k, lc_method m)
+{
+    if (m != LC_METHOD_COHERENT || k->group_side != GROUP_SIDE_WIDE || f->cam.ortho) return 0;
+    int inside = 1;
+    for (int a = 0; a < 3; a++) inside &= f->cam.eye[a] >= k->lo[a] && f->cam.eye[a] <= k->hi[a];
+    return inside ? 64 : 0;
+}
+
 /* A frame's kernel scene and the cached table it reads (released after the frame). */
 typedef struct pframe {
     lc_kparticles k;
@@ -623,6 +640,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     out->scratch_bytes = kk->scratch_bytes[km](k, frame);
     out->owned = pf;
     out->release = pframe_release;
+    out->tile_side = tile_side(frame, k, m);
     return LC_OK;
 }
 

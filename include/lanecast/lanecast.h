@@ -797,7 +797,8 @@ typedef struct lc_render_desc {
     lc_lighting lighting;
     lc_method method;
     int packet;                /* packet side in rays (8 = 8x8 groups); 0 = 8, 1 = lane-width packets */
-    int tile;                  /* tile side in pixels for threads; 0 = 32 */
+    int tile;                  /* tile side in pixels for threads; 0 = the kind's choice (32; particles:
+                                  64 with 32x32 groups and the eye inside the data) */
     /* Called on the calling thread as tiles complete, with the fraction done
      * in [0, 1]; NULL = none. */
     void (*progress)(void *user, float fraction);
