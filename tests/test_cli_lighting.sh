@@ -10,17 +10,7 @@ exe=$1
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail=0
-python3 - "$dir" <<'PY'
-import math, struct, sys
-d = sys.argv[1]
-with open(d + "/ball.raw", "wb") as f:
-    for k in range(16):
-        for j in range(16):
-            for i in range(16):
-                f.write(struct.pack("<f", 1.0 - math.sqrt((i - 7.5) ** 2 + (j - 7.5) ** 2 + (k - 7.5) ** 2) / 7.5))
-with open(d + "/atoms.xyz", "w") as f:
-    f.write("C 0 0 0\nO 1.2 0 0\nC 0 1.3 0.4\nN -1 -0.5 0.8\n")
-PY
+python3 "$(dirname "$0")/cli_scenes.py" "$dir" # ball.raw, atoms.xyz, set.rbf
 render() { # out, args...
     out=$1
     shift
