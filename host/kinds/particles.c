@@ -8,6 +8,7 @@
 #include "host/api/tf.h"
 #include "bvh/particle_bvh.h"
 #include "host/kinds/particles_cstep.h"
+#include "host/kinds/particles_frame.h"
 
 typedef struct particles {
     lc_volume base; /* first: the kind-neutral handle */
@@ -450,39 +451,6 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
 }
 
 /* The kernel view of the particles under the current parameters. */
-/* LANECAST_PARTICLE_GROUP_LIST (tests and A/B runs): the coherent kernel's
- * group list capacity in entries, 0 for no lists (a BVH walk per pass);
- * unset or invalid: the kernel's default. */
-static int32_t group_list_cap(void)
-{
-    long v = lci_env_long("LANECAST_PARTICLE_GROUP_LIST", 0, 1L << 24, -1);
-    return v < 0 ? 0 : v == 0 ? -1 : (int32_t)v;
-}
-
-/* LANECAST_PARTICLE_EYE=0 (tests): the coherent kernel treats perspective
- * rays as if their origins differed (the arithmetic per lane, not once per
- * group); the image is the same, bit for bit. */
-static int32_t eye_generic(void) { return lci_env_long("LANECAST_PARTICLE_EYE", 0, 1, 1) == 0; }
-
-/* LANECAST_PARTICLE_CONE=0 (tests, A/B runs): list deposits test every
- * particle against each vector's rays without the per-vector cone pre-test
- * (particles_walk.h vcone_bits); the image is the same, bit for bit. */
-static int32_t cone_off(void) { return lci_env_long("LANECAST_PARTICLE_CONE", 0, 1, 1) == 0; }
-
-/* LANECAST_PARTICLE_BUFFER_K (A/B runs): samples per ray per pass when the
- * render leaves buffer_samples at 0; unset or invalid: the default. */
-static int32_t env_buffer_k(void) { return (int32_t)lci_env_long("LANECAST_PARTICLE_BUFFER_K", 1, 4096, 0); }
-
-/* buffer_samples 0: the coherent kernel adapts its pass length per group
- * (particles_coherent.c pass_adapt) up to this many samples per ray and
- * field: 128 for one field, 128 / nf rounded down to a multiple of 8 (at least 8) for
- * more, so the buffer stays at most 128 rows. */
-static int32_t buffer_capacity(int nf)
-{
-    int32_t k = (128 / (nf > 0 ? nf : 1)) & ~7;
-    return k < 8 ? 8 : k;
-}
-
 static void kscene(const particles *p, lc_kparticles *k)
 {
     const lc_particle_params *q = &p->info.params;
@@ -502,14 +470,8 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->sigma = q->sigma;
     k->kappa = q->kappa;
     k->max_radius = p->info.max_radius;
-    int nf = p->info.nfields;
-    int32_t ek = env_buffer_k();
-    k->buffer_adapt = q->buffer_samples == 0 && ek == 0;
-    k->buffer_k = q->buffer_samples != 0 ? q->buffer_samples : ek ? ek : buffer_capacity(nf);
+    lci_pcoherent_settings(k, p->info.nfields, q->buffer_samples);
     k->sphere_scale = q->sphere_scale;
-    k->group_list_cap = group_list_cap();
-    k->eye_generic = eye_generic();
-    k->cone_off = cone_off();
     lc_box3 b = grown_bounds(p);
     k->lo[0] = b.lo.x, k->lo[1] = b.lo.y, k->lo[2] = b.lo.z, k->lo[3] = 0.0f;
     k->hi[0] = b.hi.x, k->hi[1] = b.hi.y, k->hi[2] = b.hi.z, k->hi[3] = 0.0f;
@@ -543,52 +505,6 @@ static int skip_enabled(void) { return lci_env_long("LANECAST_PARTICLE_SKIP", 0,
  * (tests: the same image, bit for bit). */
 static int cstep_enabled(void) { return lci_env_long("LANECAST_PARTICLE_CSTEP", 0, 1, 1) != 0; }
 
-/* Rays per coherent group side when the render leaves packet at its default
- * (0): 16x16 groups share one BVH walk per chunk among 4x the rays of 8x8
- * (session 7, docs/bench/particles.md: 8-17% less CPU per close frame on
- * the benchmark sets, far frames within noise). With a perspective camera
- * and 16 lanes, 32x32 (session 8, the eye outside the particles' grown box:
- * with the kernel's cone pre-test and a list capacity that grows with the
- * group, 1e6 far 4-6% and 1tw7 far 1-3% less CPU, dense1e6 far within noise;
- * session 9, the eye inside too: a 32x32 group fills its tile and keeps its
- * first pass length, 16 samples there (particles_coherent.c pass_first),
- * 1e6, 1tw7 and dense1e6 close 8-13% less CPU than 16x16 groups). The image
- * is the same whatever the side
- * (tests/test_particles_gsize.c). LANECAST_PARTICLE_GROUP=N (A/B runs, tests)
- * sets another side for every frame. */
-#define GROUP_SIDE_DEFAULT 16
-#define GROUP_SIDE_WIDE 32
-
-static int32_t group_side(const lc_render_desc *d, int lanes)
-{
-    if (d->packet != 0) return 0;
-    long env = lci_env_long("LANECAST_PARTICLE_GROUP", 1, 64, 0);
-    if (env > 0) return (int32_t)env;
-    const lc_camera *c = &d->camera;
-    /* 32x32 only where a group stays within 64 ray vectors (16 lanes): one list
-       bit and one cone per vector; narrower targets would share bits and lose
-       the culls (particles_walk.h vcull_on, vcone_on) */
-    int wide = GROUP_SIDE_WIDE * GROUP_SIDE_WIDE <= 64 * lanes;
-    return c->projection == LC_PERSPECTIVE && wide ? GROUP_SIDE_WIDE : GROUP_SIDE_DEFAULT;
-}
-
-/* Pixels per tile side when the render leaves tile at 0: 64 for wide groups
- * with the eye inside the particles' grown box (the kernel's eye_inside), so
- * that a tile holds four 32x32 groups and the pass length adapts from group
- * to group (particles_coherent.c pass_adapt; a 32x32 group alone in a 32-pixel
- * tile keeps its first length). Session 9, avx512, 2 threads, CPU s, tile 32
- * -> 64, 2 rounds: dense1e6 close 0.839-0.846 -> 0.780-0.792; 1e6 and 1tw7
- * close within noise; far views slower with 64 (dense1e6 0.447 -> 0.463, 1e6
- * 0.106 -> 0.117), so they keep 32. Adaptation stays within a tile, which
- * one worker runs in a fixed order: counters do not depend on scheduling. */
-static int tile_side(const lc_kframe *f, const lc_kparticles *k, lc_method m)
-{
-    if (m != LC_METHOD_COHERENT || k->group_side != GROUP_SIDE_WIDE || f->cam.ortho) return 0;
-    int inside = 1;
-    for (int a = 0; a < 3; a++) inside &= f->cam.eye[a] >= k->lo[a] && f->cam.eye[a] <= k->hi[a];
-    return inside ? 64 : 0;
-}
-
 /* A frame's kernel scene and the cached table it reads (released after the frame). */
 typedef struct pframe {
     lc_kparticles k;
@@ -616,7 +532,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (!pf) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
     lc_kparticles *k = &pf->k;
     kscene(p, k);
-    k->group_side = group_side(d, lc_target_lanes(dev->target));
+    k->group_side = lci_pgroup_side(d, lc_target_lanes(dev->target));
     if (m == LC_METHOD_COHERENT && frame->mode != LC_KMODE_SLICE && p->info.count > 0 && cstep_enabled()) {
         particles *pm = (particles *)v; /* the cache only: behind its mutex */
         pf->cs = lci_pcstep_get(&pm->cs_mu, &pm->cs, p->nir, p->info.count, frame->dt);
@@ -640,7 +556,7 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     out->scratch_bytes = kk->scratch_bytes[km](k, frame);
     out->owned = pf;
     out->release = pframe_release;
-    out->tile_side = tile_side(frame, k, m);
+    out->tile_side = lci_ptile_side(frame, k, m == LC_METHOD_COHERENT);
     return LC_OK;
 }
 

@@ -12,6 +12,7 @@
 #include <string.h>
 #include "host/kinds/kind.h"
 #include "host/api/tf.h"
+#include "host/kinds/particles_frame.h"
 #include "bvh/particle_bvh.h"
 #include "bvh/rbf_octree.h"
 #include "kernels/shared/krbf.h"
@@ -514,7 +515,7 @@ static lc_status prepare_coherent(lc_device *dev, const rbf *p, const lc_kframe 
     k->bias = p->info.bias;
     /* LANECAST_PARTICLE_CONE=0 turns off the particle kernel's per-vector cone
        pre-test here as for particles (tests, A/B runs): the same image, bit for bit */
-    k->cone_off = lci_env_long("LANECAST_PARTICLE_CONE", 0, 1, 1) == 0;
+    k->cone_off = lci_pcone_off();
     if (dvr) {
         float cb = lci_tf_clear_below(&frame->tf[0]);
         k->bias_clear = k->bias <= cb;
