@@ -388,16 +388,9 @@ static inline int pass_end(int kp, int len, int kmax)
 #define PASS_FIRST_INSIDE 16
 #endif
 
-static inline int eye_inside(const lc_kparticles *s, const lc_kframe *f)
-{
-    int in = !f->cam.ortho;
-    for (int a = 0; a < 3; a++) in &= f->cam.eye[a] >= s->lo[a] && f->cam.eye[a] <= s->hi[a];
-    return in;
-}
-
 static inline int pass_first(const lc_kparticles *s, const lc_kframe *f, int K, int nv)
 {
-    int first = nv * LC_W <= 256 ? PASS_FIRST : eye_inside(s, f) ? PASS_FIRST_INSIDE : PASS_FIRST_BIG;
+    int first = nv * LC_W <= 256 ? PASS_FIRST : lc_kparticles_eye_inside(s, f) ? PASS_FIRST_INSIDE : PASS_FIRST_BIG;
     return s->buffer_adapt && K > first ? first : K;
 }
 

@@ -77,7 +77,7 @@ int32_t lci_pgroup_side(const lc_render_desc *d, int lanes)
 }
 
 /* Pixels per tile side when the render leaves tile at 0: 64 for wide groups
- * with the eye inside the particles' grown box (the kernel's eye_inside), so
+ * with the eye inside the particles' grown box (lc_kparticles_eye_inside), so
  * that a tile holds four 32x32 groups and the pass length adapts from group
  * to group (particles_coherent.c pass_adapt; a 32x32 group alone in a 32-pixel
  * tile keeps its first length). Session 9, avx512, 2 threads, CPU s, tile 32
@@ -87,8 +87,5 @@ int32_t lci_pgroup_side(const lc_render_desc *d, int lanes)
  * one worker runs in a fixed order: counters do not depend on scheduling. */
 int lci_ptile_side(const lc_kframe *f, const lc_kparticles *k, int coherent)
 {
-    if (!coherent || k->group_side != GROUP_SIDE_WIDE || f->cam.ortho) return 0;
-    int inside = 1;
-    for (int a = 0; a < 3; a++) inside &= f->cam.eye[a] >= k->lo[a] && f->cam.eye[a] <= k->hi[a];
-    return inside ? 64 : 0;
+    return coherent && k->group_side == GROUP_SIDE_WIDE && lc_kparticles_eye_inside(k, f) ? 64 : 0;
 }

@@ -78,6 +78,16 @@ typedef struct lc_kparticles {
 } lc_kparticles;
 _Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32, "lc_kparticles layout");
 
+/* A perspective eye inside the particles' grown box (s->lo, s->hi): the
+ * coherent kernel's first pass length (particles_coherent.c pass_first) and
+ * the host's tile side (host/kinds/particles_frame.c) both follow it. */
+static inline int lc_kparticles_eye_inside(const lc_kparticles *s, const lc_kframe *f)
+{
+    int in = !f->cam.ortho;
+    for (int a = 0; a < 3; a++) in &= f->cam.eye[a] >= s->lo[a] && f->cam.eye[a] <= s->hi[a];
+    return in;
+}
+
 /* The recurrence ratio of a Gaussian with neg_inv_2r2 nir stepped by dt
  * along a ray (g *= q, q *= c): c = exp(2 nir dt^2), rounded once from
  * double. One definition for the kernels (particles_common.h) and the host's
