@@ -228,17 +228,22 @@ static void build_quads(const uint8_t *src, const int32_t n[3], int64_t ys, int6
 }
 
 /* The row and plane strides, in elements of es bytes, of a linear array the
- * kernels read through lc_kgrid strides (the 2-byte pair copy; owned linear
- * voxels; not the quad copy, not borrowed arrays). Rows of at least 1 KiB and
- * planes of at least 4 KiB are padded to an odd number of 64-byte lines:
- * with power-of-two strides (proc1024: rows of 2 KiB, planes of 2 MiB)
+ * kernels read through lc_kgrid strides: the 2-byte pair copy and owned
+ * linear voxels (uint16 and int16 by default, float32 asked linear, uint8
+ * past the copies); not the quad copy (padding it measured no gain, session
+ * 9), not bricks (a 1024-wide float32 grid measured no cost, session 10),
+ * not borrowed arrays (the caller's). Rows of at least 1 KiB and planes of
+ * at least 4 KiB are padded to an odd number of 64-byte lines: with
+ * power-of-two strides (1024 wide: rows of 2 or 4 KiB, planes of 2 or 4 MiB)
  * every line a ray's stencil needs at one x maps to one or two of the L1's 64
- * sets (and the planes to one of the L2's), so the lines prefetched ahead
- * evicted each other before the gathers read them. Measured (docs/bench/grid.md
- * sessions 9 and 10): the pair copy at proc1024 medium 1.20-1.28x less CPU a
- * frame, far 1.5x. Costs at most 2 lines a row and a plane, i.e. at most 12 %
- * (rows just over 1 KiB; proc1024 +3 %); where the padded array would pass
- * MAX_ELEMENTS (int32 element offsets) the strides stay unpadded. */
+ * sets (and the planes to one of the L2's), so lines evicted each other
+ * before the gathers read them. Measured (docs/bench/grid.md sessions 9 and
+ * 10, CPU a frame): the pair copy at proc1024 medium 1.20-1.28x, far 1.5x;
+ * proc1024u16 1.27-1.30x; 1024^3 float32 linear 1.16-1.38x. Costs at most 2
+ * lines a row and a plane, i.e. at most 12 % (rows just over 1 KiB; 1024
+ * wide +3 % at 2 bytes, +1.6 % at 4); where the padded array would pass
+ * MAX_ELEMENTS (int32 element offsets) the strides stay unpadded. (Named
+ * pair_strides until session 10, when it served the pair copy alone.) */
 static void padded_strides(const int32_t n[3], int es, int64_t *ys, int64_t *zs)
 {
     const int64_t line = 64 / es;
