@@ -1,5 +1,22 @@
 #!/bin/bash
-# session 10: the CLI hash check of docs/bench/grid.md "Session 10" (generated raw volumes from a python loop kept in that section)
+# session 10: the CLI hash check of docs/bench/grid.md "Session 10"; MAIN = main's lanecast (a3daaf0)
+# the generated raw volumes, written into /tmp/s10g/cli when missing:
+mkdir -p /tmp/s10g/cli; cd /tmp/s10g/cli
+[ -f w300f32.raw ] || python3 - <<'PY'
+import math, array
+def gen(name, nx, ny, nz, typ):
+    a = array.array({'u16': 'H', 'i16': 'h', 'f32': 'f'}[typ])
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                x, y, z = i / (nx - 1), j / (ny - 1), k / (nz - 1)
+                f = math.exp(-((x-.4)**2 + (y-.5)**2 + (z-.5)**2) / 0.03) + 0.5 * math.exp(-((x-.7)**2 + (y-.4)**2 + (z-.6)**2) / 0.01)
+                f = min(f, 1.0) * (0.75 + 0.25 * math.sin(9 * x) * math.cos(7 * y))
+                a.append(int(f * 60000) if typ == 'u16' else int(f * 60000) - 30000 if typ == 'i16' else f)
+    a.tofile(open(name + '.raw', 'wb'))
+gen('w600u16', 600, 40, 30, 'u16'); gen('w1024u16', 1024, 48, 24, 'u16')
+gen('w700i16', 700, 30, 20, 'i16'); gen('w300f32', 300, 40, 30, 'f32')
+PY
 # CLI renders, main vs new, hash with the TIFF date masked
 NEW=/work/wt-s10-gpad/build/tools/lanecast; MAIN=/tmp/s10_main_lanecast; D=/work/shared/data/volumes
 cd /tmp/s10g/cli; mkdir -p out
