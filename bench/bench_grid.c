@@ -82,39 +82,49 @@ static int brick; /* BVH leaf side (0: the library default) */
 
 /* "proc512" etc.: the gyroid lattice as uint8; "proc512u16": the same
  * values times 257 as uint16, "proc512f32" as float32 (no pair copy: the
- * bricked or linear voxels). */
-static lc_status procedural(lc_device *dev, int n, lc_value_type type, lc_volume **out)
+ * bricked or linear voxels). "proc1024x1024x256u16": a box of those nodes
+ * (the lattice's period and sphere scale with each axis' size), e.g. to set
+ * a power-of-two row width (1024) against an odd one (1040). */
+static lc_status procedural(lc_device *dev, const int n[3], lc_value_type type, lc_volume **out)
 {
     int u16 = type == LC_VALUE_UINT16, f32 = type == LC_VALUE_FLOAT32;
-    uint8_t *v = malloc((size_t)n * n * n * (f32 ? 4 : u16 ? 2 : 1));
-    float *s = malloc(sizeof(float) * n * 3), *c = s + n, *q = c + n;
-    if (!v || !s) return LC_ERROR_OUT_OF_MEMORY;
-    for (int i = 0; i < n; i++) {
-        double x = (double)i / (n - 1);
-        s[i] = (float)sin(x * 6.2831853 * 4), c[i] = (float)cos(x * 6.2831853 * 4);
-        q[i] = (float)((x - 0.5) * (x - 0.5));
+    size_t count = (size_t)n[0] * n[1] * n[2];
+    uint8_t *v = malloc(count * (f32 ? 4 : u16 ? 2 : 1));
+    float *ax = malloc(sizeof(float) * 3 * ((size_t)n[0] + n[1] + n[2]));
+    if (!v || !ax) {
+        free(v), free(ax);
+        return LC_ERROR_OUT_OF_MEMORY;
     }
-    for (int k = 0; k < n; k++)
-        for (int j = 0; j < n; j++) {
-            uint8_t *row = v + ((size_t)k * n + j) * n;
-            float qjk = q[j] + q[k];
-            for (int i = 0; i < n; i++) {
-                float g = s[i] * c[j] + s[j] * c[k] + s[k] * c[i]; /* gyroid, in [-1.5, 1.5] */
-                float r2 = q[i] + qjk;
+    float *s[3], *c[3], *q[3];
+    for (int a = 0, o = 0; a < 3; o += 3 * n[a], a++) {
+        s[a] = ax + o, c[a] = s[a] + n[a], q[a] = c[a] + n[a];
+        for (int i = 0; i < n[a]; i++) {
+            double x = (double)i / (n[a] - 1);
+            s[a][i] = (float)sin(x * 6.2831853 * 4), c[a][i] = (float)cos(x * 6.2831853 * 4);
+            q[a][i] = (float)((x - 0.5) * (x - 0.5));
+        }
+    }
+    for (int k = 0; k < n[2]; k++)
+        for (int j = 0; j < n[1]; j++) {
+            uint8_t *row = v + ((size_t)k * n[1] + j) * n[0];
+            float qjk = q[1][j] + q[2][k];
+            for (int i = 0; i < n[0]; i++) {
+                /* gyroid, in [-1.5, 1.5] */
+                float g = s[0][i] * c[1][j] + s[1][j] * c[2][k] + s[2][k] * c[0][i];
+                float r2 = q[0][i] + qjk;
                 row[i] = r2 < 0.2f ? (uint8_t)(127.5f + 85.0f * g) : 0;
             }
         }
-    free(s);
+    free(ax);
     if (u16) { /* widen in place, from the end */
         uint16_t *w = (uint16_t *)(void *)v;
-        for (size_t e = (size_t)n * n * n; e-- > 0;) w[e] = (uint16_t)(v[e] * 257u);
+        for (size_t e = count; e-- > 0;) w[e] = (uint16_t)(v[e] * 257u);
     }
     if (f32) {
         float *w = (float *)(void *)v;
-        for (size_t e = (size_t)n * n * n; e-- > 0;) w[e] = (float)v[e] / 255.0f;
+        for (size_t e = count; e-- > 0;) w[e] = (float)v[e] / 255.0f;
     }
-    lc_grid_desc d = {.size = {n, n, n}, .type = type, .data = v, .layout = layout,
-                      .brick = brick};
+    lc_grid_desc d = {.size = {n[0], n[1], n[2]}, .type = type, .data = v, .layout = layout, .brick = brick};
     lc_status st = lc_grid_create(dev, &d, out);
     free(v);
     return st;
@@ -227,7 +237,8 @@ static const char help[] =
     "usage: bench_grid [options]\n"
     "  --data DIR          shared data folder (default ../shared/data)\n"
     "  --volumes a,b,...   engine, neghip, headsq, hydrogen, embryo, HeadMRVolume, proc512, proc1024,\n"
-    "                      blob256 (any procN / blobN; procNu16 / procNf32: uint16 / float32; default engine)\n"
+    "                      blob256 (any procN / blobN; procNu16 / procNf32: uint16 / float32; procWxHxD[u16|f32]:\n"
+    "                      a box, e.g. proc1024x1024x256u16 against proc1040x1024x256u16; default engine)\n"
     "  --sizes 512,1024    image sides (default 512)\n"
     "  --views far,medium,close (default medium)\n"
     "  --shades none,diffuse,phong (default none)\n"
@@ -323,8 +334,15 @@ int main(int argc, char **argv)
         const char *vn = vols.v[vi];
         double t0 = now();
         lc_status s;
-        if (!strncmp(vn, "proc", 4)) s = procedural(dev0, atoi(vn + 4),
-                                                  strstr(vn, "u16") ? LC_VALUE_UINT16 : strstr(vn, "f32") ? LC_VALUE_FLOAT32 : LC_VALUE_UINT8, &g);
+        if (!strncmp(vn, "proc", 4)) {
+            int n[3], got = sscanf(vn + 4, "%dx%dx%d", &n[0], &n[1], &n[2]);
+            if (got != 3) n[1] = n[2] = n[0];
+            if (got < 1 || n[0] < 2 || n[1] < 2 || n[2] < 2) {
+                printf("# skip volume=%s: expected procN or procWxHxD (sizes >= 2)\n", vn);
+                continue;
+            }
+            s = procedural(dev0, n, strstr(vn, "u16") ? LC_VALUE_UINT16 : strstr(vn, "f32") ? LC_VALUE_FLOAT32 : LC_VALUE_UINT8, &g);
+        }
         else if (!strncmp(vn, "blob", 4)) s = blobs(dev0, atoi(vn + 4), &g);
         else {
             char p[1024];

@@ -65,11 +65,12 @@ static void brick_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t *
     *elements = (int64_t)nb[0] * nb[1] * nb[2] * 64;
 }
 
-static void linear_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t *zo)
+/* linear: element (i, j, k) at i + j ys + k zs (strides from padded_strides) */
+static void linear_tables(const int32_t n[3], int64_t ys, int64_t zs, int32_t *xo, int32_t *yo, int32_t *zo)
 {
     for (int32_t i = 0; i < n[0]; i++) xo[i] = i;
-    for (int32_t j = 0; j < n[1]; j++) yo[j] = j * n[0];
-    for (int32_t k = 0; k < n[2]; k++) zo[k] = k * n[0] * n[1];
+    for (int32_t j = 0; j < n[1]; j++) yo[j] = (int32_t)(j * ys);
+    for (int32_t k = 0; k < n[2]; k++) zo[k] = (int32_t)(k * zs);
 }
 
 static void destroy(lc_volume *v);
@@ -226,29 +227,37 @@ static void build_quads(const uint8_t *src, const int32_t n[3], int64_t ys, int6
         }
 }
 
-/* The 2-byte pair copy's row and plane strides in elements. Rows of at least
- * 1 KiB and planes of at least 4 KiB are padded to an odd number of 64-byte
- * lines: with power-of-two strides (proc1024: rows of 2 KiB, planes of 2 MiB)
+/* The row and plane strides, in elements of es bytes, of a linear array the
+ * kernels read through lc_kgrid strides: the 2-byte pair copy and owned
+ * linear voxels (uint16 and int16 by default, float32 asked linear, uint8
+ * past the copies); not the quad copy (padding it measured no gain, session
+ * 9), not bricks (a 1024-wide float32 grid measured no cost, session 10),
+ * not borrowed arrays (the caller's). Rows of at least 1 KiB and planes of
+ * at least 4 KiB are padded to an odd number of 64-byte lines: with
+ * power-of-two strides (1024 wide: rows of 2 or 4 KiB, planes of 2 or 4 MiB)
  * every line a ray's stencil needs at one x maps to one or two of the L1's 64
- * sets (and the planes to one of the L2's), so the lines prefetched ahead
- * evicted each other before the gathers read them. Measured (docs/bench/grid.md
- * session 9): proc1024 medium 1.20-1.28x less CPU a frame, far 1.5x. Costs at
- * most 2 lines a row and a plane, i.e. at most 12 % (rows just over 1 KiB;
- * proc1024 +3 %); the copy's int32 element offsets stay below 2^31. */
-static void pair_strides(const int32_t n[3], int64_t *ys, int64_t *zs)
+ * sets (and the planes to one of the L2's), so lines evicted each other
+ * before the gathers read them. Measured (docs/bench/grid.md sessions 9 and
+ * 10, CPU a frame): the pair copy at proc1024 medium 1.20-1.28x, far 1.5x;
+ * proc1024u16 1.27-1.30x; 1024^3 float32 linear 1.16-1.38x. Costs at most 2
+ * lines a row and a plane, i.e. at most 12 % (rows just over 1 KiB; 1024
+ * wide +3 % at 2 bytes, +1.6 % at 4); where the padded array would pass
+ * MAX_ELEMENTS (int32 element offsets) the strides stay unpadded. (Named
+ * pair_strides until session 10, when it served the pair copy alone.) */
+static void padded_strides(const int32_t n[3], int es, int64_t *ys, int64_t *zs)
 {
-    const int64_t line = 64 / 2;
+    const int64_t line = 64 / es;
     int64_t y = n[0];
-    if (y * 2 >= 1024) {
+    if (y * es >= 1024) {
         y = (y + line - 1) / line * line;
         if ((y / line) % 2 == 0) y += line;
     }
     int64_t z = y * n[1];
-    if (z * 2 >= 4096) {
+    if (z * es >= 4096) {
         z = (z + line - 1) / line * line;
         if ((z / line) % 2 == 0) z += line;
     }
-    if (z * n[2] + GATHER_PAD > INT32_MAX) y = n[0], z = (int64_t)n[0] * n[1]; /* not reached at 2^30 voxels */
+    if (z * n[2] > MAX_ELEMENTS) y = n[0], z = (int64_t)n[0] * n[1];
     *ys = y, *zs = z;
 }
 
@@ -277,44 +286,50 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     g->offsets = malloc(sizeof(int32_t) * ((size_t)n[0] + (size_t)n[1] + (size_t)n[2]));
     if (!g->offsets) goto oom;
     int32_t *xo = g->offsets, *yo = xo + n[0], *zo = yo + n[1];
-    int64_t elements = count;
-    if (layout == LC_LAYOUT_BRICKED) brick_tables(n, xo, yo, zo, &elements);
-    else linear_tables(n, xo, yo, zo);
-    if (elements > MAX_ELEMENTS) {
-        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the bricked copy would exceed 2^31 values; use a linear layout",
-                      name);
-        goto fail;
-    }
     /* owned uint8: a packed copy the kernels sample (2 or 4 bytes a voxel)
      * instead of the voxels; the kernels then never read the voxels, nor
      * does the host after the BVH build (lc_grid_histogram reads the copy) */
     int copy = 0;
     if (!borrow && d->type == LC_VALUE_UINT8) copy = count <= lci_grid_quads_max ? 2 : count <= lci_grid_pairs_max;
+    /* owned linear voxels (uint16, int16, float32 asked linear, uint8 past
+     * the copies): rows and planes padded like the pair copy's; the kernels
+     * read them through lc_kgrid.ystride / zstride, lc_grid_histogram through
+     * the offset tables; borrowed arrays keep the caller's strides */
+    int64_t ys = n[0], zs = (int64_t)n[0] * n[1];
+    if (layout == LC_LAYOUT_LINEAR && !borrow && !copy) padded_strides(n, es, &ys, &zs);
+    int64_t elements = zs * n[2];
+    if (layout == LC_LAYOUT_BRICKED) brick_tables(n, xo, yo, zo, &elements);
+    else linear_tables(n, ys, zs, xo, yo, zo);
+    if (elements > MAX_ELEMENTS) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the bricked copy would exceed 2^31 values; use a linear layout",
+                      name);
+        goto fail;
+    }
     const void *data = copy ? NULL : src;
     if (!borrow && !copy) {
         g->owned = voxel_alloc((size_t)elements * (size_t)es + GATHER_PAD);
         if (!g->owned) goto oom;
-        if (layout == LC_LAYOUT_LINEAR) {
-            memcpy(g->owned, src, (size_t)count * (size_t)es);
-        } else {
-            const unsigned char *s8 = src;
-            unsigned char *d8 = g->owned;
-            for (int32_t k = 0; k < n[2]; k++)
-                for (int32_t j = 0; j < n[1]; j++) {
-                    const unsigned char *row = s8 + ((size_t)k * (size_t)n[1] + (size_t)j) * (size_t)n[0] * (size_t)es;
-                    int64_t base = (int64_t)yo[j] + zo[k];
-                    int32_t i = 0;
-                    for (; i + 4 <= n[0]; i += 4) /* a brick row holds 4 consecutive x */
-                        memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, 4 * (size_t)es);
-                    for (; i < n[0]; i++)
-                        memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, (size_t)es);
+        const unsigned char *s8 = src;
+        unsigned char *d8 = g->owned;
+        for (int32_t k = 0; k < n[2]; k++)
+            for (int32_t j = 0; j < n[1]; j++) {
+                const unsigned char *row = s8 + ((size_t)k * (size_t)n[1] + (size_t)j) * (size_t)n[0] * (size_t)es;
+                int64_t base = (int64_t)yo[j] + zo[k];
+                if (layout == LC_LAYOUT_LINEAR) { /* a row is contiguous; the padding stays zero */
+                    memcpy(d8 + (size_t)base * (size_t)es, row, (size_t)n[0] * (size_t)es);
+                    continue;
                 }
-        }
+                int32_t i = 0;
+                for (; i + 4 <= n[0]; i += 4) /* a brick row holds 4 consecutive x */
+                    memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, 4 * (size_t)es);
+                for (; i < n[0]; i++)
+                    memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, (size_t)es);
+            }
         data = g->owned;
     }
     int64_t pys = n[0], pzs = (int64_t)n[0] * n[1];
     if (copy) {
-        if (copy == 1) pair_strides(n, &pys, &pzs);
+        if (copy == 1) padded_strides(n, 2, &pys, &pzs);
         g->pair_bytes = (size_t)(pzs * n[2]) * (copy == 2 ? 4 : 2) + GATHER_PAD;
         g->pairs = voxel_alloc(g->pair_bytes);
         if (!g->pairs) goto oom;
@@ -339,8 +354,8 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     }
     k->type = kval(d->type);
     k->bricked = layout == LC_LAYOUT_BRICKED;
-    k->ystride = k->bricked ? 64 * ((n[0] + 3) / 4) : n[0];
-    k->zstride = k->bricked ? 64 * ((n[0] + 3) / 4) * ((n[1] + 3) / 4) : n[0] * n[1];
+    k->ystride = k->bricked ? 64 * ((n[0] + 3) / 4) : (int32_t)ys;
+    k->zstride = k->bricked ? 64 * ((n[0] + 3) / 4) * ((n[1] + 3) / 4) : (int32_t)zs;
     k->pairs = g->pairs;
     k->pair_quads = g->quads;
     k->pair_ystride = (int32_t)pys;
