@@ -248,7 +248,7 @@ static const char help[] =
     "  --packets 8,1       packet side (8 = 8x8, 1 = lane width; default 8); the BVH traverses\n"
     "                      groups of side x (rows / 256, 1-4) rays, at most 32 (grid_common.h)\n"
     "  --heuristics on|off (default on)\n"
-    "  --layout linear|bricked  voxel layout (default bricked, 4^3)\n"
+    "  --layout linear|bricked  voxel layout (default: the library's, linear except owned float32: bricked 4^3)\n"
     "  --brick L           BVH leaf side 1, 2, 4, 8 or 16 (default: the library's choice by size)\n"
     "  --repeats N         renders per case after one warm-up (default 5)\n"
     "  --max-seconds S     stop repeating a case after S seconds (default 10)\n"

@@ -197,7 +197,7 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                 CHECK_QUIET(in.copy_voxel_bytes == (int)per, "%s layout %d: %s reports a copy of %d bytes a voxel", tn,
                             lay, var->label[c], in.copy_voxel_bytes);
                 /* the pair copy's rows and planes padded to an odd number of 64-byte
-                   lines from 1 KiB and 4 KiB (host/kinds/grid.c pair_strides); the quad copy unpadded */
+                   lines from 1 KiB and 4 KiB (host/kinds/grid.c padded_strides); the quad copy unpadded */
                 uint64_t elems = count;
                 if (per == 2 && gs.g[c][lay]) {
                     const lc_kgrid *kg = &((const grid *)gs.g[c][lay])->kg;
@@ -305,7 +305,7 @@ int main(int argc, char **argv)
     view vb[2] = {{{170, 150, 300}, {65, 63, 66}, 2}, {{65, 63, 320}, {65, 63, 66}, 0}};
     check_volume(&b, vb, 2, 0);
     free(b.data), free(b.ref);
-    /* rows of 1 KiB and more: the pair copy pads its rows and planes (pair_strides) */
+    /* rows of 1 KiB and more: the pair copy pads its rows and planes (padded_strides) */
     vol wd;
     vol_make(&wd, 601, 23, 19);
     view vw[2] = {{{250, 60, 75}, {230, 11, 9}, 2}, {{212, 9.5, 10.2}, {260, 11, 9}, 1}};

@@ -371,7 +371,7 @@ typedef struct lc_grid_info {
     int borrowed;
     uint64_t data_bytes;     /* voxel bytes as the caller's linear array */
     uint64_t layout_bytes;   /* bytes the grid holds for voxels (or its sampling copy) and offset tables */
-    uint64_t layout_overhead_bytes; /* layout_bytes - data_bytes when owned (brick padding, tables, copy) */
+    uint64_t layout_overhead_bytes; /* layout_bytes - data_bytes when owned (brick and row padding, tables, copy) */
     int brick;               /* BVH leaf side L */
     uint64_t bvh_nodes, bvh_leaves, bvh_bytes;
     int bvh_depth;
