@@ -208,7 +208,11 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
         vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
         /* the pass's last sample of each lane's range (for the waste below) */
         const vint klp = vi_min(kl, vi_set1(kend));
-        float dead = 0.0f; /* lane samples of the pass behind the sample where their lane became opaque */
+        /* the sample where each lane became opaque (lanes of live0 not in live at
+           the end), without a branch per death (session 10: the branch and its
+           reduction were ~15% of the integration on 1e6 far) */
+        const vmask live0 = live;
+        vint kdie = klp;
         for (int k = kp; k <= kend; k++) {
             vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
             if (vm_none(m)) continue;
@@ -224,12 +228,15 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
                                vf_set1((float)k * f->dt), probe);
             }
             vmask died = vm_andnot(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
-            if (vm_any(died)) { /* rare: once per lane at most */
-                live = vm_andnot(live, died);
-                dead += vf_reduce_add_masked(died, vi_to_vf(vi_max(vi_sub(klp, vi_set1(k)), vi_set1(0))));
-                if (vm_none(live)) break;
-            }
+            kdie = vi_select(died, vi_set1(k), kdie);
+            live = vm_andnot(live, died);
+            if (vm_none(live)) break;
         }
+        /* lane samples of the pass behind the sample where their lane became
+           opaque: a sum of small integers, exact in any order (the same float
+           as one sum per death) */
+        float dead = vf_reduce_add_masked(vm_andnot(live0, live),
+                                          vi_to_vf(vi_max(vi_sub(klp, kdie), vi_set1(0))));
         if (dead > 0.0f) {
             /* the terms deposited behind those samples were for nothing: the vector's
                terms times the share of its lanes' samples in the pass behind them
