@@ -213,10 +213,11 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
            reduction were ~15% of the integration on 1e6 far) */
         const vmask live0 = live;
         vint kdie = klp;
+        uint64_t nsamp = 0;
         for (int k = kp; k <= kend; k++) {
             vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
             if (vm_none(m)) continue;
-            st->samples += (uint64_t)vm_popcnt(m);
+            nsamp += (uint64_t)vm_popcnt(m);
             for (int fi = 0; fi < nf; fi++) {
                 const float *p = c->buf + (((size_t)fi * (size_t)K + (size_t)(k - kp)) * (size_t)comps) *
                                              (size_t)rays + (size_t)o;
@@ -232,6 +233,7 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
             live = vm_andnot(live, died);
             if (vm_none(live)) break;
         }
+        st->samples += nsamp;
         /* lane samples of the pass behind the sample where their lane became
            opaque: a sum of small integers, exact in any order (the same float
            as one sum per death) */
@@ -250,6 +252,18 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
         vf_store(c->cb + o, col.b), vf_store(c->ca + o, col.a);
     }
     return waste;
+}
+
+/* integrate_buffer with one field and no gradient (every dvr frame without
+ * shading on one field) compiled apart from the general case, in a function
+ * of its own: inlined into coherent_tile with nf and comps unknown, its
+ * sample loop kept k and its counters in memory (session 10). */
+static __attribute__((noinline)) float integrate_pass(const lc_kparticles *s, const lc_kframe *f, int mode,
+                                                      const cscratch *c, int nv, int K, int nf, int kp, int kend,
+                                                      int comps, const mprobe *probe, lc_kstats *st)
+{
+    if (nf == 1 && comps == 1) return integrate_buffer(s, f, mode, c, nv, K, 1, kp, kend, 1, probe, st);
+    return integrate_buffer(s, f, mode, c, nv, K, nf, kp, kend, comps, probe, st);
 }
 
 /* Writes the group's pixels: each vector's rays finished in the mode, with
@@ -474,7 +488,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     else
                         traverse_pass(s, f, &c, nv, vshift, kp, kend, dt, comps, st);
                     /* Listing 2, lines 11-13: integrate the buffer front to back */
-                    gwaste += integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
+                    gwaste += integrate_pass(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
                     gover += PASS_COST * (float)nlive;
                 }
                 if (c.list) chunk = fits ? (chunk * 2 < GL_MAX_PASSES ? chunk * 2 : GL_MAX_PASSES)
