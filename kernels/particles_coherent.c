@@ -6,6 +6,7 @@
  * per ray is integrated front to back through the mode. Multi-pass over the
  * ray segment, stopping when every ray of the group reached alpha_stop. The
  * walk serves a window of passes (the group list, below), not each pass. */
+#include <string.h>
 #include "particles_common.h"
 
 #define MAX_GROUP_RAYS 4096
@@ -444,6 +445,95 @@ static inline __attribute__((always_inline)) void setup_group(const lc_kparticle
             *kmax = c.kl[o + l] > *kmax ? c.kl[o + l] : *kmax;
         }
     }
+}
+
+/* Test hook (tests/test_particles_integrate.c): one pass of a group of nv
+ * ray vectors (1..64) through integrate_two and through integrate_buffer
+ * (the general loop, one vector at a time) on the same random inputs made
+ * from seed: lane ranges about the pass (some empty, some outside it),
+ * colours (some lanes already past alpha_stop), samples (some exactly the
+ * bias 0, some rows without a term), touched counts (some 0), and a random
+ * premultiplied step table; mode dvr or mip. broken 1 gives integrate_two
+ * the pass one sample short (the comparison must then fail). mem: at least
+ * 1 MB, 64-byte aligned, zeroed by the caller before each call. out[0]: words that differ (colours of every lane,
+ * the sample counts, the waste), out[1]: samples integrated, out[2]: lanes
+ * that became opaque in the pass. Returns 0, or -1 for arguments out of
+ * range. */
+int LC_KFN(lc_pintegrate_probe)(int mode, int nv, uint64_t seed, float alpha_stop, int broken, void *mem,
+                                uint64_t *out)
+{
+    if (nv < 1 || nv > 64 || (mode != LC_KMODE_DVR && mode != LC_KMODE_MIP) || !mem) return -1;
+    enum { KP = 96, P = 24, KR = 32 };
+    const int rays = buf_stride(nv), n = nv * LC_W, kp = KP, kend = KP + P - 1;
+    float *fm = mem;
+    size_t off = 0;
+    cscratch c[2];
+    float *cls = fm + off;
+    off += (LC_TF_TABLE_SIZE + 1) * 4 + 16;
+    for (int i = 0; i < 2; i++) {
+        float **fa[] = {&c[i].w0, &c[i].w1, &c[i].cr, &c[i].cg, &c[i].cb, &c[i].ca, &c[i].dx, &c[i].dy, &c[i].dz};
+        for (size_t j = 0; j < sizeof fa / sizeof fa[0]; j++) *fa[j] = fm + off, off += (size_t)n + 16;
+        c[i].kf = (int32_t *)(fm + off), off += (size_t)n + 16;
+        c[i].kl = (int32_t *)(fm + off), off += (size_t)n + 16;
+        c[i].touched = (uint32_t *)(fm + off), off += 64 + 16;
+        c[i].buf = fm + off, off += (size_t)KR * (size_t)rays + 16;
+        c[i].K = KR;
+    }
+    uint64_t r = seed | 1;
+#define PROBE_RND() (r ^= r << 13, r ^= r >> 7, r ^= r << 17, (float)(r >> 40) / 16777216.0f)
+    for (int i = 0; i < (LC_TF_TABLE_SIZE + 1) * 4; i++) cls[i] = PROBE_RND() * ((i & 3) == 3 ? 0.3f : 0.25f);
+    for (int l = 0; l < n; l++) {
+        float u = PROBE_RND();
+        int a = kp - 12 + (int)(PROBE_RND() * (float)(P + 12)), b = a + (int)(PROBE_RND() * 40.0f);
+        if (u < 0.08f) a = kend + 3, b = kend + 9;      /* after the pass */
+        else if (u < 0.12f) a = kp - 20, b = kp - 2;    /* before it */
+        else if (u < 0.16f) a = 1, b = 0;               /* no samples at all */
+        c[0].kf[l] = a, c[0].kl[l] = b;
+        float al = PROBE_RND();
+        c[0].ca[l] = al < 0.1f ? alpha_stop : 0.8f * al;
+        c[0].cr[l] = 0.3f * PROBE_RND(), c[0].cg[l] = 0.3f * PROBE_RND(), c[0].cb[l] = mode == LC_KMODE_MIP && al < 0.5f ? 0.0f : 0.3f * PROBE_RND();
+        c[0].dx[l] = c[0].dy[l] = c[0].dz[l] = 0.0f;
+    }
+    for (int v = 0; v < nv; v++) c[0].touched[v] = PROBE_RND() < 0.15f ? 0u : 1u + (uint32_t)(PROBE_RND() * 500.0f);
+    for (int k = 0; k < KR; k++) {
+        int empty = PROBE_RND() < 0.1f;
+        for (int q = 0; q < rays; q++) c[0].buf[(size_t)k * (size_t)rays + (size_t)q] = empty || PROBE_RND() < 0.3f ? 0.0f : PROBE_RND();
+    }
+#undef PROBE_RND
+    size_t per = (size_t)(c[1].w0 - c[0].w0); /* copy every array of c[0] into c[1] */
+    memcpy(c[1].w0, c[0].w0, per * sizeof(float));
+    /* the frame, the scene and the counters from the caller's zeroed memory (no
+       struct zeroing here: GCC would expand it with zmm stores on avx512_8) */
+    off = (off + 15) & ~(size_t)15;
+    lc_kframe *fr = (lc_kframe *)(fm + off);
+    off += (sizeof(lc_kframe) + 63) / 4;
+    lc_kparticles *sc = (lc_kparticles *)(fm + off);
+    off += (sizeof(lc_kparticles) + 63) / 4;
+    lc_kstats *st = (lc_kstats *)(fm + off);
+    fr->mode = mode, fr->dt = 0.1f, fr->alpha_stop = alpha_stop, fr->zero_transparent = 1;
+    fr->tf[0].cls = cls, fr->tf[0].rgbt = cls, fr->tf[0].lo = 0.0f, fr->tf[0].inv_range = 1.0f;
+    fr->tf[0].cls_vzero = 0.02f;
+    sc->nfields = 1;
+    const lc_kframe *fp = fr;
+    const lc_kparticles *sp = sc;
+    set_windows(fp, &c[0], nv, kp, kend);
+    set_windows(fp, &c[1], nv, kp, kend);
+    float a0 = 0.0f;
+    for (int l = 0; l < n; l++) a0 += c[0].ca[l] >= alpha_stop ? 1.0f : 0.0f;
+    float w[2];
+    w[0] = mode == LC_KMODE_DVR ? integrate_two(sp, fp, LC_KMODE_DVR, &c[0], nv, kp, kend - (broken ? 1 : 0), &st[0])
+                                : integrate_two(sp, fp, LC_KMODE_MIP, &c[0], nv, kp, kend - (broken ? 1 : 0), &st[0]);
+    w[1] = mode == LC_KMODE_DVR ? integrate_buffer(sp, fp, LC_KMODE_DVR, &c[1], nv, KR, 1, kp, kend, 1, NULL, &st[1])
+                                : integrate_buffer(sp, fp, LC_KMODE_MIP, &c[1], nv, KR, 1, kp, kend, 1, NULL, &st[1]);
+    uint64_t diff = st[0].samples != st[1].samples;
+    diff += memcmp(&w[0], &w[1], sizeof(float)) != 0;
+    const float *ca[2][4] = {{c[0].cr, c[0].cg, c[0].cb, c[0].ca}, {c[1].cr, c[1].cg, c[1].cb, c[1].ca}};
+    for (int j = 0; j < 4; j++)
+        for (int l = 0; l < n; l++) diff += memcmp(&ca[0][j][l], &ca[1][j][l], sizeof(float)) != 0;
+    float a1 = 0.0f;
+    for (int l = 0; l < n; l++) a1 += c[1].ca[l] >= alpha_stop ? 1.0f : 0.0f;
+    out[0] = diff, out[1] = st[1].samples, out[2] = (uint64_t)(a1 - a0);
+    return 0;
 }
 
 /* Every sample of the pass's nrows rows starts at the bias (0 for
