@@ -41,7 +41,7 @@ def stage(fn, f, ln):
         return "traversal"
     if fn in ("deposit_list", "deposit_list_as"):
         return "list scan"
-    if fn == "integrate_buffer":
+    if fn in ("integrate_buffer", "integrate_two", "integrate_pass", "ivec_load", "ivec_sample", "ivec_store"):
         return "integration"
     return None
 

@@ -6,6 +6,7 @@
  * per ray is integrated front to back through the mode. Multi-pass over the
  * ray segment, stopping when every ray of the group reached alpha_stop. The
  * walk serves a window of passes (the group list, below), not each pass. */
+#include <string.h>
 #include "particles_common.h"
 
 #define MAX_GROUP_RAYS 4096
@@ -182,68 +183,7 @@ int LC_KFN(lc_pgauss_probe)(const float *d2, const float *tc, float nir, float k
     return period;
 }
 
-/* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
- * group, front to back through the mode (a constant, so each mode gets its
- * own loop). */
-static inline __attribute__((always_inline)) float integrate_buffer(const lc_kparticles *s, const lc_kframe *f,
-                                                                   int mode, const cscratch *c,
-                                                                   int nv, int K, int nf, int kp, int kend, int comps,
-                                                                   const mprobe *probe, lc_kstats *st)
-{
-    const int rays = buf_stride(nv);
-    const int skip = skip_base(s, f);
-    const vfloat vbias = vf_set1(s->bias);
-    float waste = 0.0f;
-    for (int v = 0; v < nv; v++) {
-        int o = v * LC_W;
-        vmask live = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
-        if (vm_none(live)) continue;
-        /* no particle reached these rays in this pass: every sample is the bias (0
-           for particles) and, with tau(bias) = 0, blends to exactly nothing */
-        if (skip && !c->touched[v]) continue;
-        vray r;
-        r.dx = vf_load(c->dx + o), r.dy = vf_load(c->dy + o), r.dz = vf_load(c->dz + o);
-        if (mode == LC_KMODE_ISO) r.ox = vf_load(c->ox + o), r.oy = vf_load(c->oy + o), r.oz = vf_load(c->oz + o);
-        vcolor col = {vf_load(c->cr + o), vf_load(c->cg + o), vf_load(c->cb + o), vf_load(c->ca + o)};
-        vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
-        /* the pass's last sample of each lane's range (for the waste below) */
-        const vint klp = vi_min(kl, vi_set1(kend));
-        float dead = 0.0f; /* lane samples of the pass behind the sample where their lane became opaque */
-        for (int k = kp; k <= kend; k++) {
-            vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
-            if (vm_none(m)) continue;
-            st->samples += (uint64_t)vm_popcnt(m);
-            for (int fi = 0; fi < nf; fi++) {
-                const float *p = c->buf + (((size_t)fi * (size_t)K + (size_t)(k - kp)) * (size_t)comps) *
-                                             (size_t)rays + (size_t)o;
-                vfloat phi = vf_load(p);
-                if (skip && vm_none(vm_and(m, vf_ne(phi, vbias)))) continue;
-                vgrad gr;
-                if (comps == 4) gr.x = vf_load(p + rays), gr.y = vf_load(p + 2 * rays), gr.z = vf_load(p + 3 * rays);
-                mode_sample_as(f, mode, fi, &col, m, phi, comps == 4 ? &gr : NULL, &r, NULL, vi_set1(k),
-                               vf_set1((float)k * f->dt), probe);
-            }
-            vmask died = vm_andnot(live, vf_lt(col.a, vf_set1(f->alpha_stop)));
-            if (vm_any(died)) { /* rare: once per lane at most */
-                live = vm_andnot(live, died);
-                dead += vf_reduce_add_masked(died, vi_to_vf(vi_max(vi_sub(klp, vi_set1(k)), vi_set1(0))));
-                if (vm_none(live)) break;
-            }
-        }
-        if (dead > 0.0f) {
-            /* the terms deposited behind those samples were for nothing: the vector's
-               terms times the share of its lanes' samples in the pass behind them
-               (each lane's own opacity, not only the whole vector's: session 8) */
-            vmask wl = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
-            vint kfp = vi_max(kf, vi_set1(kp));
-            float all = vf_reduce_add_masked(wl, vi_to_vf(vi_max(vi_sub(vi_add(klp, vi_set1(1)), kfp), vi_set1(0))));
-            if (all > 0.0f) waste += (float)c->touched[v] * dead / all;
-        }
-        vf_store(c->cr + o, col.r), vf_store(c->cg + o, col.g);
-        vf_store(c->cb + o, col.b), vf_store(c->ca + o, col.a);
-    }
-    return waste;
-}
+#include "particles_integrate.h"
 
 /* Writes the group's pixels: each vector's rays finished in the mode, with
  * the opaque surface behind them. */
@@ -289,7 +229,7 @@ static inline __attribute__((always_inline)) void setup_group(const lc_kparticle
                                                               int nv, int vpr, int *kmin, int *kmax, lc_kstats *st)
 {
     const cscratch c = *cs;
-    *kmin = 1 << 30, *kmax = -(1 << 30);
+    vint lo = vi_set1(1 << 30), hi = vi_set1(-(1 << 30));
     for (int v = 0; v < nv; v++) {
         int o = v * LC_W, x = gx + (v % vpr) * DVR_PW, y = gy + (v / vpr) * DVR_PH;
         vray r;
@@ -314,12 +254,103 @@ static inline __attribute__((always_inline)) void setup_group(const lc_kparticle
         vf_store(c.cb + o, vf_zero()), vf_store(c.ca + o, vf_zero());
         vf_store(c.sr + o, surf.r), vf_store(c.sg + o, surf.g);
         vf_store(c.sb + o, surf.b), vf_store(c.sa + o, surf.a);
-        for (int l = 0; l < LC_W; l++) {
-            if (c.kf[o + l] > c.kl[o + l]) continue;
-            *kmin = c.kf[o + l] < *kmin ? c.kf[o + l] : *kmin;
-            *kmax = c.kl[o + l] > *kmax ? c.kl[o + l] : *kmax;
-        }
+        vmask valid = vm_not(vi_lt(kl, kf)); /* kf <= kl */
+        lo = vi_min(lo, vi_select(valid, kf, vi_set1(1 << 30)));
+        hi = vi_max(hi, vi_select(valid, kl, vi_set1(-(1 << 30))));
     }
+    /* lattice indices and the two sentinels are exact in float (|k| <= 2^30,
+       LC_KLATTICE_MAX < 2^24); a branch per lane took ~1% of a far frame */
+    *kmin = (int)vf_reduce_min(vi_to_vf(lo));
+    *kmax = (int)vf_reduce_max(vi_to_vf(hi));
+}
+
+/* Test hook (tests/test_particles_integrate.c): one pass of a group of nv
+ * ray vectors (1..64) through integrate_two and through integrate_buffer
+ * (the general loop, one vector at a time) on the same random inputs made
+ * from seed: lane ranges about the pass (some empty, some outside it),
+ * colours (some lanes already past alpha_stop), samples (some exactly the
+ * bias 0, some rows without a term), touched counts (some 0), and a random
+ * premultiplied step table; mode dvr or mip. broken 1 gives integrate_two
+ * the pass one sample short (the comparison must then fail). mem: at least
+ * 1 MB, 64-byte aligned, zeroed by the caller before each call. out[0]: words that differ (colours of every lane,
+ * the sample counts, the waste), out[1]: samples integrated, out[2]: lanes
+ * that became opaque in the pass. Returns 0, or -1 for arguments out of
+ * range. */
+int LC_KFN(lc_pintegrate_probe)(int mode, int nv, uint64_t seed, float alpha_stop, int broken, void *mem,
+                                uint64_t *out)
+{
+    if (nv < 1 || nv > 64 || (mode != LC_KMODE_DVR && mode != LC_KMODE_MIP) || !mem) return -1;
+    enum { KP = 96, P = 24, KR = 32 };
+    const int rays = buf_stride(nv), n = nv * LC_W, kp = KP, kend = KP + P - 1;
+    float *fm = mem;
+    size_t off = 0;
+    cscratch c[2];
+    float *cls = fm + off;
+    off += (LC_TF_TABLE_SIZE + 1) * 4 + 16;
+    for (int i = 0; i < 2; i++) {
+        float **fa[] = {&c[i].w0, &c[i].w1, &c[i].cr, &c[i].cg, &c[i].cb, &c[i].ca, &c[i].dx, &c[i].dy, &c[i].dz};
+        for (size_t j = 0; j < sizeof fa / sizeof fa[0]; j++) *fa[j] = fm + off, off += (size_t)n + 16;
+        c[i].kf = (int32_t *)(fm + off), off += (size_t)n + 16;
+        c[i].kl = (int32_t *)(fm + off), off += (size_t)n + 16;
+        c[i].touched = (uint32_t *)(fm + off), off += 64 + 16;
+        c[i].buf = fm + off, off += (size_t)KR * (size_t)rays + 16;
+        c[i].K = KR;
+    }
+    uint64_t r = seed | 1;
+#define PROBE_RND() (r ^= r << 13, r ^= r >> 7, r ^= r << 17, (float)(r >> 40) / 16777216.0f)
+    for (int i = 0; i < (LC_TF_TABLE_SIZE + 1) * 4; i++) cls[i] = PROBE_RND() * ((i & 3) == 3 ? 0.3f : 0.25f);
+    for (int l = 0; l < n; l++) {
+        float u = PROBE_RND();
+        int a = kp - 12 + (int)(PROBE_RND() * (float)(P + 12)), b = a + (int)(PROBE_RND() * 40.0f);
+        if (u < 0.08f) a = kend + 3, b = kend + 9;      /* after the pass */
+        else if (u < 0.12f) a = kp - 20, b = kp - 2;    /* before it */
+        else if (u < 0.16f) a = 1, b = 0;               /* no samples at all */
+        c[0].kf[l] = a, c[0].kl[l] = b;
+        float al = PROBE_RND();
+        c[0].ca[l] = al < 0.1f ? alpha_stop : 0.8f * al;
+        c[0].cr[l] = 0.3f * PROBE_RND(), c[0].cg[l] = 0.3f * PROBE_RND(), c[0].cb[l] = mode == LC_KMODE_MIP && al < 0.5f ? 0.0f : 0.3f * PROBE_RND();
+        c[0].dx[l] = c[0].dy[l] = c[0].dz[l] = 0.0f;
+    }
+    for (int v = 0; v < nv; v++) c[0].touched[v] = PROBE_RND() < 0.15f ? 0u : 1u + (uint32_t)(PROBE_RND() * 500.0f);
+    for (int k = 0; k < KR; k++) {
+        int empty = PROBE_RND() < 0.1f;
+        for (int q = 0; q < rays; q++) c[0].buf[(size_t)k * (size_t)rays + (size_t)q] = empty || PROBE_RND() < 0.3f ? 0.0f : PROBE_RND();
+    }
+#undef PROBE_RND
+    size_t per = (size_t)(c[1].w0 - c[0].w0); /* copy every array of c[0] into c[1] */
+    memcpy(c[1].w0, c[0].w0, per * sizeof(float));
+    /* the frame, the scene and the counters from the caller's zeroed memory (no
+       struct zeroing here: GCC would expand it with zmm stores on avx512_8) */
+    off = (off + 15) & ~(size_t)15;
+    lc_kframe *fr = (lc_kframe *)(fm + off);
+    off += (sizeof(lc_kframe) + 63) / 4;
+    lc_kparticles *sc = (lc_kparticles *)(fm + off);
+    off += (sizeof(lc_kparticles) + 63) / 4;
+    lc_kstats *st = (lc_kstats *)(fm + off);
+    fr->mode = mode, fr->dt = 0.1f, fr->alpha_stop = alpha_stop, fr->zero_transparent = 1;
+    fr->tf[0].cls = cls, fr->tf[0].rgbt = cls, fr->tf[0].lo = 0.0f, fr->tf[0].inv_range = 1.0f;
+    fr->tf[0].cls_vzero = 0.02f;
+    sc->nfields = 1;
+    const lc_kframe *fp = fr;
+    const lc_kparticles *sp = sc;
+    set_windows(fp, &c[0], nv, kp, kend);
+    set_windows(fp, &c[1], nv, kp, kend);
+    float a0 = 0.0f;
+    for (int l = 0; l < n; l++) a0 += c[0].ca[l] >= alpha_stop ? 1.0f : 0.0f;
+    float w[2];
+    w[0] = mode == LC_KMODE_DVR ? integrate_two(sp, fp, LC_KMODE_DVR, &c[0], nv, kp, kend - (broken ? 1 : 0), &st[0])
+                                : integrate_two(sp, fp, LC_KMODE_MIP, &c[0], nv, kp, kend - (broken ? 1 : 0), &st[0]);
+    w[1] = mode == LC_KMODE_DVR ? integrate_buffer(sp, fp, LC_KMODE_DVR, &c[1], nv, KR, 1, kp, kend, 1, NULL, &st[1])
+                                : integrate_buffer(sp, fp, LC_KMODE_MIP, &c[1], nv, KR, 1, kp, kend, 1, NULL, &st[1]);
+    uint64_t diff = st[0].samples != st[1].samples;
+    diff += memcmp(&w[0], &w[1], sizeof(float)) != 0;
+    const float *ca[2][4] = {{c[0].cr, c[0].cg, c[0].cb, c[0].ca}, {c[1].cr, c[1].cg, c[1].cb, c[1].ca}};
+    for (int j = 0; j < 4; j++)
+        for (int l = 0; l < n; l++) diff += memcmp(&ca[0][j][l], &ca[1][j][l], sizeof(float)) != 0;
+    float a1 = 0.0f;
+    for (int l = 0; l < n; l++) a1 += c[1].ca[l] >= alpha_stop ? 1.0f : 0.0f;
+    out[0] = diff, out[1] = st[1].samples, out[2] = (uint64_t)(a1 - a0);
+    return 0;
 }
 
 /* Every sample of the pass's nrows rows starts at the bias (0 for
@@ -467,7 +498,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     else
                         traverse_pass(s, f, &c, nv, vshift, kp, kend, dt, comps, st);
                     /* Listing 2, lines 11-13: integrate the buffer front to back */
-                    gwaste += integrate_buffer(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
+                    gwaste += integrate_pass(s, f, mode, &c, nv, K, nf, kp, kend, comps, pr, st);
                     gover += PASS_COST * (float)nlive;
                 }
                 if (c.list) chunk = fits ? (chunk * 2 < GL_MAX_PASSES ? chunk * 2 : GL_MAX_PASSES)
