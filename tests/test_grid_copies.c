@@ -24,6 +24,7 @@
 #include "imgcmp.h"
 #include "ref/ref_core.h"
 #include "ref/ref_fields.h"
+#include "gscene.h"
 
 extern int64_t lci_grid_pairs_max, lci_grid_quads_max; /* host/kinds/grid.c */
 
@@ -76,30 +77,10 @@ static void vol_make(vol *v, int nx, int ny, int nz)
             }
 }
 
-static const float tf_color[12] = {0, 0.1f, 0.2f, 0.9f, 0.5f, 0.9f, 0.3f, 0.1f, 1, 1, 1, 0.3f};
-static const float tf_opacity[8] = {0, 0, 0.1f, 0, 0.6f, 0.1f, 1, 0.25f};
-
-typedef struct view {
-    double eye[3], at[3];
-    int shade;
-} view;
-
-static void render(lc_device *dev, lc_volume *g, const lc_tf *tf, const view *vw, lc_method m, int heur, int preint,
+static void render(lc_device *dev, lc_volume *g, const lc_tf *tf, const gview *vw, lc_method m, int heur, int preint,
                    float *out)
 {
-    lc_render_desc d = {.width = W,
-                        .height = H,
-                        .tf = tf,
-                        .volume = g,
-                        .dt = 0.4f,
-                        .alpha_stop = 1.0f,
-                        .shading = (lc_shading)vw->shade,
-                        .method = m};
-    d.camera.eye = (lc_vec3){(float)vw->eye[0], (float)vw->eye[1], (float)vw->eye[2]};
-    d.camera.at = (lc_vec3){(float)vw->at[0], (float)vw->at[1], (float)vw->at[2]};
-    d.camera.up = (lc_vec3){0, 1, 0};
-    d.camera.fovy = 40;
-    d.range[0] = 0, d.range[1] = 255;
+    lc_render_desc d = gscene_desc(g, tf, vw, W, H, m, 0, 255);
     lc_grid_params gp = {0};
     if (!heur) gp = (lc_grid_params){.delta_c = -1, .delta_p = -1, .delta_sv = -1};
     gp.preintegrated = preint;
@@ -107,28 +88,7 @@ static void render(lc_device *dev, lc_volume *g, const lc_tf *tf, const view *vw
     CHECK_QUIET(lc_render(dev, &d, out, NULL) == LC_OK, "render: %s", lc_last_error());
 }
 
-static void ref_image(const vol *v, const view *vw, float *out)
-{
-    double dc[12], dop[8];
-    for (int i = 0; i < 12; i++)
-        dc[i] = tf_color[i];
-    for (int i = 0; i < 8; i++)
-        dop[i] = tf_opacity[i];
-    ref_tf rtf = {0, 255, dc, 3, dop, 4};
-    ref_grid_field rg = {{v->n[0], v->n[1], v->n[2]}, {0, 0, 0}, {1, 1, 1}, v->ref};
-    ref_source src;
-    CHECK_QUIET(ref_grid_source(&rg, &src) == 0, "reference grid source");
-    ref_params p = {0};
-    p.width = W, p.height = H;
-    p.camera = (ref_camera){
-        REF_PERSPECTIVE, {vw->eye[0], vw->eye[1], vw->eye[2]}, {vw->at[0], vw->at[1], vw->at[2]}, {0, 1, 0}, 40.0, 0.0};
-    p.mode = REF_MODE_DVR;
-    p.tf = &rtf;
-    p.dt = 0.4;
-    p.alpha_stop = 1.0;
-    p.shading = (ref_shading)vw->shade;
-    CHECK_QUIET(ref_render_f(&src, &p, out) == 0, "reference render");
-}
+static void ref_image(const vol *v, const gview *vw, float *out) { gscene_ref(v->n, v->ref, 0, 255, vw, W, H, out); }
 
 static int cmp(const char *label, const float *got, const float *want, double max_255, double min_psnr, imgcmp_worst *w)
 {
@@ -145,7 +105,7 @@ typedef struct grids {
 
 /* One volume under every target: the variant's two grids of each layout,
  * against the reference and one another. */
-static void check_volume(const vol *v, const view *views, int nviews, int show)
+static void check_volume(const vol *v, const gview *views, int nviews, int show)
 {
     float *a = malloc(sizeof(float) * W * H * 4), *b = malloc(sizeof(float) * W * H * 4),
           *r = malloc(sizeof(float) * W * H * 4);
@@ -162,7 +122,7 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
         const char *tn = lc_target_name((lc_target)t);
         lc_device *dev = NULL;
         if (lc_device_create(&(lc_device_desc){.target = (lc_target)t, .threads = 2}, &dev) != LC_OK) continue;
-        lc_tf_field tff = {.color = tf_color, .ncolor = 3, .opacity = tf_opacity, .nopacity = 4};
+        lc_tf_field tff = {.color = gscene_color, .ncolor = 3, .opacity = gscene_opacity, .nopacity = 4};
         lc_tf *tf = NULL;
         CHECK_QUIET(lc_tf_create(dev, &tff, 1, &tf) == LC_OK, "tf: %s", lc_last_error());
         grids gs;
@@ -181,8 +141,8 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                 if (gs.g[c][lay]) lc_grid_get_info(gs.g[c][lay], &in);
                 bytes[c][lay] = in.layout_bytes;
                 if (gs.g[c][lay])
-                    CHECK_QUIET(((const grid *)gs.g[c][lay])->kg.pair_quads == (var->quads_max[c] > 0), "%s: quad copy %s",
-                                tn, var->quads_max[c] > 0 ? "absent" : "present");
+                    CHECK_QUIET(((const grid *)gs.g[c][lay])->kg.pair_quads == (var->quads_max[c] > 0),
+                                "%s: quad copy %s", tn, var->quads_max[c] > 0 ? "absent" : "present");
             }
         lci_grid_pairs_max = (int64_t)1 << 30;
         lci_grid_quads_max = (int64_t)1 << 25;
@@ -204,10 +164,11 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                     int64_t ys = kg->pair_ystride, zs = kg->pair_zstride;
                     int rows_ok = v->n[0] * 2 >= 1024 ? ys >= v->n[0] && ys * 2 % 64 == 0 && (ys * 2 / 64) % 2 == 1
                                                       : ys == v->n[0];
-                    int planes_ok = ys * v->n[1] * 2 >= 4096 ? zs >= ys * v->n[1] && zs * 2 % 64 == 0 && (zs * 2 / 64) % 2 == 1
-                                                             : zs == ys * v->n[1];
-                    CHECK_QUIET(rows_ok && planes_ok, "%s layout %d: pair copy strides %lld / %lld for %dx%d voxels", tn,
-                                lay, (long long)ys, (long long)zs, v->n[0], v->n[1]);
+                    int planes_ok = ys * v->n[1] * 2 >= 4096
+                                        ? zs >= ys * v->n[1] && zs * 2 % 64 == 0 && (zs * 2 / 64) % 2 == 1
+                                        : zs == ys * v->n[1];
+                    CHECK_QUIET(rows_ok && planes_ok, "%s layout %d: pair copy strides %lld / %lld for %dx%d voxels",
+                                tn, lay, (long long)ys, (long long)zs, v->n[0], v->n[1]);
                     elems = (uint64_t)zs * (uint64_t)v->n[2];
                 }
                 int ok = per ? bytes[c][lay] == tables + per * elems + 64 : bytes[c][lay] >= tables + count;
@@ -218,11 +179,13 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
         for (int lay = 0; lay < 2; lay++) {
             if (!gs.g[0][lay] || !gs.g[1][lay]) continue;
             uint64_t h0[64], h1[64], sum = 0;
-            CHECK_QUIET(lc_grid_histogram(gs.g[0][lay], 64, h0) == LC_OK && lc_grid_histogram(gs.g[1][lay], 64, h1) == LC_OK,
+            CHECK_QUIET(lc_grid_histogram(gs.g[0][lay], 64, h0) == LC_OK &&
+                            lc_grid_histogram(gs.g[1][lay], 64, h1) == LC_OK,
                         "histogram: %s", lc_last_error());
-            for (int i = 0; i < 64; i++) sum += h0[i];
-            CHECK_QUIET(sum == count && memcmp(h0, h1, sizeof h0) == 0, "%s layout %d: %s and %s histograms differ", tn, lay,
-                        var->label[0], var->label[1]);
+            for (int i = 0; i < 64; i++)
+                sum += h0[i];
+            CHECK_QUIET(sum == count && memcmp(h0, h1, sizeof h0) == 0, "%s layout %d: %s and %s histograms differ", tn,
+                        lay, var->label[0], var->label[1]);
         }
         for (int e = 0; e < nviews; e++) {
             const float *ref = refs + (size_t)e * W * H * 4;
@@ -236,7 +199,8 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
                     render(dev, gs.g[1][lay], tf, &views[e], meth, 0, 0, b);
                     snprintf(label, sizeof label, "%s_view%d_layout%d_%s_%s-ref", tn, e, lay, mn, var->label[0]);
                     CHECK_QUIET(cmp(label, a, ref, 0, 0, &w_ref) == 0, "%s", label);
-                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_%s-%s", tn, e, lay, mn, var->label[0], var->label[1]);
+                    snprintf(label, sizeof label, "%s_view%d_layout%d_%s_%s-%s", tn, e, lay, mn, var->label[0],
+                             var->label[1]);
                     CHECK_QUIET(cmp(label, a, b, 0, 0, &w_same) == 0, "%s", label);
                     /* pre-integrated: both grids alike (the reference has no table) */
                     render(dev, gs.g[0][lay], tf, &views[e], meth, 0, 1, a);
@@ -295,20 +259,20 @@ int main(int argc, char **argv)
     /* odd sizes: outside, inside the volume, and an axis-aligned view down z */
     vol s;
     vol_make(&s, 37, 29, 41);
-    view vs[3] = {
+    gview vs[3] = {
         {{48, 42.5, 86}, {18, 14, 20}, 2}, {{20.3, 16.1, 14.7}, {18, 14, 20}, 1}, {{18, 14, 95}, {18, 14, 20}, 0}};
     check_volume(&s, vs, 3, 1);
     free(s.data), free(s.ref);
     /* 4 MiB of voxels and more: the huge-page allocation */
     vol b;
     vol_make(&b, 131, 127, 133);
-    view vb[2] = {{{170, 150, 300}, {65, 63, 66}, 2}, {{65, 63, 320}, {65, 63, 66}, 0}};
+    gview vb[2] = {{{170, 150, 300}, {65, 63, 66}, 2}, {{65, 63, 320}, {65, 63, 66}, 0}};
     check_volume(&b, vb, 2, 0);
     free(b.data), free(b.ref);
     /* rows of 1 KiB and more: the pair copy pads its rows and planes (padded_strides) */
     vol wd;
     vol_make(&wd, 601, 23, 19);
-    view vw[2] = {{{250, 60, 75}, {230, 11, 9}, 2}, {{212, 9.5, 10.2}, {260, 11, 9}, 1}};
+    gview vw[2] = {{{250, 60, 75}, {230, 11, 9}, 2}, {{212, 9.5, 10.2}, {260, 11, 9}, 1}};
     check_volume(&wd, vw, 2, 0);
     free(wd.data), free(wd.ref);
     char what[160];

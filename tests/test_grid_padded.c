@@ -19,6 +19,7 @@
 #include "imgcmp.h"
 #include "ref/ref_core.h"
 #include "ref/ref_fields.h"
+#include "gscene.h"
 
 enum { W = 41, H = 37 };
 
@@ -58,9 +59,12 @@ static void vol_make(vol *v, int nx, int ny, int nz, lc_value_type t)
                 size_t id = ((size_t)k * ny + j) * nx + i;
                 double f = field((double)i / (nx - 1), (double)j / (ny - 1), (double)k / (nz - 1));
                 long q = lround(f * 65535);
-                if (t == LC_VALUE_UINT16) ((uint16_t *)v->data)[id] = (uint16_t)q, v->ref[id] = (double)q;
-                else if (t == LC_VALUE_INT16) ((int16_t *)v->data)[id] = (int16_t)(q - 32768), v->ref[id] = (double)(q - 32768);
-                else ((float *)v->data)[id] = (float)f, v->ref[id] = (float)f;
+                if (t == LC_VALUE_UINT16)
+                    ((uint16_t *)v->data)[id] = (uint16_t)q, v->ref[id] = (double)q;
+                else if (t == LC_VALUE_INT16)
+                    ((int16_t *)v->data)[id] = (int16_t)(q - 32768), v->ref[id] = (double)(q - 32768);
+                else
+                    ((float *)v->data)[id] = (float)f, v->ref[id] = (float)f;
             }
 }
 
@@ -69,51 +73,21 @@ static const char *type_label(const vol *v)
     return v->type == LC_VALUE_UINT16 ? "uint16" : v->type == LC_VALUE_INT16 ? "int16" : "float32";
 }
 
-static const float tf_color[12] = {0, 0.1f, 0.2f, 0.9f, 0.5f, 0.9f, 0.3f, 0.1f, 1, 1, 1, 0.3f};
-static const float tf_opacity[8] = {0, 0, 0.1f, 0, 0.6f, 0.1f, 1, 0.25f};
-
-typedef struct view {
-    double eye[3], at[3];
-    int shade;
-} view;
-
 /* mode: 0 dvr, 1 mip, 2 iso at 40% of the range */
-static void render(lc_device *dev, lc_volume *g, const lc_tf *tf, const vol *v, const view *vw, lc_method m, int mode,
+static void render(lc_device *dev, lc_volume *g, const lc_tf *tf, const vol *v, const gview *vw, lc_method m, int mode,
                    float *out)
 {
-    lc_render_desc d = {.width = W, .height = H, .tf = tf, .volume = g, .dt = 0.4f, .alpha_stop = 1.0f,
-                        .shading = (lc_shading)vw->shade, .method = m};
+    lc_render_desc d = gscene_desc(g, tf, vw, W, H, m, v->lo, v->hi);
     d.mode = mode == 1 ? LC_MODE_MIP : mode == 2 ? LC_MODE_ISO : LC_MODE_DVR;
     d.iso = (float)(v->lo + 0.4 * (v->hi - v->lo));
-    d.camera.eye = (lc_vec3){(float)vw->eye[0], (float)vw->eye[1], (float)vw->eye[2]};
-    d.camera.at = (lc_vec3){(float)vw->at[0], (float)vw->at[1], (float)vw->at[2]};
-    d.camera.up = (lc_vec3){0, 1, 0};
-    d.camera.fovy = 40;
-    d.range[0] = (float)v->lo, d.range[1] = (float)v->hi;
     lc_grid_params gp = {.delta_c = -1, .delta_p = -1, .delta_sv = -1};
     CHECK_QUIET(lc_grid_set_params(g, &gp) == LC_OK, "lc_grid_set_params: %s", lc_last_error());
     CHECK_QUIET(lc_render(dev, &d, out, NULL) == LC_OK, "render: %s", lc_last_error());
 }
 
-static void ref_image(const vol *v, const double *values, const view *vw, float *out)
+static void ref_image(const vol *v, const double *values, const gview *vw, float *out)
 {
-    double dc[12], dop[8];
-    for (int i = 0; i < 12; i++) dc[i] = tf_color[i];
-    for (int i = 0; i < 8; i++) dop[i] = tf_opacity[i];
-    ref_tf rtf = {v->lo, v->hi, dc, 3, dop, 4};
-    ref_grid_field rg = {{v->n[0], v->n[1], v->n[2]}, {0, 0, 0}, {1, 1, 1}, values};
-    ref_source src;
-    CHECK_QUIET(ref_grid_source(&rg, &src) == 0, "reference grid source");
-    ref_params p = {0};
-    p.width = W, p.height = H;
-    p.camera = (ref_camera){
-        REF_PERSPECTIVE, {vw->eye[0], vw->eye[1], vw->eye[2]}, {vw->at[0], vw->at[1], vw->at[2]}, {0, 1, 0}, 40.0, 0.0};
-    p.mode = REF_MODE_DVR;
-    p.tf = &rtf;
-    p.dt = 0.4;
-    p.alpha_stop = 1.0;
-    p.shading = (ref_shading)vw->shade;
-    CHECK_QUIET(ref_render_f(&src, &p, out) == 0, "reference render");
+    gscene_ref(v->n, values, v->lo, v->hi, vw, W, H, out);
 }
 
 static int cmp(const char *label, const float *got, const float *want, imgcmp_worst *w)
@@ -135,7 +109,7 @@ static int strides_ok(const lc_kgrid *k, int es, int padded)
     return rows && planes;
 }
 
-static void check_volume(const vol *v, const view *views, int nviews, int show)
+static void check_volume(const vol *v, const gview *views, int nviews, int show)
 {
     size_t img = (size_t)W * H * 4, count = (size_t)v->n[0] * v->n[1] * v->n[2];
     int es = lci_value_size(v->type);
@@ -145,19 +119,23 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
         const char *tn = lc_target_name((lc_target)t);
         lc_device *dev = NULL;
         if (lc_device_create(&(lc_device_desc){.target = (lc_target)t, .threads = 2}, &dev) != LC_OK) continue;
-        lc_tf_field tff = {.color = tf_color, .ncolor = 3, .opacity = tf_opacity, .nopacity = 4};
+        lc_tf_field tff = {.color = gscene_color, .ncolor = 3, .opacity = gscene_opacity, .nopacity = 4};
         lc_tf *tf = NULL;
         CHECK_QUIET(lc_tf_create(dev, &tff, 1, &tf) == LC_OK, "tf: %s", lc_last_error());
         lc_volume *g[2] = {NULL, NULL}; /* [0] owned linear (padded), [1] borrowed (the caller's strides) */
         for (int c = 0; c < 2; c++) {
-            lc_grid_desc gd = {.size = {v->n[0], v->n[1], v->n[2]}, .type = v->type, .data = v->data,
-                               .layout = LC_LAYOUT_LINEAR, .borrow = c};
+            lc_grid_desc gd = {.size = {v->n[0], v->n[1], v->n[2]},
+                               .type = v->type,
+                               .data = v->data,
+                               .layout = LC_LAYOUT_LINEAR,
+                               .borrow = c};
             CHECK_QUIET(lc_grid_create(dev, &gd, &g[c]) == LC_OK, "create: %s", lc_last_error());
         }
         if (!g[0] || !g[1]) goto next;
         const lc_kgrid *k0 = &((const grid *)g[0])->kg, *k1 = &((const grid *)g[1])->kg;
-        CHECK_QUIET(strides_ok(k0, es, 1) && strides_ok(k1, es, 0), "%s: strides %d / %d owned, %d / %d borrowed for %dx%d",
-                    tn, k0->ystride, k0->zstride, k1->ystride, k1->zstride, v->n[0], v->n[1]);
+        CHECK_QUIET(strides_ok(k0, es, 1) && strides_ok(k1, es, 0),
+                    "%s: strides %d / %d owned, %d / %d borrowed for %dx%d", tn, k0->ystride, k0->zstride, k1->ystride,
+                    k1->zstride, v->n[0], v->n[1]);
         lc_grid_info in = {0};
         lc_grid_get_info(g[0], &in);
         uint64_t tables = sizeof(int32_t) * ((uint64_t)v->n[0] + v->n[1] + v->n[2]);
@@ -169,7 +147,8 @@ static void check_volume(const vol *v, const view *views, int nviews, int show)
         uint64_t h0[97], h1[97], sum = 0;
         CHECK_QUIET(lc_grid_histogram(g[0], 97, h0) == LC_OK && lc_grid_histogram(g[1], 97, h1) == LC_OK,
                     "histogram: %s", lc_last_error());
-        for (int i = 0; i < 97; i++) sum += h0[i];
+        for (int i = 0; i < 97; i++)
+            sum += h0[i];
         CHECK_QUIET(sum == count && !memcmp(h0, h1, sizeof h0), "%s: owned and borrowed histograms differ", tn);
         /* lc_volume_sample at every node of a few rows and planes, and between nodes */
         enum { NP = 4096 };
@@ -249,7 +228,7 @@ int main(int argc, char **argv)
     diff_dir = argc > 1 ? argv[1] : NULL;
     setvbuf(stdout, NULL, _IOLBF, 0);
     /* rows of 1202 (uint16, int16) and 2404 bytes (float32): rows and planes padded */
-    view vw[2] = {{{250, 60, 75}, {230, 11, 9}, 2}, {{212, 9.5, 10.2}, {260, 11, 9}, 1}};
+    gview vw[2] = {{{250, 60, 75}, {230, 11, 9}, 2}, {{212, 9.5, 10.2}, {260, 11, 9}, 1}};
     const lc_value_type types[3] = {LC_VALUE_UINT16, LC_VALUE_INT16, LC_VALUE_FLOAT32};
     for (int t = 0; t < 3; t++) {
         vol v;
@@ -260,7 +239,7 @@ int main(int argc, char **argv)
     /* 600-byte rows: unpadded rows, padded planes */
     vol s;
     vol_make(&s, 300, 29, 17, LC_VALUE_UINT16);
-    view vs[1] = {{{330, 60, 60}, {150, 14, 8}, 2}};
+    gview vs[1] = {{{330, 60, 60}, {150, 14, 8}, 2}};
     check_volume(&s, vs, 1, 0);
     free(s.data), free(s.ref);
     imgcmp_worst_print("padded owned linear vs reference (heuristics off)", &w_ref);
