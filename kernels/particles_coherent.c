@@ -323,9 +323,9 @@ int LC_KFN(lc_pintegrate_probe)(int mode, int nv, uint64_t seed, float alpha_sto
        struct zeroing here: GCC would expand it with zmm stores on avx512_8) */
     off = (off + 15) & ~(size_t)15;
     lc_kframe *fr = (lc_kframe *)(fm + off);
-    off += (sizeof(lc_kframe) + 63) / 4;
+    off += ((sizeof(lc_kframe) + 63) & ~(size_t)63) / 4; /* whole 64-byte lines: each struct aligned */
     lc_kparticles *sc = (lc_kparticles *)(fm + off);
-    off += (sizeof(lc_kparticles) + 63) / 4;
+    off += ((sizeof(lc_kparticles) + 63) & ~(size_t)63) / 4;
     lc_kstats *st = (lc_kstats *)(fm + off);
     fr->mode = mode, fr->dt = 0.1f, fr->alpha_stop = alpha_stop, fr->zero_transparent = 1;
     fr->tf[0].cls = cls, fr->tf[0].rgbt = cls, fr->tf[0].lo = 0.0f, fr->tf[0].inv_range = 1.0f;
