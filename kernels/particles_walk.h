@@ -99,7 +99,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     for (int v = 0; v < nv; v++) {
         if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the leaf's box misses these rays */
-        int o = v * LC_W;
+        int o = v * LC_W, kpv = kp + c->vs[v], kev = kend + c->vs[v]; /* the vector's pass */
         vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
         vmask m = vf_le(w0, w1);
         if (vm_none(m)) continue;
@@ -118,11 +118,11 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         if (vm_none(m)) continue;
         int ka = (int)__builtin_floorf(vf_reduce_min_masked(m, ta) / dt);
         int kb = (int)__builtin_ceilf(vf_reduce_max_masked(m, tb) / dt);
-        ka = ka < kp ? kp : ka;
-        kb = kb > kend ? kend : kb;
+        ka = ka < kpv ? kpv : ka;
+        kb = kb > kev ? kev : kb;
         if (ka > kb) continue;
-        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, gscale, tc, d2, ocx, ocy,
-                                     ocz, dx, dy, dz, m);
+        uint64_t e = deposit_samples(&gc, c->kdt + c->vs[v], fb, rays, o, comps, kpv, ka, kb, r2s, gscale, tc, d2,
+                                     ocx, ocy, ocz, dx, dy, dz, m);
         c->touched[v] += (uint32_t)e;
         st->kernel_evals += e;
     }
@@ -261,8 +261,8 @@ static inline int eye_range_misses(const float *kd, int ka, int kb, float ox, fl
  * and every sample within a lane's window that deposit above fills is
  * filled here with the same value: the used samples sum the same terms. */
 static inline __attribute__((always_inline)) void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv,
-                                                                 int kp, int ka, int kb, float dt, int comps, int32_t i,
-                                                                 float cstep, uint64_t vbits, int vshift,
+                                                                 int kp, int kend, int ka, int kb, float dt, int comps,
+                                                                 int32_t i, float cstep, uint64_t vbits, int vshift,
                                                                  uint64_t live, const float *eye, lc_kstats *st)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
@@ -287,7 +287,10 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
         } else if (!((vbits >> (v >> vshift)) & 1u)) {
             continue;
         }
-        int o = v * LC_W;
+        /* the entry's samples within the vector's pass */
+        int o = v * LC_W, kpv = kp + c->vs[v], kev = kend + c->vs[v];
+        int kav = ka > kpv ? ka : kpv, kbv = kb < kev ? kb : kev;
+        if (kav > kbv) continue;
         vmask m = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
         if (vm_none(m)) continue;
         vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
@@ -299,8 +302,8 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
-        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, 2.0f * nir, tc, d2, ocx,
-                                     ocy, ocz, dx, dy, dz, m);
+        uint64_t e = deposit_samples(&gc, c->kdt + c->vs[v], fb, rays, o, comps, kpv, kav, kbv, r2s, 2.0f * nir,
+                                     tc, d2, ocx, ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
            their window would otherwise mark it) */
         c->touched[v] += (uint32_t)e;
@@ -551,9 +554,11 @@ static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const
                         : walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 1, st);
 }
 
-/* One pass from the group list: deposits the n entries overlapping kp..kend
- * in list order and keeps, in order, those reaching past kend. Returns the
- * entries kept. */
+/* One pass from the group list: deposits the n entries overlapping the
+ * pass (kp..kend + smax: vector v's pass is kp + vs[v] .. kend + vs[v],
+ * pass_offsets) in list order, each on its vectors' own passes, and keeps,
+ * in order, those reaching past kend (the end of the passes of vectors
+ * without offset). Returns the entries kept. */
 static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparticles *s, const cscratch *c, int nv,
                                                                   int vshift, int n, int kp, int kend, float dt,
                                                                   int comps, const float *eye, lc_kstats *st)
@@ -566,12 +571,12 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
         live |= (uint64_t)vm_any(vf_le(vf_load(c->w0 + v * LC_W), vf_load(c->w1 + v * LC_W))) << v;
     for (int j = 0; j < n; j++) {
         gent e = c->list[j];
-        if (e.ka <= kend && e.kb >= kp) {
+        if (e.ka <= kend + c->smax && e.kb >= kp) {
+            int ka = e.ka > kp ? e.ka : kp, kb = e.kb < kend + c->smax ? e.kb : kend + c->smax;
             for (int32_t i = e.first; i < e.first + e.count; i++) {
                 if (ctab) cstep = ctab[i];
                 else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
-                deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
-                              e.vbits, vshift, live, eye, st);
+                deposit_entry(s, c, nv, kp, kend, ka, kb, dt, comps, i, cstep, e.vbits, vshift, live, eye, st);
             }
         }
         if (e.kb > kend) c->list[kept++] = e;
