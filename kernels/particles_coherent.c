@@ -14,6 +14,9 @@
 #ifndef PV_SHIFT_MAX
 #define PV_SHIFT_MAX 64
 #endif
+#ifndef PV_GRAIN
+#define PV_GRAIN PG_ANCHOR /* offsets are multiples of this (dividing PV_SHIFT_MAX) */
+#endif
 #ifndef PV_OFFSETS
 #define PV_OFFSETS 1
 #endif
@@ -302,7 +305,7 @@ static int pass_offsets(cscratch *c, int nv, int kmin, int kmax, int off)
         if (vm_any(valid)) {
             int f0 = (int)vf_reduce_min(vi_to_vf(vi_select(valid, kf, vi_set1(1 << 30))));
             int l1 = (int)vf_reduce_max(vi_to_vf(vi_select(valid, kl, vi_set1(-(1 << 30)))));
-            sv = off ? (f0 - kmin) / PG_ANCHOR * PG_ANCHOR : 0;
+            sv = off ? (f0 - kmin) / PV_GRAIN * PV_GRAIN : 0;
             sv = sv < PV_SHIFT_MAX ? sv : PV_SHIFT_MAX;
             last = l1 - sv > last ? l1 - sv : last;
         }
@@ -459,7 +462,9 @@ static inline int pass_end(int kp, int len, int kmax)
  * terms behind opaque samples; 24 took dense1e6 far 5% faster and 1e6 and
  * 1tw7 far the same or 2% faster, 16 dense1e6 7% faster but 1e6 and 1tw7
  * far 3-4% slower). */
+#ifndef PASS_FIRST_BIG
 #define PASS_FIRST_BIG 24
+#endif
 
 /* The same with the eye inside the particles' grown box (session 9: close
  * views take 32x32 groups too; fixed passes at 32x32 there, avx512, CPU s:
