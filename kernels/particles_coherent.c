@@ -10,16 +10,6 @@
 #include "particles_common.h"
 
 #define MAX_GROUP_RAYS 4096
-/* The largest per-vector pass offset (pass_offsets), a multiple of PG_ANCHOR. */
-#ifndef PV_SHIFT_MAX
-#define PV_SHIFT_MAX 64
-#endif
-#ifndef PV_GRAIN
-#define PV_GRAIN PG_ANCHOR /* offsets are multiples of this (dividing PV_SHIFT_MAX) */
-#endif
-#ifndef PV_OFFSETS
-#define PV_OFFSETS 1
-#endif
 #define VCONE_ROWS 5 /* cscratch.vc: axis x, y, z, tan and sec of the half-angle bounds */
 
 typedef struct pgroup {
@@ -54,7 +44,7 @@ typedef struct cscratch {
     uint32_t *touched;                                 /* per vector: terms deposited this pass */
     int32_t *stack;
     float *kdt;                                        /* this pass: kdt[k - kp + PG_ANCHOR] = (float)k * dt,
-                                                          k = kp - PG_ANCHOR .. kend + smax + 1 */
+                                                          k = kp - PG_ANCHOR .. kend + 1 */
     float *vq;                                         /* per vector: interval bounds (walk's vcull) */
     int32_t nvq;                                       /* vq's row length: nv rounded up to LC_W */
     float *vc;                                         /* per vector: its rays' cone (list deposits'
@@ -62,8 +52,6 @@ typedef struct cscratch {
     struct gent *list;                                 /* the group's particle list (NULL: none) */
     int32_t cap;                                       /* its capacity in entries */
     int32_t K;                                         /* buffer rows per field (buf_rows) */
-    int32_t *vs;                                       /* per vector: its pass offset (pass_offsets) */
-    int32_t smax;                                      /* the group's largest offset */
 } cscratch;
 
 /* One walk per group (issue 8). Instead of walking the BVH for every pass of
@@ -153,7 +141,7 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     if (base) c->touched = (uint32_t *)(base + off);
     off += align64((uint64_t)g.nv * 4);
     if (base) c->kdt = (float *)(base + off);
-    off += align64((uint64_t)(c->K + PV_SHIFT_MAX + PG_ANCHOR + 1) * 4);
+    off += align64((uint64_t)(c->K + PG_ANCHOR + 1) * 4);
     c->nvq = (g.nv + LC_W - 1) / LC_W * LC_W;
     if (base) c->vq = (float *)(base + off);
     off += align64((uint64_t)c->nvq * 8 * 4);
@@ -166,9 +154,6 @@ static uint64_t coherent_layout(const lc_kparticles *s, const lc_kframe *f, unsi
     /* last, so the offsets above stay those of the layout before the cones */
     if (base) c->vc = (float *)(base + off);
     off += align64((uint64_t)c->nvq * VCONE_ROWS * 4);
-    if (base) c->vs = (int32_t *)(base + off);
-    off += align64((uint64_t)g.nv * 4);
-    c->smax = 0;
     return off;
 }
 
@@ -216,20 +201,19 @@ static inline __attribute__((always_inline)) void finish_group(const lc_kframe *
     }
 }
 
-/* Each ray's window in t for the samples kp..kend of the group's pass,
- * kp + vs[v] .. kend + vs[v] for vector v (live rays: not opaque and with
- * samples there; others get w0 > w1), padded by half a step against
+/* Each ray's window in t for the samples kp..kend (live rays: not opaque and
+ * with samples there; others get w0 > w1), padded by half a step against
  * round-off. Returns the number of vectors with a live ray. */
 static int set_windows(const lc_kframe *f, const cscratch *c, int nv, int kp, int kend)
 {
     const float dt = f->dt;
     int any = 0;
     for (int v = 0; v < nv; v++) {
-        int o = v * LC_W, kpv = kp + c->vs[v], kev = kend + c->vs[v];
+        int o = v * LC_W;
         vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
         vmask live = vm_and(vf_lt(vf_load(c->ca + o), vf_set1(f->alpha_stop)),
-                            vm_and(vi_lt(kf, vi_set1(kev + 1)), vi_gt(kl, vi_set1(kpv - 1))));
-        vfloat a = vi_to_vf(vi_max(kf, vi_set1(kpv))), b = vi_to_vf(vi_min(kl, vi_set1(kev)));
+                            vm_and(vi_lt(kf, vi_set1(kend + 1)), vi_gt(kl, vi_set1(kp - 1))));
+        vfloat a = vi_to_vf(vi_max(kf, vi_set1(kp))), b = vi_to_vf(vi_min(kl, vi_set1(kend)));
         vf_store(c->w0 + o, vf_select(live, vf_mul(vf_sub(a, vf_set1(0.5f)), vf_set1(dt)), vf_set1(1.0f)));
         vf_store(c->w1 + o, vf_select(live, vf_mul(vf_add(b, vf_set1(0.5f)), vf_set1(dt)), vf_set1(-1.0f)));
         any += vm_any(live);
@@ -280,42 +264,6 @@ static inline __attribute__((always_inline)) void setup_group(const lc_kparticle
     *kmax = (int)vf_reduce_max(vi_to_vf(hi));
 }
 
-/* Per-vector pass offsets (issue 8, session 10): the group's pass
- * kp..kend is kp + vs[v] .. kend + vs[v] for vector v, vs[v] the largest
- * multiple of PG_ANCHOR (at most PV_SHIFT_MAX) with kmin + vs[v] <= the
- * vector's first sample, so its passes start near its own entry rather than
- * the group's earliest ray's: a far group's rays enter over 8-32 samples, and
- * with group-wide passes a ray's ~38 samples fell into 2-3 passes and most
- * chords were split between two (two chord set-ups and anchors). Boundaries
- * after the first stay on multiples of PG_ANCHOR (pass_end). A vector's
- * passes still run in order and each of its samples lies in exactly one, so
- * every sample sums the same terms in the same (list) order: offsets change
- * no image, only the work (tests/test_particles_group.c, _gsize.c,
- * _passes.c). Sets c->vs, c->smax; returns the group's last pass start that
- * any vector still needs: max over vectors of (last sample - vs[v]). Without
- * offsets (off) every vs[v] is 0 and that is kmax. */
-static int pass_offsets(cscratch *c, int nv, int kmin, int kmax, int off)
-{
-    int last = kmin - 1, smax = 0;
-    for (int v = 0; v < nv; v++) {
-        int o = v * LC_W;
-        vint kf = vi_load(c->kf + o), kl = vi_load(c->kl + o);
-        vmask valid = vm_not(vi_lt(kl, kf));
-        int sv = 0;
-        if (vm_any(valid)) {
-            int f0 = (int)vf_reduce_min(vi_to_vf(vi_select(valid, kf, vi_set1(1 << 30))));
-            int l1 = (int)vf_reduce_max(vi_to_vf(vi_select(valid, kl, vi_set1(-(1 << 30)))));
-            sv = off ? (f0 - kmin) / PV_GRAIN * PV_GRAIN : 0;
-            sv = sv < PV_SHIFT_MAX ? sv : PV_SHIFT_MAX;
-            last = l1 - sv > last ? l1 - sv : last;
-        }
-        c->vs[v] = sv;
-        smax = sv > smax ? sv : smax;
-    }
-    c->smax = smax;
-    return off ? last : kmax;
-}
-
 /* Test hook (tests/test_particles_integrate.c): one pass of a group of nv
  * ray vectors (1..64) through integrate_two and through integrate_buffer
  * (the general loop, one vector at a time) on the same random inputs made
@@ -345,8 +293,6 @@ int LC_KFN(lc_pintegrate_probe)(int mode, int nv, uint64_t seed, float alpha_sto
         c[i].kf = (int32_t *)(fm + off), off += (size_t)n + 16;
         c[i].kl = (int32_t *)(fm + off), off += (size_t)n + 16;
         c[i].touched = (uint32_t *)(fm + off), off += 64 + 16;
-        c[i].vs = (int32_t *)(fm + off), off += 64 + 16; /* zeroed: no pass offsets */
-        c[i].smax = 0;
         c[i].buf = fm + off, off += (size_t)KR * (size_t)rays + 16;
         c[i].K = KR;
     }
@@ -462,9 +408,7 @@ static inline int pass_end(int kp, int len, int kmax)
  * terms behind opaque samples; 24 took dense1e6 far 5% faster and 1e6 and
  * 1tw7 far the same or 2% faster, 16 dense1e6 7% faster but 1e6 and 1tw7
  * far 3-4% slower). */
-#ifndef PASS_FIRST_BIG
 #define PASS_FIRST_BIG 24
-#endif
 
 /* The same with the eye inside the particles' grown box (session 9: close
  * views take 32x32 groups too; fixed passes at 32x32 there, avx512, CPU s:
@@ -519,7 +463,6 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             /* Listing 3, line 3: rays, their box interval and lattice range */
             int kmin, kmax;
             setup_group(s, f, t, &c, gx, gy, nv, vpr, &kmin, &kmax, st);
-            kmax = pass_offsets(&c, nv, kmin, kmax, PV_OFFSETS);
             if (cones) vcone_make(&c, nv);
             /* Listing 3, lines 4-6: passes of K samples until every ray is opaque,
                in chunks of passes that share one BVH walk (the group list) */
@@ -528,8 +471,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             for (int kc = kmin; kc <= kmax && !done;) {
                 int kc1 = pass_end(kc, chunk * P, kmax);
                 int n = -1; /* entries in the list; -1: a walk per pass */
-                if (c.list && set_windows(f, &c, nv, kc, kc1))
-                    n = collect_group(s, f, &c, nv, vshift, kc, kc1 + c.smax, dt, st);
+                if (c.list && set_windows(f, &c, nv, kc, kc1)) n = collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);
                 int fits = n >= 0;
                 for (int kp = kc, kend; kp <= kc1; kp = kend + 1) {
                     kend = pass_end(kp, P, kc1);
@@ -539,7 +481,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                         for (int v = 0; v < nv && !alive; v++) {
                             int o = v * LC_W;
                             alive = vm_any(vm_and(vf_lt(vf_load(c.ca + o), vf_set1(f->alpha_stop)),
-                                                  vi_gt(vi_load(c.kl + o), vi_set1(kend + c.vs[v]))));
+                                                  vi_gt(vi_load(c.kl + o), vi_set1(kend))));
                         }
                         if (!alive) {
                             done = 1;
@@ -549,7 +491,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
                     }
                     st->passes++;
                     clear_buffer(s, &c, rays, nf, K, comps, kend - kp + 1);
-                    for (int k = kp - PG_ANCHOR; k <= kend + c.smax + 1; k++) c.kdt[k - kp + PG_ANCHOR] = (float)k * dt;
+                    for (int k = kp - PG_ANCHOR; k <= kend + 1; k++) c.kdt[k - kp + PG_ANCHOR] = (float)k * dt;
                     for (int v = 0; v < nv; v++) c.touched[v] = 0;
                     if (n >= 0)
                         n = deposit_list(s, f, &c, nv, vshift, n, kp, kend, dt, comps, st);

@@ -6,14 +6,13 @@
 #ifndef LC_PARTICLES_INTEGRATE_H
 #define LC_PARTICLES_INTEGRATE_H
 
-/* Listing 2, lines 11-13: the buffered samples of every ray of the group,
- * front to back through the mode (a constant, so each mode gets its own
- * loop): vector v's pass is kp + vs[v] .. kend + vs[v] (pass_offsets), its
- * sample k in buffer row k - kp - vs[v]. */
+/* Listing 2, lines 11-13: the buffered samples kp..kend of every ray of the
+ * group, front to back through the mode (a constant, so each mode gets its
+ * own loop). */
 static inline __attribute__((always_inline)) float integrate_buffer(const lc_kparticles *s, const lc_kframe *f,
                                                                    int mode, const cscratch *c,
-                                                                   int nv, int K, int nf, int kp0, int kend0,
-                                                                   int comps, const mprobe *probe, lc_kstats *st)
+                                                                   int nv, int K, int nf, int kp, int kend, int comps,
+                                                                   const mprobe *probe, lc_kstats *st)
 {
     const int rays = buf_stride(nv);
     const int skip = skip_base(s, f);
@@ -23,7 +22,6 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
         int o = v * LC_W;
         vmask live = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
         if (vm_none(live)) continue;
-        const int kp = kp0 + c->vs[v], kend = kend0 + c->vs[v];
         /* no particle reached these rays in this pass: every sample is the bias (0
            for particles) and, with tau(bias) = 0, blends to exactly nothing */
         if (skip && !c->touched[v]) continue;
@@ -82,7 +80,7 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
 
 /* One ray vector's state in integrate_two. */
 typedef struct ivec {
-    int o, kp; /* kp: the vector's pass offset (vs[v]): its sample k + kp in row k - kp0 */
+    int o;
     vmask live, live0;
     vint kf, kl, klp, kdie;
     vcolor col;
@@ -92,8 +90,6 @@ typedef struct ivec {
 static inline __attribute__((always_inline)) void ivec_load(const cscratch *c, int v, int kend, ivec *q)
 {
     q->o = v * LC_W;
-    q->kp = c->vs[v];
-    kend += q->kp;
     q->live = q->live0 = vf_le(vf_load(c->w0 + q->o), vf_load(c->w1 + q->o));
     q->kf = vi_load(c->kf + q->o), q->kl = vi_load(c->kl + q->o);
     q->klp = vi_min(q->kl, vi_set1(kend));
@@ -125,7 +121,6 @@ static inline __attribute__((always_inline)) void ivec_sample(const lc_kframe *f
 static inline __attribute__((always_inline)) float ivec_store(const cscratch *c, int v, int kp, ivec *q,
                                                               lc_kstats *st)
 {
-    kp += q->kp;
     st->samples += q->nsamp;
     float waste = 0.0f;
     float dead = vf_reduce_add_masked(vm_andnot(q->live0, q->live),
@@ -169,15 +164,15 @@ static inline __attribute__((always_inline)) float integrate_two(const lc_kparti
         ivec_load(c, va, kend, &a);
         if (vb < 0) {
             for (int k = kp; k <= kend && vm_any(a.live); k++)
-                ivec_sample(f, mode, skip, vbias, c->buf + (size_t)(k - kp) * (size_t)rays, k + a.kp, &a);
+                ivec_sample(f, mode, skip, vbias, c->buf + (size_t)(k - kp) * (size_t)rays, k, &a);
             waste += ivec_store(c, va, kp, &a, st);
             break;
         }
         ivec_load(c, vb, kend, &b);
         for (int k = kp; k <= kend && (vm_any(a.live) || vm_any(b.live)); k++) {
             const float *p = c->buf + (size_t)(k - kp) * (size_t)rays;
-            ivec_sample(f, mode, skip, vbias, p, k + a.kp, &a);
-            ivec_sample(f, mode, skip, vbias, p, k + b.kp, &b);
+            ivec_sample(f, mode, skip, vbias, p, k, &a);
+            ivec_sample(f, mode, skip, vbias, p, k, &b);
         }
         waste += ivec_store(c, va, kp, &a, st);
         waste += ivec_store(c, vb, kp, &b, st);

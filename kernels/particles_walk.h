@@ -99,7 +99,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     for (int v = 0; v < nv; v++) {
         if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the leaf's box misses these rays */
-        int o = v * LC_W, kpv = kp + c->vs[v], kev = kend + c->vs[v]; /* the vector's pass */
+        int o = v * LC_W;
         vfloat w0 = vf_load(c->w0 + o), w1 = vf_load(c->w1 + o);
         vmask m = vf_le(w0, w1);
         if (vm_none(m)) continue;
@@ -118,11 +118,11 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         if (vm_none(m)) continue;
         int ka = (int)__builtin_floorf(vf_reduce_min_masked(m, ta) / dt);
         int kb = (int)__builtin_ceilf(vf_reduce_max_masked(m, tb) / dt);
-        ka = ka < kpv ? kpv : ka;
-        kb = kb > kev ? kev : kb;
+        ka = ka < kp ? kp : ka;
+        kb = kb > kend ? kend : kb;
         if (ka > kb) continue;
-        uint64_t e = deposit_samples(&gc, c->kdt + c->vs[v], fb, rays, o, comps, kpv, ka, kb, r2s, gscale, tc, d2,
-                                     ocx, ocy, ocz, dx, dy, dz, m);
+        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, gscale, tc, d2, ocx, ocy,
+                                     ocz, dx, dy, dz, m);
         c->touched[v] += (uint32_t)e;
         st->kernel_evals += e;
     }
@@ -244,28 +244,13 @@ static inline uint64_t vcone_bits(const cscratch *c, uint64_t todo, float ocx, f
  * term counts stay as they were (tests/test_particles_range.c). In session
  * 10's counts 24-48% of the list deposit's (particle, vector) pairs had no
  * term in their pass (the entry's range spans several passes). */
-static inline int eye_range_out(const float *kd, int ka, int kb, float o2, float rg)
-{
-    float tn = kd[kb] + rg, tf = kd[ka] - rg;
-    return tn * tn < o2 * 0.9999f || (tf > 0.0f && tf * tf > o2 * 1.0001f);
-}
-
 static inline int eye_range_misses(const float *kd, int ka, int kb, float ox, float oy, float oz, float x2)
 {
     float o2 = ox * ox + oy * oy + oz * oz;
     float rg = (sqrtf(x2) + 1e-5f * (fabsf(ox) + fabsf(oy) + fabsf(oz))) * 1.0001f + 1e-6f;
-    return eye_range_out(kd, ka, kb, o2, rg);
+    float tn = kd[kb] + rg, tf = kd[ka] - rg;
+    return tn * tn < o2 * 0.9999f || (tf > 0.0f && tf * tf > o2 * 1.0001f);
 }
-
-/* A list entry's samples and live vectors per pass offset (pass_offsets):
- * class q holds the live vectors with offset q PV_GRAIN, lv[q] (0: none or
- * the entry misses their pass), and the entry's samples within their pass,
- * ka[q]..kb[q]. */
-typedef struct pvclass {
-    uint64_t lv[PV_SHIFT_MAX / PV_GRAIN + 1];
-    int ka[PV_SHIFT_MAX / PV_GRAIN + 1], kb[PV_SHIFT_MAX / PV_GRAIN + 1];
-    int n;
-} pvclass;
 
 /* The same from a group list entry (one walk per group): samples ka..kb
  * (the entry's range over the group, clipped to the pass) on the vectors of
@@ -276,9 +261,9 @@ typedef struct pvclass {
  * and every sample within a lane's window that deposit above fills is
  * filled here with the same value: the used samples sum the same terms. */
 static inline __attribute__((always_inline)) void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv,
-                                                                 int kp, int kend, int ka, int kb, float dt, int comps,
-                                                                 int32_t i, float cstep, uint64_t vbits, int vshift,
-                                                                 const pvclass *pq, const float *eye, lc_kstats *st)
+                                                                 int kp, int ka, int kb, float dt, int comps, int32_t i,
+                                                                 float cstep, uint64_t vbits, int vshift,
+                                                                 uint64_t live, const float *eye, lc_kstats *st)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
@@ -288,21 +273,9 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
     /* vshift 0: the set bits of vbits (the list found the support misses
        the other vectors) among the live vectors, in order */
-    uint64_t todo = 0;
-    const float *kd = c->kdt + (PG_ANCHOR - kp);
-    if (vshift) {
-        if (eye && eye_range_misses(kd, ka, kb, cx - eye[0], cy - eye[1], cz - eye[2], x2)) return;
-    } else {
-        /* per offset class: the range test on the class's own samples */
-        float ox = eye ? cx - eye[0] : 0.0f, oy = eye ? cy - eye[1] : 0.0f, oz = eye ? cz - eye[2] : 0.0f;
-        float o2 = ox * ox + oy * oy + oz * oz;
-        float rg = (sqrtf(x2) + 1e-5f * (fabsf(ox) + fabsf(oy) + fabsf(oz))) * 1.0001f + 1e-6f;
-        for (int q = 0; q < pq->n; q++) {
-            uint64_t b = pq->lv[q] & vbits;
-            if (b && !(eye && eye_range_out(kd, pq->ka[q], pq->kb[q], o2, rg))) todo |= b;
-        }
-        if (!todo) return;
-    }
+    uint64_t todo = vshift ? 0 : vbits & live;
+    if (eye && eye_range_misses(c->kdt + (PG_ANCHOR - kp), ka, kb, cx - eye[0], cy - eye[1], cz - eye[2], x2))
+        return;
 #if VCONES
     if (eye && c->vc && todo) todo = vcone_bits(c, todo, cx - eye[0], cy - eye[1], cz - eye[2], x2);
 #endif
@@ -314,15 +287,7 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
         } else if (!((vbits >> (v >> vshift)) & 1u)) {
             continue;
         }
-        /* the entry's samples within the vector's pass */
-        int o = v * LC_W, kav, kbv;
-        if (!vshift) {
-            kav = pq->ka[c->vs[v] / PV_GRAIN], kbv = pq->kb[c->vs[v] / PV_GRAIN];
-        } else {
-            int kpv = kp + c->vs[v], kev = kend + c->vs[v];
-            kav = ka > kpv ? ka : kpv, kbv = kb < kev ? kb : kev;
-            if (kav > kbv) continue;
-        }
+        int o = v * LC_W;
         vmask m = vf_le(vf_load(c->w0 + o), vf_load(c->w1 + o));
         if (vm_none(m)) continue;
         vfloat dx = vf_load(c->dx + o), dy = vf_load(c->dy + o), dz = vf_load(c->dz + o);
@@ -334,8 +299,8 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
-        uint64_t e = deposit_samples(&gc, c->kdt + c->vs[v], fb, rays, o, comps, kp + c->vs[v], kav, kbv, r2s, 2.0f * nir,
-                                     tc, d2, ocx, ocy, ocz, dx, dy, dz, m);
+        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, 2.0f * nir, tc, d2, ocx,
+                                     ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
            their window would otherwise mark it) */
         c->touched[v] += (uint32_t)e;
@@ -586,11 +551,9 @@ static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const
                         : walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 1, st);
 }
 
-/* One pass from the group list: deposits the n entries overlapping the
- * pass (kp..kend + smax: vector v's pass is kp + vs[v] .. kend + vs[v],
- * pass_offsets) in list order, each on its vectors' own passes, and keeps,
- * in order, those reaching past kend (the end of the passes of vectors
- * without offset). Returns the entries kept. */
+/* One pass from the group list: deposits the n entries overlapping kp..kend
+ * in list order and keeps, in order, those reaching past kend. Returns the
+ * entries kept. */
 static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparticles *s, const cscratch *c, int nv,
                                                                   int vshift, int n, int kp, int kend, float dt,
                                                                   int comps, const float *eye, lc_kstats *st)
@@ -598,39 +561,17 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
     float cnir = 1.0f, cstep = 0.0f;
     const float *ctab = particle_cstep(s, dt);
     int kept = 0;
-    /* vectors with a live ray by pass offset (nv <= 64; unused otherwise): an
-       entry visits only the vectors whose passes it overlaps, over the hull of
-       those passes */
-    enum { NS = PV_SHIFT_MAX / PV_GRAIN + 1 };
-    uint64_t live[NS];
-    const int ns = c->smax / PV_GRAIN + 1;
-    /* one at a time (an initialiser was expanded with zmm stores on avx512_8) */
-    for (int q = 0; q < ns; q++) __atomic_store_n(&live[q], 0, __ATOMIC_RELAXED);
-    pvclass pq;
-    pq.n = ns;
+    uint64_t live = 0; /* vectors with a live ray (nv <= 64; unused otherwise) */
     for (int v = 0; v < nv && v < 64; v++)
-        live[c->vs[v] / PV_GRAIN] |=
-            (uint64_t)vm_any(vf_le(vf_load(c->w0 + v * LC_W), vf_load(c->w1 + v * LC_W))) << v;
+        live |= (uint64_t)vm_any(vf_le(vf_load(c->w0 + v * LC_W), vf_load(c->w1 + v * LC_W))) << v;
     for (int j = 0; j < n; j++) {
         gent e = c->list[j];
-        if (e.ka <= kend + c->smax && e.kb >= kp) {
-            uint64_t lv = 0;
-            int ka = 1 << 30, kb = -(1 << 30);
-            for (int q = 0; q < ns; q++) {
-                int a = kp + q * PV_GRAIN, b = kend + q * PV_GRAIN;
-                pq.lv[q] = 0;
-                if ((!live[q] && !vshift) || e.ka > b || e.kb < a) continue;
-                pq.lv[q] = live[q];
-                lv |= live[q];
-                a = e.ka > a ? e.ka : a, b = e.kb < b ? e.kb : b;
-                pq.ka[q] = a, pq.kb[q] = b;
-                ka = a < ka ? a : ka, kb = b > kb ? b : kb;
-            }
-            if (!vshift && !(lv & e.vbits)) ka = kb + 1; /* none of its vectors */
-            for (int32_t i = e.first; i < e.first + e.count && ka <= kb; i++) {
+        if (e.ka <= kend && e.kb >= kp) {
+            for (int32_t i = e.first; i < e.first + e.count; i++) {
                 if (ctab) cstep = ctab[i];
                 else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
-                deposit_entry(s, c, nv, kp, kend, ka, kb, dt, comps, i, cstep, e.vbits, vshift, &pq, eye, st);
+                deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
+                              e.vbits, vshift, live, eye, st);
             }
         }
         if (e.kb > kend) c->list[kept++] = e;
