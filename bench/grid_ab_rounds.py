@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A/B of interleaved bench_grid rounds: a file of "### BINARY round N" headers,
 each followed by bench_grid lines (one or more --targets). Per case (volume,
-size, view, shade, target) and binary: the median of the rounds' cpu_ms (each
+size, view, shade and mode unless dvr, target) and binary: the median of the rounds' cpu_ms (each
 already a median over --repeats) with the min-max over rounds, and new vs base;
 when the runs hold both avx2 and avx512, then per binary the width ratio
 avx2 / avx512 of the medians. usage: grid_ab_rounds.py RESULTS.txt BASE_BINARY NEW_BINARY"""
@@ -17,7 +17,8 @@ for l in open(f):
     if not l.startswith('grid '):
         continue
     kv = dict(re.findall(r'(\w+)=(\S+)', l))
-    key = (kv['volume'], kv['size'], kv['view'], kv['shade'], kv.get('target', '-'))
+    key = (kv['volume'], kv['size'], kv['view'], kv['shade'] + ('' if kv.get('mode', 'dvr') == 'dvr' else ' ' + kv['mode']),
+           kv.get('target', '-'))
     d.setdefault(key, {}).setdefault(cur, []).append((float(kv['cpu_ms']), kv['msamples'], kv.get('nodes', '')))
 
 med = {}
