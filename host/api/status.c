@@ -17,6 +17,8 @@ const char *lc_status_string(lc_status status)
     case LC_ERROR_IO: return "i/o error";
     case LC_ERROR_FORMAT: return "format error";
     case LC_ERROR_INTERNAL: return "internal error";
+    case LC_CANCELLED: return "cancelled";
+    case LC_TIMEOUT: return "timed out";
     }
     return "unknown status";
 }

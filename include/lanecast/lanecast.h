@@ -10,7 +10,8 @@
  *   per thread (lc_last_error), and goes to the device's log callback.
  * - The library never aborts or exits on bad input.
  * - Thread safety (docs/DEVELOPERS.md "Threads"): one device may be used
- *   from one thread at a time; distinct devices are independent. Volumes and
+ *   from one thread at a time (render jobs run on threads of their own, see
+ *   lc_render_begin); distinct devices are independent. Volumes and
  *   TFs are only read after creation (except by lc_particles_set_params and
  *   lc_grid_set_params), so one volume and one TF may be rendered, sampled
  *   and queried from several threads at once, each thread with its own
@@ -52,7 +53,11 @@ typedef enum lc_status {
     LC_ERROR_OUT_OF_MEMORY = -3,
     LC_ERROR_IO = -4,               /* a file could not be opened, read or written */
     LC_ERROR_FORMAT = -5,           /* a file's content is malformed */
-    LC_ERROR_INTERNAL = -6          /* a bug: please report it with the message */
+    LC_ERROR_INTERNAL = -6,         /* a bug: please report it with the message */
+    LC_CANCELLED = -7,              /* a render stopped by lc_job_cancel or lc_render_desc.cancel:
+                                       its image is not complete */
+    LC_TIMEOUT = -8                 /* lc_job_wait: the job still runs after the timeout (not an
+                                       error: wait again, or cancel) */
 } lc_status;
 
 /* A static string naming the status ("invalid argument", ...). Never NULL. */
@@ -799,10 +804,22 @@ typedef struct lc_render_desc {
     int packet;                /* packet side in rays (8 = 8x8 groups); 0 = 8, 1 = lane-width packets */
     int tile;                  /* tile side in pixels for threads; 0 = the kind's choice (32; particles:
                                   64 with 32x32 groups and the eye inside the data) */
-    /* Called on the calling thread as tiles complete, with the fraction done
-     * in [0, 1]; NULL = none. */
+    /* Called on the calling thread (a job's own thread under lc_render_begin)
+     * as tiles complete, with the fraction done in [0, 1]; NULL = none. */
     void (*progress)(void *user, float fraction);
     void *progress_user;
+    /* Navigation quality, for frames rendered while a camera moves:
+     * pixel_scale s in 2..16 renders every s-th pixel in x and y (pixels
+     * (s i, s j), with the rays of the full image) and fills each s x s block
+     * with it; 0 or 1 = every pixel. step_scale >= 1 multiplies dt (0 = 1). */
+    int pixel_scale;
+    float step_scale;
+    /* Asked before every tile, from the render's worker threads: non-zero
+     * stops the render, which returns LC_CANCELLED with no complete image
+     * (lc_render's rgba then holds some tiles). Must be thread-safe and cheap,
+     * e.g. a load of an atomic flag set by a signal handler. NULL = never. */
+    int (*cancel)(void *user);
+    void *cancel_user;
 } lc_render_desc;
 
 typedef struct lc_render_stats {
@@ -824,8 +841,91 @@ typedef struct lc_render_stats {
  * alpha_stop, shading, lighting, packet, range and the TF's field count, a
  * mode out of range, iso a non-finite iso, iso or slice a field outside
  * 0 .. nfields - 1, slice nplanes outside 1 .. LC_MAX_PLANES or a plane with a
- * non-finite point or a zero or non-finite normal. */
+ * non-finite point or a zero or non-finite normal, pixel_scale outside
+ * 0 .. 16, step_scale below 1 or not finite. LC_CANCELLED when desc->cancel
+ * stopped it. */
 LC_API lc_status lc_render(lc_device *device, const lc_render_desc *desc, float *rgba, lc_render_stats *stats);
+
+/* ---------------------------------------------------------------- render jobs (progressive, cancellable) */
+
+/* A render that runs on a thread of its own while the caller goes on: a
+ * preview pass at reduced resolution, then the full image, which is bit for
+ * bit what lc_render gives for the same descriptor (on every target and
+ * thread count). Passes report through a callback; the job can be waited
+ * for with a timeout, polled and cancelled (within a tile: milliseconds).
+ *
+ * Threads: lc_render_begin validates the descriptor and prepares the frame
+ * on the calling thread (errors are reported there, as by lc_render), then
+ * returns. Jobs on one device run one after another in the order begun; a
+ * new job waits for the one before it, so a caller whose camera moved
+ * cancels the old job first. lc_job_cancel and lc_job_get_progress may be
+ * called from any thread (the callbacks included); lc_job_wait and
+ * lc_job_destroy from one thread at a time. While a job exists, its volume,
+ * TF and rgba buffer must stay alive and unchanged (no set_params); between
+ * jobs they may change as between lc_render calls. Destroy every job before
+ * its device. */
+typedef struct lc_job lc_job;
+
+typedef enum lc_job_state {
+    LC_JOB_QUEUED = 0,    /* waiting for the device's earlier jobs */
+    LC_JOB_RUNNING = 1,
+    LC_JOB_DONE = 2,      /* rgba holds the finished image */
+    LC_JOB_CANCELLED = 3  /* stopped before the end: rgba holds no complete image */
+} lc_job_state;
+
+typedef struct lc_job_progress {
+    lc_job_state state;
+    int pass;         /* passes finished, 0 .. npasses */
+    int npasses;      /* 1 (navigation quality, or no preview) or 2 (preview, full) */
+    int scale;        /* pixel scale of the last finished pass (0: none yet; 1: full resolution) */
+    float fraction;   /* of the whole job's pixels, 0 .. 1 */
+    double seconds;   /* since lc_render_begin returned, to now or to the job's end */
+} lc_job_progress;
+
+/* What the pass callback sees, on the job's thread, after each pass. */
+typedef struct lc_job_pass {
+    int pass;           /* 1 .. npasses */
+    int npasses;
+    int scale;          /* every scale-th pixel, filled to scale x scale blocks; 1 = every pixel */
+    int final;          /* 1: the last pass; rgba is the finished image */
+    const float *rgba;  /* the job's image (the caller's buffer): read it during the callback */
+    int width, height;
+    double seconds;     /* since lc_render_begin returned */
+} lc_job_pass;
+
+typedef struct lc_job_desc {
+    /* Pixel scale of the preview pass: 2, 4 or 8; 0 = by image size (2 below
+     * 256 pixels on the longer side, 4 below 2048, 8 from there); 1 = no
+     * preview pass. Ignored when the render descriptor asks for navigation
+     * quality (pixel_scale > 1): that is the job's one pass. */
+    int preview_scale;
+    /* Called on the job's thread after each pass (not after a cancelled one);
+     * it may copy pass->rgba and call lc_job_cancel and lc_job_get_progress,
+     * but not wait for or destroy the job. NULL = none. */
+    void (*on_pass)(void *user, const lc_job_pass *pass);
+    void *user;
+} lc_job_desc;
+
+/* Starts a render of desc into rgba (width * height * 4 floats, as
+ * lc_render) and returns at once with *out set; job_desc may be NULL
+ * (defaults). The descriptor is copied; its TF, volume and rgba are not.
+ * Errors (the descriptor's, as lc_render's) leave *out NULL and start
+ * nothing. */
+LC_API lc_status lc_render_begin(lc_device *device, const lc_render_desc *desc, const lc_job_desc *job_desc,
+                                 float *rgba, lc_job **out);
+/* Waits up to timeout_seconds (< 0: without limit; 0: only looks) for the
+ * job to end: LC_OK when its image is finished (stats of all its passes,
+ * seconds from begin to end, when stats is not NULL), LC_CANCELLED when it
+ * was cancelled first, LC_TIMEOUT when it still runs. */
+LC_API lc_status lc_job_wait(lc_job *job, double timeout_seconds, lc_render_stats *stats);
+/* Asks the job to stop: it ends within the tiles being rendered (or at
+ * once, while queued) as LC_JOB_CANCELLED; a job already done stays done.
+ * Returns at once; NULL is ignored. */
+LC_API void lc_job_cancel(lc_job *job);
+LC_API lc_status lc_job_get_progress(const lc_job *job, lc_job_progress *out);
+/* Cancels the job if it still runs, waits until its thread has let go of
+ * rgba (a tile's time), and frees it. NULL is ignored. */
+LC_API void lc_job_destroy(lc_job *job);
 
 /* ---------------------------------------------------------------- images */
 
