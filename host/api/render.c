@@ -221,9 +221,10 @@ static int stop_asked(const lci_pass_ctl *c)
     return (c->stop && atomic_load_explicit(c->stop, memory_order_relaxed)) || (c->cancel && c->cancel(c->cancel_user));
 }
 
-/* Every pixel of a tile is written (cleared first: kernels leave pixels no
- * ray reaches untouched), so a pass needs no clear of its own and a job's
- * full pass replaces its preview tile by tile. */
+/* A tile is cleared before its kernel runs, so a pass does not depend on
+ * what the buffer held (depth is written only in iso and slice modes) and
+ * a job's full pass replaces its preview tile by tile, with no clear of the
+ * whole image between them. */
 static void clear_tile(const lc_ktile *t)
 {
     for (int y = t->y0; y < t->y1; y++) {
