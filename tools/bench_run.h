@@ -26,5 +26,9 @@ typedef struct bench_group {
 /* Checks and times the group, writes one record per target. Returns the
  * number of targets whose check failed or whose render failed. */
 int bench_run_group(const bench_group *g, const lc_render_desc *d);
+/* --jobs: full and navigation frames, a job's passes and `trials` cancel
+ * latencies per target (bench_job.c), one "job" record each. Returns the
+ * number of targets that failed. */
+int bench_job_group(const bench_group *g, const lc_render_desc *d, int trials);
 
 #endif

@@ -51,6 +51,9 @@ static const char help[] =
     "  --roof-seconds S  time per roofline kernel (default 0.3; case records carry the fraction\n"
     "                    of these ceilings they reach)\n"
     "  --width-study     targets avx2, avx512_8, avx512 (instruction set vs width), interleaved\n"
+    "  --jobs N          interactive timings instead (records \"job\"): full frame, navigation frame\n"
+    "                    (pixel_scale 2), a render job's preview and refined image, and the latency of\n"
+    "                    N cancels at random points of a frame (median, p95, worst)\n"
     "\n"
     "examples:\n"
     "  lanecast bench --quick\n"
@@ -58,6 +61,7 @@ static const char help[] =
     "  lanecast bench --scenes uniform:1e5 --alpha-stop 0.9,0.95,0.97,0.99,1 --targets avx512\n"
     "  lanecast bench --roofline\n"
     "  lanecast bench --width-study --scenes uniform:1e5,grid:256\n"
+    "  lanecast bench --jobs 200 --scenes engine,1tw7,uniform:1e6 --sizes 1024 --threads 2 --targets avx2\n"
     "\n"
     "exit status: 0 ok, 1 a check or render failed (the records say which), 2 bad usage\n";
 
@@ -68,7 +72,7 @@ typedef struct list {
 
 typedef struct opts {
     list scenes, views, sizes, targets, threads, methods, modes, packets, shadings, alphas, sigmas;
-    int warmup, repeats, min_repeats, check_size, quick, roofline, width_study;
+    int warmup, repeats, min_repeats, check_size, quick, roofline, width_study, jobs;
     double seconds, roof_seconds;
     const char *out, *data;
 } opts;
@@ -198,6 +202,8 @@ static int parse_opts(int argc, char **argv, opts *o)
         else if (!strcmp(a, "--no-check")) o->check_size = 0;
         else if (!strcmp(a, "-o")) {
             if (!(o->out = arg_value(CMD, argc, argv, &i))) return -1;
+        } else if (!strcmp(a, "--jobs")) {
+            if (!(v = arg_value(CMD, argc, argv, &i)) || arg_int(CMD, a, v, 1, 100000, &o->jobs)) return -1;
         } else if (!strcmp(a, "--data")) {
             if (!(o->data = arg_value(CMD, argc, argv, &i))) return -1;
         } else if (!strcmp(a, "--warmup") || !strcmp(a, "--repeats") || !strcmp(a, "--min-repeats") ||
@@ -309,7 +315,7 @@ static void run_view(run *R, bench_scene *sc, const char *view)
                                     fprintf(stderr, CMD ": %s %s %dx%d %s %s packet %d %s threads %d ...\n", sc->name, view,
                                             g.width, g.height, g.mode_name, g.method_name, g.packet, g.shading_name,
                                             g.threads);
-                                    R->bad += bench_run_group(&g, &d);
+                                    R->bad += o->jobs ? bench_job_group(&g, &d, o->jobs) : bench_run_group(&g, &d);
                                     R->cases++;
                                 }
             }
