@@ -406,7 +406,10 @@ def main():
            "times the targets in interleaved rounds and writes one JSON line per case and target (median and spread, "
            "fps, ns per ray, samples/s, Gaussians/s, build time and bytes, peak RSS, CPU, commit, compiler). "
            "`--quick` runs as a test, `--roofline` measures this machine's ceilings, `--width-study` separates "
-           "instruction set from width. `bench/report.py` made this page from the records in `bench/results/`; "
+           "instruction set from width, `--jobs N` times what an interactive user waits for (navigation frames, "
+           "a render job's passes, cancel latency), and `--baseline EXE` compares this build with another build "
+           "of lanecast in interleaved rounds (ratios of wall and CPU time per case). "
+           "`bench/report.py` made this page from the records in `bench/results/`; "
            "`bench/peers.sh` measures VTK and SPLASH on the same data.\n"]
     if a.command:
         doc.append("Made with:\n\n```sh\n%s\n```\n" % a.command.strip())
