@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include "bench_run.h"
@@ -86,16 +87,19 @@ static void read_run(const char *path, int side, ab_case *cs, int *ncs)
     fclose(f);
 }
 
-/* Runs exe bench ARGS -o out, its output to /dev/null; 0 when it exited 0. */
-static int run_bench(const char *exe, char **args, int nargs, const char *out)
+/* Runs exe bench ARGS -o out, its output to /dev/null; 0 when it exited 0.
+ * *cpu = the run's CPU seconds (user + system of every thread). */
+static int run_bench(const char *exe, char **args, int nargs, const char *out, double *cpu)
 {
-    char **av = calloc((size_t)nargs + 8, sizeof *av);
+    char **av = calloc((size_t)nargs + 16, sizeof *av); /* the flags added below and NULL */
     if (!av) return -1;
     int k = 0;
     av[k++] = (char *)exe;
     av[k++] = "bench";
     for (int i = 0; i < nargs; i++) av[k++] = args[i];
     av[k++] = "--no-check";
+    av[k++] = "--seconds"; /* every run renders the same frames: no time bound */
+    av[k++] = "1e6";
     av[k++] = "--roof-seconds";
     av[k++] = "0.01";
     av[k++] = "-o";
@@ -110,7 +114,10 @@ static int run_bench(const char *exe, char **args, int nargs, const char *out)
     }
     free(av);
     int st = 0;
-    if (pid < 0 || waitpid(pid, &st, 0) < 0) return -1;
+    struct rusage ru;
+    if (pid < 0 || wait4(pid, &st, 0, &ru) < 0) return -1;
+    *cpu = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
+           1e-6 * (double)ru.ru_stime.tv_usec;
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
@@ -157,6 +164,7 @@ int bench_ab(const char *baseline, int rounds, char **args, int nargs, FILE *out
     close(fd);
     static ab_case cs[AB_MAX_CASES];
     int ncs = 0, bad = 0;
+    double run_cpu[2][AB_MAX_ROUNDS]; /* whole runs: the same work in both builds (loads, builds, renders) */
     if (rounds > AB_MAX_ROUNDS) rounds = AB_MAX_ROUNDS;
     for (int r = 0; r < rounds && !bad; r++) {
         for (int k = 0; k < 2; k++) {
@@ -165,7 +173,7 @@ int bench_ab(const char *baseline, int rounds, char **args, int nargs, FILE *out
             FILE *t = fopen(tmpl, "w");
             if (t) fclose(t);
             fprintf(stderr, "lanecast bench: A/B round %d of %d: %s ...\n", r + 1, rounds, side ? "baseline" : "this build");
-            int rc = run_bench(exe, args, nargs, tmpl);
+            int rc = run_bench(exe, args, nargs, tmpl, &run_cpu[side][r]);
             if (rc != 0) {
                 fprintf(stderr, "lanecast bench: --baseline: %s bench exited with status %d (run it alone to see why)\n",
                         exe, rc);
@@ -177,6 +185,15 @@ int bench_ab(const char *baseline, int rounds, char **args, int nargs, FILE *out
     }
     unlink(tmpl);
     if (bad) return 1;
+    double rmed = 0, rlo = 0, rhi = 0;
+    ratios(run_cpu[0], rounds, run_cpu[1], rounds, &rmed, &rlo, &rhi);
+    fprintf(out, "{\"record\": \"ab_runs\", \"rounds\": %d, \"this_cpu_s\": %.4g, \"base_cpu_s\": %.4g, "
+                 "\"cpu_ratio_median\": %.4f, \"cpu_ratio_min\": %.4f, \"cpu_ratio_max\": %.4f, \"baseline\": ",
+            rounds, median(run_cpu[0], rounds), median(run_cpu[1], rounds), rmed, rlo, rhi);
+    bench_json_str(out, baseline);
+    fprintf(out, ", %s}\n", bench_machine_json());
+    fprintf(stderr, "lanecast bench: whole runs' CPU time (loads, builds and the same renders): baseline / this %.3f "
+                    "(%.3f..%.3f over %d rounds)\n", rmed, rlo, rhi, rounds);
     fprintf(stderr, "%-64s %10s %10s %8s %15s %8s\n", "case (baseline / this: > 1 = this is faster)", "this ms",
             "base ms", "ratio", "min..max", "cpu");
     for (int i = 0; i < ncs; i++) {
