@@ -9,6 +9,7 @@
 #endif
 
 static int started, nranks = 1, myrank = 0;
+static int agreed_failure; /* every rank knows of a failure: they finish MPI normally */
 
 /* The rank count the launcher (OpenMPI, MPICH/Hydra, PMIx) put in the environment; 1 when none. */
 static int launched_ranks(void)
@@ -46,6 +47,12 @@ int cli_mpi_begin(const char *cmd)
 int cli_mpi_end(int rc)
 {
 #if LC_HAVE_MPI
+    /* A rank that fails outside a collective (a file it cannot open, before
+       the ranks agree) would leave the others waiting in one: a failure
+       aborts the whole job instead, after the rank printed its message. */
+    fflush(stdout);
+    fflush(stderr);
+    if (started && rc != 0 && !agreed_failure) MPI_Abort(MPI_COMM_WORLD, rc);
     if (started) MPI_Finalize();
 #endif
     started = 0;
@@ -58,7 +65,10 @@ int cli_mpi_rank(void) { return myrank; }
 lc_status cli_mpi_agree(lc_device *dev, lc_status s)
 {
 #if LC_HAVE_MPI
-    if (started) return lc_mpi_agree(dev, MPI_COMM_WORLD, s);
+    if (started) {
+        s = lc_mpi_agree(dev, MPI_COMM_WORLD, s);
+        agreed_failure |= s != LC_OK;
+    }
 #else
     (void)dev;
 #endif
@@ -93,6 +103,7 @@ lc_status cli_mpi_render(lc_device *dev, const lc_render_desc *d, float *rgba, i
 #if LC_HAVE_MPI
     lc_mpi_stats m;
     lc_status s = lc_mpi_render(dev, MPI_COMM_WORLD, 0, d, rgba, &m);
+    agreed_failure |= s != LC_OK;
     *st = m.render;
     st->seconds = m.render_seconds + m.composite_seconds;
     if (s == LC_OK && stats) print_ranks(&m);

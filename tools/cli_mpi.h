@@ -11,7 +11,8 @@
  * than one ranks. 0 on success (also without MPI), else an exit status
  * (after printing one line: a build without MPI). */
 int cli_mpi_begin(const char *cmd);
-/* Finalises MPI if cli_mpi_begin initialised it; returns rc. */
+/* Finalises MPI if cli_mpi_begin initialised it (rc != 0: aborts every
+ * rank, so none waits for this one); returns rc. */
 int cli_mpi_end(int rc);
 /* Ranks (1 without MPI) and this process's rank (0 without MPI). */
 int cli_mpi_ranks(void);

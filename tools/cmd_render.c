@@ -276,6 +276,11 @@ static int run(ropts *o, int demo)
     if (kind && !demo && kind->defaults &&
         kind->defaults(o->cmd, &o->load, fopts, o->tf || o->colormap || o->nopacity))
         kind = NULL;
+    if (cli_mpi_ranks() > 1) { /* a rank that cannot read the input stops every rank */
+        lc_status ks = cli_mpi_agree(dev, kind ? LC_OK : usage ? LC_ERROR_INVALID_ARGUMENT : LC_ERROR_IO);
+        if (ks != LC_OK && kind) fprintf(stderr, "%s: %s\n", o->cmd, lc_device_last_error(dev));
+        if (ks != LC_OK) kind = NULL;
+    }
     if (!kind) {
         lc_device_destroy(dev);
         return usage ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;

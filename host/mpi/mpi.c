@@ -14,11 +14,12 @@ lc_status lc_mpi_agree(lc_device *dev, MPI_Comm comm, lc_status s)
 {
     int rank;
     MPI_Comm_rank(comm, &rank);
-    int mine[2] = {s != LC_OK ? 1 : 0, -rank}, worst[2];
-    if (MPI_Allreduce(mine, worst, 1, MPI_2INT, MPI_MAXLOC, comm) != MPI_SUCCESS)
+    /* (0 = failed, rank): MINLOC gives the lowest failing rank */
+    int mine[2] = {s != LC_OK ? 0 : 1, rank}, worst[2];
+    if (MPI_Allreduce(mine, worst, 1, MPI_2INT, MPI_MINLOC, comm) != MPI_SUCCESS)
         return lci_error(dev, LC_ERROR_INTERNAL, "lc_mpi_render: MPI_Allreduce of the status failed");
-    if (!worst[0]) return LC_OK;
-    int who = -worst[1];
+    if (worst[0]) return LC_OK;
+    int who = worst[1];
     char msg[LCI_MSG_MAX];
     int code = (int)s;
     if (rank == who) snprintf(msg, sizeof msg, "%s", lc_device_last_error(dev));
