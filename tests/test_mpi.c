@@ -12,49 +12,26 @@
 #include "check.h"
 #include "imgcmp.h"
 #include "lanecast/lanecast_mpi.h"
+#include "dp_scene.h"
 #include "modes_scene.h"
 
 static int rank, nranks;
 
-static const lc_camera views[] = {
-    {LC_PERSPECTIVE, {0.7f, 0.9f, 7.5f}, {0.05f, 0.1f, 0.0f}, {0, 1, 0}, 38.0f, 0.0f},
-    {LC_PERSPECTIVE, {0.15f, -0.1f, 0.3f}, {1.0f, 0.4f, -0.8f}, {0, 1, 0}, 70.0f, 0.0f},
-    {LC_ORTHOGRAPHIC, {-6.0f, 2.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.0f, 5.0f},
-    {LC_PERSPECTIVE, {0.0f, 0.0f, 8.0f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 35.0f, 0.0f},
-};
-static const char *const view_names[] = {"outside", "eye-inside", "ortho", "axis"};
-static const char *const mode_names[] = {"dvr", "mip", "iso", "slice"};
-
 static void compare(lc_device *dev, const char *kind, const lc_volume *v, const lc_tf *tf, lc_mode mode, int vi,
                     float alpha_stop, int w, int h, float iso)
 {
-    lc_render_desc d = {0};
-    d.width = w, d.height = h, d.volume = v, d.tf = tf, d.mode = mode, d.dt = 0.05f, d.alpha_stop = alpha_stop;
-    d.camera = views[vi];
-    d.iso = iso;
-    d.nplanes = 2;
-    d.planes[0] = (lc_plane){{0.1f, 0.0f, 0.0f}, {1.0f, 0.2f, 0.1f}};
-    d.planes[1] = (lc_plane){{0.0f, -0.3f, 0.2f}, {0.1f, 1.0f, -0.3f}};
+    lc_render_desc d = dp_desc(v, tf, mode, vi, alpha_stop, w, h, iso);
     size_t np = (size_t)w * (size_t)h;
     float *got = rank == 0 ? malloc(sizeof(float) * 4 * np) : NULL, *want = malloc(sizeof(float) * 4 * np);
     char label[160];
-    snprintf(label, sizeof label, "%s-%s-%s-a%g-np%d-%dx%d", kind, mode_names[mode], view_names[vi], (double)alpha_stop,
-             nranks, w, h);
+    snprintf(label, sizeof label, "%s-%s-%s-a%g-np%d-%dx%d", kind, dp_mode_names[mode], dp_view_names[vi],
+             (double)alpha_stop, nranks, w, h);
     lc_mpi_stats st;
     lc_status s = lc_mpi_render(dev, MPI_COMM_WORLD, 0, &d, got, &st);
     CHECK_QUIET(s == LC_OK, "%s: %s", label, lc_device_last_error(dev));
     if (rank == 0 && s == LC_OK) {
         lc_render(dev, &d, want, NULL);
-        if (mode != LC_MODE_DVR) {
-            CHECK_QUIET(memcmp(got, want, sizeof(float) * 4 * np) == 0, "%s: not the one-process image to the bit", label);
-        } else if (alpha_stop == 1.0f) {
-            double e = 0.0;
-            for (size_t i = 0; i < 4 * np; i++) e = fmax(e, fabs((double)got[i] - (double)want[i]));
-            CHECK_QUIET(e <= 2e-5, "%s: max |diff| %.3g > 2e-5", label, e);
-        } else {
-            CHECK_QUIET(imgcmp_check_ex(label, got, want, w, h, (1.0 - alpha_stop) * 255.0, IMGCMP_NO_PSNR_BOUND, NULL,
-                                        1, NULL) == 0, "%s: beyond 1 - alpha_stop", label);
-        }
+        dp_check_image(label, got, want, &d);
     }
     free(got), free(want);
 }
