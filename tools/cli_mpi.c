@@ -9,7 +9,9 @@
 #endif
 
 static int started, nranks = 1, myrank = 0;
+#if LC_HAVE_MPI
 static int agreed_failure; /* every rank knows of a failure: they finish MPI normally */
+#endif
 
 /* The rank count the launcher (OpenMPI, MPICH/Hydra, PMIx) put in the environment; 1 when none. */
 static int launched_ranks(void)
