@@ -489,7 +489,8 @@ def main():
                "not kept, measured with the per-kind harnesses (`build/bench/bench_particles`, `bench_grid`, "
                "`bench_rbf`): [particles](%s/particles.md), [grids](%s/grid.md), "
                "[RBF sets and the encoder](%s/rbf.md); what those harnesses still cover that `lanecast bench` "
-               "does not: [bench/README.md](%s/README.md).\n" % (docs, docs, docs, docs))
+               "does not: [bench/README.md](%s/README.md).\n\nData-parallel rendering over MPI (compositing time "
+               "and bytes per rank at P = 2, 1024²): [mpi.md](mpi.md).\n" % (docs, docs, docs, docs))
     text = "\n".join(doc)
     if rel != ".":  # plots and composites live in OUT
         text = re.sub(r"\]\(([^/()]+\.png)\)", lambda mm: "](%s/%s)" % (rel, mm.group(1)), text)

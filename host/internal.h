@@ -38,8 +38,9 @@ void lci_load_progress(lc_device *dev, double fraction);
 /* lc_render with a test hook (host/api/render.c): depth, when not NULL,
  * receives width * height floats, row 0 at the top: in iso and slice modes
  * the distance t along each pixel's ray of the point it shows (the iso hit,
- * the plane point), +inf where it shows nothing; +inf everywhere in the
- * other modes. Tests read iso hit points back through it. */
+ * the plane point), in mip minus the pixel's maximum normalised value, +inf
+ * where it shows nothing; +inf everywhere in dvr. Tests read iso hit points
+ * back through it; data-parallel compositing (host/mpi/) takes the nearest. */
 lc_status lci_render(lc_device *device, const lc_render_desc *desc, float *rgba, float *depth, lc_render_stats *stats);
 
 /* Records an error (device may be NULL), logs it and returns status. */
@@ -91,7 +92,7 @@ lc_status lci_option_ints(lc_device *dev, const char *file, const lc_option *o, 
 long lci_env_long(const char *name, long lo, long hi, long unset);
 
 /* Optional features (host/api/features.c), indexed like lc_feature_get. */
-enum { LCI_FEATURE_ZLIB = 0, LCI_FEATURE_JSON = 1, LCI_FEATURE_LAPACKE = 2, LCI_FEATURE_NIFTI = 3, LCI_FEATURE_HDF5 = 4 };
+enum { LCI_FEATURE_ZLIB = 0, LCI_FEATURE_JSON = 1, LCI_FEATURE_LAPACKE = 2, LCI_FEATURE_NIFTI = 3, LCI_FEATURE_HDF5 = 4, LCI_FEATURE_MPI = 5 };
 /* The error for something this build lacks: "WHERE: WHAT needs LIB, which this
  * build of lanecast lacks (install PKG and rebuild)", LC_ERROR_UNSUPPORTED. */
 lc_status lci_missing(lc_device *dev, const char *where, const char *what, int feature);

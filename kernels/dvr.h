@@ -90,6 +90,55 @@ static inline void dvr_lattice(vfloat t0, vfloat t1, float dt, vint *kf, vint *k
     *kl = vi_select(hit, vf_to_vi(b), vi_set1(0));
 }
 
+/* The first lattice index k with k dt >= t (t may be +-inf), clamped to
+ * [-1, LC_KLATTICE_MAX + 2]; both regions beside a split plane call it on
+ * the same t, so they agree on the sample where one ends and the next begins. */
+static inline vint dvr_region_k(vfloat t, float dt)
+{
+    vfloat x = vf_min(vf_max(vf_div(t, vf_set1(dt)), vf_set1(-1.0f)), vf_set1(LC_KLATTICE_MAX + 1.0f));
+    vfloat a = vf_floor(x);
+    a = vf_select(vf_lt(vf_mul(a, vf_set1(dt)), t), vf_add(a, vf_set1(1.0f)), a);
+    return vf_to_vi(a);
+}
+
+/* The ray's part inside the frame's region (SPEC.md "Regions"): the
+ * half-open interval [t_in, t_out) of its slab test against the region's
+ * cell. Returns t_in and t_out (unclipped; t_in >= t_out: none). */
+static inline void dvr_region_t(const lc_kframe *f, const vray *r, vfloat *tin, vfloat *tout)
+{
+    dvr_slab(r->ox, r->oy, r->oz, dvr_inv_dir(r->dx), dvr_inv_dir(r->dy), dvr_inv_dir(r->dz), f->region.lo,
+             f->region.hi, 0.0f, tin, tout);
+}
+
+/* Narrows a ray's lattice range [kf, kl] (inside the data's box) to the
+ * samples k dt in [t_in, t_out) of the frame's region; nothing without one.
+ * iso also keeps the sample before the region's first (`pairs`), so the
+ * region owning sample k sees the step from k - 1 to k: every step of the
+ * ray belongs to exactly one region. */
+static inline void dvr_region(const lc_kframe *f, const vray *r, int pairs, vint *kf, vint *kl)
+{
+    if (!f->has_region) return;
+    vfloat tin, tout;
+    dvr_region_t(f, r, &tin, &tout);
+    vint a = dvr_region_k(tin, f->dt), b = vi_sub(dvr_region_k(tout, f->dt), vi_set1(1));
+    vint ap = pairs ? vi_sub(a, vi_set1(1)) : a;
+    /* an empty part stays empty when iso widens it */
+    vmask none = vi_gt(a, b);
+    *kf = vi_select(none, vi_set1(1), vi_max(*kf, ap));
+    *kl = vi_select(none, vi_set1(0), vi_min(*kl, b));
+}
+
+/* slice: the plane points the region takes are those with t in [t_in,
+ * t_out): raises *t0 to t_in and lowers *tmax (a strict bound) to t_out. */
+static inline void dvr_region_slice(const lc_kframe *f, const vray *r, vfloat *t0, vfloat *tmax)
+{
+    if (!f->has_region) return;
+    vfloat tin, tout;
+    dvr_region_t(f, r, &tin, &tout);
+    *t0 = vf_max(*t0, tin);
+    *tmax = vf_min(*tmax, tout);
+}
+
 /* The normalised value v = (phi - lo) / (hi - lo), unclamped. */
 static inline vfloat dvr_normalise(const lc_ktf *tf, vfloat phi)
 {

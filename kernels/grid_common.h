@@ -112,6 +112,7 @@ static inline __attribute__((always_inline)) void grid_packlet_init(const lc_kgr
     vfloat t0, t1;
     dvr_clip_box(&p->ray, g->lo, g->hi, &t0, &t1);
     grid_lattice(g, f->dt, t0, t1, &p->knext, &p->klast);
+    dvr_region(f, &p->ray, mode_pairs(f), &p->knext, &p->klast);
     vmask in = vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1)));
     p->live = vm_and(in, vm_not(vi_gt(p->knext, p->klast)));
     p->c.r = p->c.g = p->c.b = p->c.a = vf_zero();
@@ -405,8 +406,9 @@ static inline void grid_slice(const lc_kgrid *g, const lc_kframe *f, const lc_kt
     vfloat t0, t1;
     dvr_clip_box(&p->ray, g->lo, g->hi, &t0, &t1);
     vmask in = vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1)));
-    mode_slice(f, &p->ray, vf_select(in, t0, vf_set1(1.0f)), vf_select(in, t1, vf_set1(-1.0f)), vf_set1(INFINITY),
-               &p->c);
+    vfloat tmax = vf_set1(INFINITY);
+    dvr_region_slice(f, &p->ray, &t0, &tmax);
+    mode_slice(f, &p->ray, vf_select(in, t0, vf_set1(1.0f)), vf_select(in, t1, vf_set1(-1.0f)), tmax, &p->c);
     st->samples += (uint64_t)vm_popcnt(vf_gt(p->c.a, vf_zero()));
 }
 
@@ -416,7 +418,7 @@ static inline void grid_finish_store(const lc_kgrid *g, const lc_kframe *f, cons
     const gprobe pc = {g, st};
     const mprobe probe = {grid_probe, &pc};
     vfloat depth = mode_finish(f, &p->c, &p->ray, &probe);
-    if (f->mode == LC_KMODE_ISO || f->mode == LC_KMODE_SLICE) mode_store(t, f, p->px, p->py, &p->c, depth);
+    if (f->mode != LC_KMODE_DVR) mode_store(t, f, p->px, p->py, &p->c, depth);
     else dvr_store(t, p->px, p->py, &p->c);
 }
 

@@ -244,7 +244,8 @@ static __attribute__((noinline, unused)) vfloat mode_finish_hit(const lc_kframe 
 }
 
 /* The ray's final colour, and the distance of the point it shows (iso,
- * slice; +inf for the other modes and where nothing is shown), in mode
+ * slice; minus the maximum normalised value in mip; +inf in dvr and where
+ * nothing is shown), in mode
  * `mode` (f->mode; a constant where a kernel specialises its tile function
  * per mode, so the dvr code holds nothing of the other modes):
  *   mip maps its maximum through the colour map of the field that reached it
@@ -259,6 +260,9 @@ static inline __attribute__((always_inline)) vfloat mode_finish_as(const lc_kfra
     if (mode == LC_KMODE_ISO || mode == LC_KMODE_SLICE) return mode_finish_hit(f, c, ray, probe);
     if (mode != LC_KMODE_MIP) return inf;
     vmask seen = vf_gt(c->b, vf_zero());
+    /* the depth of a mip pixel is minus its maximum, so regions composite
+       by nearest depth (SPEC.md "Regions") */
+    vfloat depth = vf_select(seen, vf_sub(vf_zero(), c->r), inf);
     vfloat r = vf_zero(), g = vf_zero(), b = vf_zero();
     for (int fi = 0; fi < f->nfields; fi++) {
         vmask m = vm_and(seen, vf_eq(c->g, vf_set1((float)fi)));
@@ -269,7 +273,7 @@ static inline __attribute__((always_inline)) vfloat mode_finish_as(const lc_kfra
     }
     c->r = r, c->g = g, c->b = b;
     c->a = vf_select(seen, vf_set1(1.0f), vf_zero());
-    return inf;
+    return depth;
 }
 
 static inline vfloat mode_finish(const lc_kframe *f, vcolor *c, const vray *ray, const mprobe *probe)
@@ -297,13 +301,13 @@ static inline __attribute__((always_inline)) void mode_store_as(const lc_ktile *
                                                                 const vcolor *c, vfloat depth)
 {
     dvr_store(t, px, py, c);
-    if ((mode == LC_KMODE_ISO || mode == LC_KMODE_SLICE) && t->depth) mode_store_depth(t, px, py, depth);
+    if (mode != LC_KMODE_DVR && t->depth) mode_store_depth(t, px, py, depth);
 }
 
 static inline void mode_store(const lc_ktile *t, const lc_kframe *f, vint px, vint py, const vcolor *c, vfloat depth)
 {
     dvr_store(t, px, py, c);
-    if ((f->mode == LC_KMODE_ISO || f->mode == LC_KMODE_SLICE) && t->depth) mode_store_depth(t, px, py, depth);
+    if (f->mode != LC_KMODE_DVR && t->depth) mode_store_depth(t, px, py, depth);
 }
 
 /* What a kind knows of a BVH node's values under the current parameters. */

@@ -249,6 +249,7 @@ static inline void setup_vector(const lc_kparticles *s, const lc_kframe *f, cons
     dvr_clip_box(ray, s->lo, s->hi, &t0, &t1);
     valid = vm_and(valid, vf_le(t0, t1));
     dvr_lattice(vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), f->dt, kf, kl);
+    dvr_region(f, ray, mode_pairs(f), kf, kl);
     surf->r = surf->g = surf->b = surf->a = vf_zero();
     if (s->sphere_scale > 0.0f && s->nnodes > 0 && vm_any(valid)) {
         vfloat thit;
@@ -301,6 +302,7 @@ static __attribute__((noinline, unused)) void particles_slice_tile(const lc_kpar
             if (s->nnodes > 0 && vm_any(valid)) {
                 st->rays += (uint64_t)vm_popcnt(valid);
                 if (s->sphere_scale > 0.0f) trace_spheres(s, f, &ray, valid, stack, &thit, &surf, st);
+                dvr_region_slice(f, &ray, &t0, &thit);
                 mode_slice(f, &ray, vf_select(valid, t0, vf_set1(1.0f)), vf_select(valid, t1, vf_set1(-1.0f)), thit,
                            &col);
                 st->samples += (uint64_t)vm_popcnt(vf_gt(col.a, vf_zero()));

@@ -59,12 +59,15 @@ static inline __attribute__((always_inline)) int rbf_packet_begin(const lc_krbf 
     st->rays += (uint64_t)vm_popcnt(valid);
     vfloat ta = vf_select(valid, t0, vf_set1(1.0f)), tb = vf_select(valid, t1, vf_set1(-1.0f));
     if (mode == LC_KMODE_SLICE) { /* no lattice: one sample per ray, in mode_finish */
-        mode_slice(f, r, ta, tb, vf_set1(INFINITY), col);
+        vfloat tmax = vf_set1(INFINITY);
+        dvr_region_slice(f, r, &ta, &tmax);
+        mode_slice(f, r, ta, tb, tmax, col);
         st->samples += (uint64_t)vm_popcnt(vf_gt(col->a, vf_zero()));
         mode_store_as(t, mode, *px, *py, col, mode_finish_as(f, mode, col, r, probe));
         return 0;
     }
     dvr_lattice(ta, tb, f->dt, kf, kl);
+    dvr_region(f, r, mode == LC_KMODE_ISO, kf, kl);
     return 1;
 }
 

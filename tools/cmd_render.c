@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "cli_mpi.h"
 #include "args.h"
 #include "cli.h"
 #include "cli_kind.h"
@@ -209,6 +210,7 @@ static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *
     struct timespec ts0;
     clock_gettime(CLOCK_MONOTONIC, &ts0);
     lc_status s = load(o, dev, demo, kind, f, &vol, tf);
+    s = cli_mpi_agree(dev, s); /* a rank that could not load stops every rank */
     double load_s = seconds_since(&ts0);
     lc_camera given = o->rd.camera;
     int views = o->orbit ? o->orbit : 1;
@@ -228,13 +230,16 @@ static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *
         o->rd.volume = vol;
         o->rd.tf = *tf;
         lc_render_stats st;
-        if (s == LC_OK) s = lc_render(dev, &o->rd, rgba, &st);
+        if (s == LC_OK) s = cli_mpi_ranks() > 1 ? cli_mpi_render(dev, &o->rd, rgba, o->stats, &st) : lc_render(dev, &o->rd, rgba, &st);
         progress_clear(&ps);
         o->rd.camera = given;
         lc_image_desc id = {o->rd.width, o->rd.height, rgba, o->background, o->alpha};
-        if (s == LC_OK) s = lc_image_write(dev, name, &id);
-        if (s == LC_OK && !o->quiet) printf("wrote %s (%dx%d)\n", name, o->rd.width, o->rd.height);
-        if (s == LC_OK && o->stats) print_stats(o, kind, vol, load_s, &st);
+        int root = cli_mpi_rank() == 0; /* under mpirun rank 0 holds the image */
+        lc_status rendered = s;          /* the same on every rank (lc_mpi_render agrees) */
+        if (s == LC_OK && root) s = lc_image_write(dev, name, &id);
+        if (cli_mpi_ranks() > 1 && rendered == LC_OK) s = cli_mpi_agree(dev, s);
+        if (s == LC_OK && root && !o->quiet) printf("wrote %s (%dx%d)\n", name, o->rd.width, o->rd.height);
+        if (s == LC_OK && root && o->stats) print_stats(o, kind, vol, load_s, &st);
         if (s != LC_OK && o->orbit)
             fprintf(stderr, "%s: orbit image %d (%s): %s; the orbit stops here\n", o->cmd, v, name, lc_last_error());
     }
@@ -270,6 +275,11 @@ static int run(ropts *o, int demo)
     if (kind && !demo && kind->defaults &&
         kind->defaults(o->cmd, &o->load, fopts, o->tf || o->colormap || o->nopacity))
         kind = NULL;
+    if (cli_mpi_ranks() > 1) { /* a rank that cannot read the input stops every rank */
+        lc_status ks = cli_mpi_agree(dev, kind ? LC_OK : usage ? LC_ERROR_INVALID_ARGUMENT : LC_ERROR_IO);
+        if (ks != LC_OK && kind) fprintf(stderr, "%s: %s\n", o->cmd, lc_device_last_error(dev));
+        if (ks != LC_OK) kind = NULL;
+    }
     if (!kind) {
         lc_device_destroy(dev);
         return usage ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
@@ -320,7 +330,8 @@ int cli_render(int argc, char **argv)
     o.cmd = "lanecast render";
     int p = render_parse(&o, argc, argv, 1);
     if (p) return p > 0 ? 0 : CLI_EXIT_USAGE;
-    return run(&o, 0);
+    int rc = cli_mpi_begin(o.cmd);
+    return rc ? rc : cli_mpi_end(run(&o, 0));
 }
 
 int cli_demo(int argc, char **argv)

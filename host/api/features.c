@@ -15,6 +15,8 @@ static const lc_feature_info features[] = {
                            "NIfTI-1/2 volumes: .nii, .nii.gz, .hdr/.img pairs"},
     [LCI_FEATURE_HDF5] = {"hdf5", "libhdf5", LC_HAVE_HDF5, "libhdf5-dev",
                           "HDF5 files: GADGET/AREPO/SWIFT PartTypeN snapshots, a dataset as a grid or particles"},
+    [LCI_FEATURE_MPI] = {"mpi", "MPI (OpenMPI)", LC_HAVE_MPI, "libopenmpi-dev",
+                         "data-parallel rendering: lc_mpi_render (lanecast_mpi.h), mpirun -np N lanecast render"},
 };
 #define NFEATURES ((int)(sizeof features / sizeof features[0]))
 

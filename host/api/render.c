@@ -159,6 +159,12 @@ lc_status lci_render_check(lc_device *dev, const lc_render_desc *d, const float 
 lc_status lci_pass_prepare(lc_device *dev, const lc_render_desc *d, const lc_tf *tf, int scale, int depth,
                            lci_pass *p)
 {
+    return lci_pass_prepare_region(dev, d, tf, scale, depth, NULL, p);
+}
+
+lc_status lci_pass_prepare_region(lc_device *dev, const lc_render_desc *d, const lc_tf *tf, int scale, int depth,
+                                  const lc_kregion *region, lci_pass *p)
+{
     memset(p, 0, sizeof *p);
     const lc_volume *vol = d->volume;
     lci_frame_info info;
@@ -175,6 +181,7 @@ lc_status lci_pass_prepare(lc_device *dev, const lc_render_desc *d, const lc_tf 
     if (!p->tables || !p->frame) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
     s = frame_build(dev, d, &info, tf, scale, p->tables, p->frame);
     if (s != LC_OK) return s;
+    if (region) p->frame->has_region = 1, p->frame->region = *region;
     s = vol->ops->prepare(dev, vol, d, p->frame, &p->prep);
     if (s != LC_OK) return s;
     p->tile = d->tile ? d->tile : p->prep.tile_side ? p->prep.tile_side : 32;
@@ -319,6 +326,12 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
 
 lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float *depth, lc_render_stats *stats)
 {
+    return lci_render_region(dev, d, NULL, rgba, depth, stats);
+}
+
+lc_status lci_render_region(lc_device *dev, const lc_render_desc *d, const lc_kregion *region, float *rgba,
+                            float *depth, lc_render_stats *stats)
+{
     lc_status s = lci_render_check(dev, d, rgba, "lc_render");
     if (s != LC_OK) return s;
     double t0 = lci_now();
@@ -330,7 +343,7 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
         tf = own_tf;
     }
     lci_pass p;
-    s = lci_pass_prepare(dev, d, tf, d->pixel_scale > 1 ? d->pixel_scale : 1, depth != NULL, &p);
+    s = lci_pass_prepare_region(dev, d, tf, d->pixel_scale > 1 ? d->pixel_scale : 1, depth != NULL, region, &p);
     if (s == LC_OK) {
         lci_pass_ctl ctl = {.cancel = d->cancel, .cancel_user = d->cancel_user, .progress = d->progress,
                             .progress_user = d->progress_user, .base = 0.0f, .span = 1.0f};

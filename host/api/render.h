@@ -35,6 +35,13 @@ lc_status lci_render_check(lc_device *dev, const lc_render_desc *d, const float 
 lc_status lci_pass_prepare(lc_device *dev, const lc_render_desc *d, const lc_tf *tf, int scale, int depth,
                            lci_pass *out);
 void lci_pass_release(lci_pass *p);
+/* lci_pass_prepare for the part of each ray inside region (NULL: all of
+ * it; kernels/dvr.h dvr_region), for data-parallel rendering (host/mpi/). */
+lc_status lci_pass_prepare_region(lc_device *dev, const lc_render_desc *d, const lc_tf *tf, int scale, int depth,
+                                  const lc_kregion *region, lci_pass *out);
+/* lci_render (host/internal.h) of the samples inside region (NULL: all). */
+lc_status lci_render_region(lc_device *dev, const lc_render_desc *d, const lc_kregion *region, float *rgba,
+                            float *depth, lc_render_stats *stats);
 
 /* Where a pass's tiles stop and report. stop, when not NULL, is a job's
  * flag; cancel is the desc's callback; done counts finished tiles (for

@@ -62,6 +62,11 @@ extern const lci_kind_ops lci_rbf_ops;
 /* The volume as kind k, or NULL (with an error naming fn) if it is another kind. */
 void *lci_volume_as(const lc_volume *v, lc_kind k, const char *fn);
 
+/* The centres of a particle set or an RBF set (the kind's arrays, leaf
+ * order), for balancing a data-parallel partition (host/mpi/). */
+lc_status lci_particles_centres(const lc_volume *v, size_t *n, const float **x, const float **y, const float **z);
+lc_status lci_rbf_centres(const lc_volume *v, size_t *n, const float **x, const float **y, const float **z);
+
 /* host/api/camera.c: the kernel camera for the desc (default framing of bounds). */
 lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int height, const lc_box3 *bounds,
                            lc_kcamera *out);

@@ -591,3 +591,11 @@ const lci_kind_ops lci_particles_ops = {
     .prepare = prepare,
     .sample_scene = sample_scene,
 };
+
+lc_status lci_particles_centres(const lc_volume *v, size_t *n, const float **x, const float **y, const float **z)
+{
+    const particles *p = lci_volume_as(v, LC_KIND_PARTICLES, "lci_particles_centres");
+    if (!p) return LC_ERROR_INVALID_ARGUMENT;
+    *n = p->info.count, *x = p->px, *y = p->py, *z = p->pz;
+    return LC_OK;
+}

@@ -611,3 +611,11 @@ const lci_kind_ops lci_rbf_ops = {
     .prepare = prepare,
     .sample_scene = sample_scene,
 };
+
+lc_status lci_rbf_centres(const lc_volume *v, size_t *n, const float **x, const float **y, const float **z)
+{
+    const rbf *p = lci_volume_as(v, LC_KIND_RBF, "lci_rbf_centres");
+    if (!p) return LC_ERROR_INVALID_ARGUMENT;
+    *n = p->info.count, *x = p->cx, *y = p->cy, *z = p->cz;
+    return LC_OK;
+}

@@ -61,6 +61,18 @@ typedef struct lc_kplane {
 } lc_kplane;
 _Static_assert(sizeof(lc_kplane) == 32, "lc_kplane layout");
 
+/* A region of a data-parallel render (SPEC.md "Regions"): a kd-tree cell
+ * whose faces on the data's outside are at -inf / +inf, so the regions of a
+ * tree cover all of space. A ray takes the lattice samples t_k in [t_in,
+ * t_out) of its slab interval against the cell (kernels/dvr.h dvr_region);
+ * both cells beside a split plane compute its t from the same float, so
+ * every sample goes to exactly one region. */
+typedef struct lc_kregion {
+    float lo[4];
+    float hi[4];
+} lc_kregion;
+_Static_assert(sizeof(lc_kregion) == 32, "lc_kregion layout");
+
 /* Lattice indices are clamped below this so k * dt stays exact in float and
  * k fits an int32 (2^24 = 16777216 > LC_KLATTICE_MAX). */
 #define LC_KLATTICE_MAX 1.6e7f
@@ -81,10 +93,12 @@ typedef struct lc_kframe {
     int32_t field;       /* iso, slice: the field they show */
     float iso;           /* iso: the iso value */
     int32_t nplanes;     /* slice: planes[0 .. nplanes - 1] */
-    int32_t pad2[2];
+    int32_t has_region;  /* 1: integrate only the part of each ray inside `region` (dvr_region) */
+    int32_t pad2;
     lc_kplane planes[LC_KMAX_PLANES];
+    lc_kregion region;
 } lc_kframe;
-_Static_assert(sizeof(lc_kframe) == 80 + 32 * LC_KMAX_FIELDS + 64 + 32 * LC_KMAX_PLANES, "lc_kframe layout");
+_Static_assert(sizeof(lc_kframe) == 80 + 32 * LC_KMAX_FIELDS + 64 + 32 * LC_KMAX_PLANES + 32, "lc_kframe layout");
 
 /* A rectangle of pixels [x0, x1) x [y0, y1) and where its result goes: the
  * kernel writes premultiplied (C, A) into rgba[(y * stride + x) * 4 ...] and,

@@ -1,0 +1,128 @@
+/* Data-parallel rendering without MPI (host/mpi/): the kd-tree partition of
+ * the data into regions, their visibility order from the camera, and the
+ * compositing schedule (binary swap with folding) over images held by
+ * P ranks. host/mpi/mpi.c runs the schedule over MPI; tests run it over
+ * virtual ranks in one process (lci_dp_composite_local). */
+#ifndef LC_HOST_MPI_DP_H
+#define LC_HOST_MPI_DP_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "host/internal.h"
+#include "kernels/shared/kframe.h"
+
+/* A kd-tree of nleaves regions over a box: node 0 is the root; a node with
+ * leaf >= 0 is region `leaf`, else it splits at `split` on `axis` into
+ * child[0] (x < split) and child[1] (x >= split). Each split value is this
+ * one float; every region's cell copies it (lci_kd_cell). */
+typedef struct lci_kd_node {
+    int32_t axis, leaf;
+    int32_t child[2];
+    float split;
+} lci_kd_node;
+
+typedef struct lci_kdtree {
+    int nleaves, nnodes;
+    lci_kd_node *node;  /* 2 nleaves - 1 */
+    lc_kregion *cell;   /* per region: its cell, faces outside the data at -+inf */
+    lc_box3 *box;       /* per region: its cell clipped to the data's box */
+    uint64_t *weight;   /* per region: the points (or voxels) it holds */
+} lci_kdtree;
+
+/* Recursive bisection of `bounds` into nleaves regions (1 .. 65536), each
+ * split on the box's longest axis where the weight on either side is in
+ * proportion to the regions it gets: the n points (x, y, z arrays; n may be
+ * 0) or, when x is NULL, voxels of a grid of `cells` cells per axis spread
+ * uniformly (split planes on cell boundaries where the grid allows).
+ * Deterministic: every rank building it from the same input gets the same
+ * floats. */
+lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x, const float *y,
+                       const float *z, const int cells[3], lci_kdtree *out);
+void lci_kd_release(lci_kdtree *t);
+
+/* The regions front to back as seen by the camera (SPEC.md "Regions"):
+ * perspective from the eye (inside the data or a region too), orthographic
+ * by the view direction. order[0 .. nleaves-1] gets region ids. */
+void lci_kd_order(const lci_kdtree *t, const lc_kcamera *cam, int *order);
+
+/* ---------------------------------------------------------------- compositing */
+
+/* How images combine: dvr by "over" of premultiplied RGBA, the others by
+ * the nearest depth (mip: minus the maximum, kernels/mode.h). */
+enum { LCI_COMP_OVER = 0, LCI_COMP_DEPTH = 1 };
+
+/* One rank's image: w x h premultiplied RGBA, depth (DEPTH only) and the
+ * rectangle outside which it is empty (transparent, depth +inf): the
+ * bounding rectangle of its non-empty pixels (lci_cimage_rect), so only
+ * the pixels a region reaches are sent. */
+typedef struct lci_cimage {
+    int w, h;
+    float *rgba;
+    float *depth;
+    int rect[4];
+} lci_cimage;
+
+/* Sets img->rect to the bounding rectangle of its non-empty pixels. */
+void lci_cimage_rect(lci_cimage *img, int op);
+
+/* One step of the schedule for the rank at visibility position pos of P:
+ * SEND: send rows [y0, y1) to partner (then, for FOLD, stop); RECV_BLEND: receive
+ * them from partner and composite (front: this rank's pixels are in front).
+ * A swap round is a SEND and a RECV_BLEND with the same partner (halves
+ * exchanged at once). */
+typedef struct lci_cstep {
+    int partner;    /* a visibility position */
+    int send_y0, send_y1; /* rows sent (empty: none) */
+    int recv_y0, recv_y1; /* rows received and blended (empty: none) */
+    int front;      /* 1: this rank's pixels lie in front of the partner's */
+} lci_cstep;
+
+#define LCI_CSTEPS_MAX 20
+
+/* The steps of visibility position pos of P ranks for an image of h rows,
+ * and the rows [*own_y0, *own_y1) it holds composited at the end (empty for
+ * ranks folded out). Returns the number of steps. */
+int lci_cschedule(int P, int pos, int h, lci_cstep *steps, int *own_y0, int *own_y1);
+
+/* Packs rows [y0, y1) of img inside its rect: a 4-int header (the rect of
+ * what follows) and its pixels (RGBA, then depth for DEPTH). Returns the
+ * floats written into buf (header included; buf holds at least
+ * lci_cpack_max floats). */
+size_t lci_cpack(const lci_cimage *img, int op, int y0, int y1, float *buf);
+size_t lci_cpack_max(int w, int rows, int op);
+/* Composites a packed buffer into img (front: img's pixels are in front) and
+ * widens img's rect. */
+void lci_cblend(lci_cimage *img, int op, const float *buf, int front);
+
+/* The whole schedule over P images in one process, imgs[pos] in visibility
+ * order; the result (rows of every owner gathered) into out (w x h RGBA,
+ * and out_depth when not NULL). Counts bytes and messages per position
+ * when bytes/msgs are not NULL. For tests and lci_dp_render_local. */
+lc_status lci_dp_composite_local(lc_device *dev, int P, lci_cimage *imgs, int op, float *out, float *out_depth,
+                                 uint64_t *bytes, uint64_t *msgs);
+
+/* ---------------------------------------------------------------- regions of a render */
+
+/* Checks that desc can render by regions (no opaque particle spheres, no
+ * differential sampling: their samples are not the lattice's), then builds
+ * the kd-tree of P regions over the volume's frame bounds, balanced by its
+ * particle or RBF centres or its voxels. */
+lc_status lci_dp_partition(lc_device *dev, const lc_render_desc *d, int P, lci_kdtree *t);
+/* The compositing op of the desc's mode. */
+int lci_dp_op(const lc_render_desc *d);
+/* The kernel camera of the desc's frame (for lci_kd_order). */
+lc_status lci_dp_camera(lc_device *dev, const lc_render_desc *d, lc_kcamera *cam);
+/* Renders region `leaf` of t into img (w x h of the desc; its rgba, and
+ * depth for LCI_COMP_DEPTH, allocated here; lci_cimage_free) and sets its
+ * rect. */
+lc_status lci_dp_render_region(lc_device *dev, const lc_render_desc *d, const lci_kdtree *t, int leaf,
+                               lci_cimage *img, lc_render_stats *stats);
+void lci_cimage_free(lci_cimage *img);
+/* A whole data-parallel render in one process: P regions rendered one
+ * after another, composited by the schedule (what P ranks compute).
+ * rgba: w x h; stats (may be NULL): summed. region_samples (may be NULL):
+ * P counts. */
+lc_status lci_dp_render_local(lc_device *dev, const lc_render_desc *d, int P, float *rgba, lc_render_stats *stats,
+                              uint64_t *region_samples);
+
+#endif

@@ -1,0 +1,194 @@
+/* lc_mpi_render (include/lanecast/lanecast_mpi.h): one kd-tree region per
+ * rank, rendered on the global lattice (host/mpi/regions.c), composited by
+ * the schedule of host/mpi/composite.c over MPI. After every collective
+ * step the ranks agree on a status (an allreduce), so a rank that failed
+ * makes every rank return its message instead of leaving a peer waiting. */
+#include <mpi.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "host/mpi/dp.h"
+#include "lanecast/lanecast_mpi.h"
+
+lc_status lc_mpi_agree(lc_device *dev, MPI_Comm comm, lc_status s)
+{
+    int rank;
+    MPI_Comm_rank(comm, &rank);
+    /* (0 = failed, rank): MINLOC gives the lowest failing rank */
+    int mine[2] = {s != LC_OK ? 0 : 1, rank}, worst[2];
+    if (MPI_Allreduce(mine, worst, 1, MPI_2INT, MPI_MINLOC, comm) != MPI_SUCCESS)
+        return lci_error(dev, LC_ERROR_INTERNAL, "lc_mpi_render: MPI_Allreduce of the status failed");
+    if (worst[0]) return LC_OK;
+    int who = worst[1];
+    char msg[LCI_MSG_MAX];
+    int code = (int)s;
+    if (rank == who) snprintf(msg, sizeof msg, "%s", lc_device_last_error(dev));
+    MPI_Bcast(&code, 1, MPI_INT, who, comm);
+    MPI_Bcast(msg, (int)sizeof msg, MPI_CHAR, who, comm);
+    msg[sizeof msg - 1] = 0;
+    if (rank == who) return s; /* its own message stands */
+    return lci_error(dev, (lc_status)code, "rank %d: %s", who, msg);
+}
+
+typedef struct mpi_run {
+    lc_device *dev;
+    MPI_Comm comm;
+    int rank, P, root;
+    const lc_render_desc *d;
+    lci_kdtree tree;
+    int *order, *pos_of; /* visibility position -> region (= rank) and back */
+    lci_cimage img;
+    float *buf[2];
+    size_t cap;
+    lc_mpi_stats st;
+} mpi_run;
+
+static lc_status mpi_fail(mpi_run *r, int code, const char *what)
+{
+    char e[MPI_MAX_ERROR_STRING];
+    int len = 0;
+    MPI_Error_string(code, e, &len);
+    return lci_error(r->dev, LC_ERROR_INTERNAL, "lc_mpi_render: %s failed: %s", what, e);
+}
+
+/* The schedule's fold and swap steps of this rank. */
+static lc_status swap_steps(mpi_run *r, int op, int *own0, int *own1)
+{
+    lci_cstep steps[LCI_CSTEPS_MAX];
+    int pos = r->pos_of[r->rank];
+    int ns = lci_cschedule(r->P, pos, r->img.h, steps, own0, own1);
+    for (int i = 0; i < ns; i++) {
+        const lci_cstep *s = &steps[i];
+        int has_send = s->send_y1 > s->send_y0, has_recv = s->recv_y1 > s->recv_y0;
+        if (!has_send && !has_recv) continue;
+        int peer = r->order[s->partner], rc = MPI_SUCCESS;
+        size_t n = has_send ? lci_cpack(&r->img, op, s->send_y0, s->send_y1, r->buf[0]) : 0;
+        MPI_Status ms;
+        if (has_send && has_recv)
+            rc = MPI_Sendrecv(r->buf[0], (int)n, MPI_FLOAT, peer, 1 + i, r->buf[1], (int)r->cap, MPI_FLOAT, peer,
+                              1 + i, r->comm, &ms);
+        else if (has_send)
+            rc = MPI_Send(r->buf[0], (int)n, MPI_FLOAT, peer, 1 + i, r->comm);
+        else
+            rc = MPI_Recv(r->buf[1], (int)r->cap, MPI_FLOAT, peer, 1 + i, r->comm, &ms);
+        if (rc != MPI_SUCCESS) return mpi_fail(r, rc, "a compositing message");
+        if (has_send) r->st.bytes_sent += n * sizeof(float), r->st.messages_sent++;
+        if (has_recv) lci_cblend(&r->img, op, r->buf[1], s->front);
+        r->st.rounds++;
+    }
+    return LC_OK;
+}
+
+/* Every owner's composited rows to root. */
+static lc_status gather(mpi_run *r, int op, int own0, int own1, float *rgba)
+{
+    const int tag = 100;
+    if (r->rank != r->root) {
+        if (own1 <= own0) return LC_OK;
+        size_t n = lci_cpack(&r->img, op, own0, own1, r->buf[0]);
+        int rc = MPI_Send(r->buf[0], (int)n, MPI_FLOAT, r->root, tag, r->comm);
+        if (rc != MPI_SUCCESS) return mpi_fail(r, rc, "sending rows to root");
+        r->st.bytes_sent += n * sizeof(float), r->st.messages_sent++, r->st.rounds++;
+        return LC_OK;
+    }
+    lci_cimage out = {r->img.w, r->img.h, rgba, NULL, {0, 0, 0, 0}};
+    memset(rgba, 0, sizeof(float) * 4 * (size_t)out.w * (size_t)out.h);
+    for (int p = 0; p < r->P; p++) {
+        lci_cstep steps[LCI_CSTEPS_MAX];
+        int y0, y1, src = r->order[p];
+        lci_cschedule(r->P, p, r->img.h, steps, &y0, &y1);
+        if (y1 <= y0) continue;
+        if (src == r->rank) {
+            lci_cpack(&r->img, op, y0, y1, r->buf[1]);
+        } else {
+            int rc = MPI_Recv(r->buf[1], (int)r->cap, MPI_FLOAT, src, tag, r->comm, MPI_STATUS_IGNORE);
+            if (rc != MPI_SUCCESS) return mpi_fail(r, rc, "receiving rows at root");
+        }
+        /* rows outside the sender's rect stay transparent: copy as "over" an empty image */
+        lci_cblend(&out, LCI_COMP_OVER, r->buf[1], 0);
+    }
+    return LC_OK;
+}
+
+static lc_status render_and_composite(mpi_run *r, float *rgba)
+{
+    lc_device *dev = r->dev;
+    const lc_render_desc *d = r->d;
+    lc_status s = lci_dp_partition(dev, d, r->P, &r->tree);
+    lc_kcamera cam;
+    if (s == LC_OK) s = lci_dp_camera(dev, d, &cam);
+    if (s == LC_OK && r->rank == r->root && !rgba)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: rgba is NULL on the root rank");
+    if (s == LC_OK) {
+        r->order = malloc(sizeof(int) * (size_t)r->P);
+        r->pos_of = malloc(sizeof(int) * (size_t)r->P);
+        if (!r->order || !r->pos_of) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_mpi_render: out of memory");
+    }
+    double t0 = MPI_Wtime();
+    if (s == LC_OK) {
+        lci_kd_order(&r->tree, &cam, r->order);
+        for (int p = 0; p < r->P; p++) r->pos_of[r->order[p]] = p;
+        r->st.region = r->rank;
+        r->st.region_weight = r->tree.weight[r->rank];
+        s = lci_dp_render_region(dev, d, &r->tree, r->rank, &r->img, &r->st.render);
+    }
+    int op = lci_dp_op(d);
+    if (s == LC_OK) {
+        r->cap = lci_cpack_max(r->img.w, r->img.h, op);
+        r->buf[0] = malloc(sizeof(float) * r->cap);
+        r->buf[1] = malloc(sizeof(float) * r->cap);
+        if (!r->buf[0] || !r->buf[1])
+            s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_mpi_render: out of memory for compositing buffers");
+    }
+    r->st.render_seconds = MPI_Wtime() - t0;
+    s = lc_mpi_agree(dev, r->comm, s);
+    if (s != LC_OK) return s;
+    double t1 = MPI_Wtime();
+    int own0 = 0, own1 = 0;
+    s = swap_steps(r, op, &own0, &own1);
+    s = lc_mpi_agree(dev, r->comm, s);
+    if (s != LC_OK) return s;
+    s = gather(r, op, own0, own1, rgba);
+    s = lc_mpi_agree(dev, r->comm, s);
+    r->st.composite_seconds = MPI_Wtime() - t1;
+    double sum = 0.0, mx = 0.0;
+    MPI_Allreduce(&r->st.render_seconds, &sum, 1, MPI_DOUBLE, MPI_SUM, r->comm);
+    MPI_Allreduce(&r->st.render_seconds, &mx, 1, MPI_DOUBLE, MPI_MAX, r->comm);
+    r->st.render_mean = sum / r->P, r->st.render_max = mx;
+    return s;
+}
+
+lc_status lc_mpi_render(lc_device *dev, MPI_Comm comm, int root, const lc_render_desc *desc, float *rgba,
+                        lc_mpi_stats *stats)
+{
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: device is NULL");
+    int inited = 0;
+    MPI_Initialized(&inited);
+    if (!inited) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: MPI is not initialised (MPI_Init)");
+    mpi_run r;
+    memset(&r, 0, sizeof r);
+    r.dev = dev, r.d = desc, r.root = root;
+    if (MPI_Comm_dup(comm, &r.comm) != MPI_SUCCESS)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: MPI_Comm_dup of the communicator failed");
+    MPI_Comm_set_errhandler(r.comm, MPI_ERRORS_RETURN);
+    MPI_Comm_rank(r.comm, &r.rank);
+    MPI_Comm_size(r.comm, &r.P);
+    r.st.rank = r.rank, r.st.ranks = r.P;
+    lc_status s = LC_OK;
+    if (root < 0 || root >= r.P)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: root %d, the communicator has ranks 0 .. %d",
+                      root, r.P - 1);
+    else if (!desc)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: desc is NULL");
+    /* a bad root is every rank's error alike: no collective needs it */
+    if (s == LC_OK) s = render_and_composite(&r, rgba);
+    if (stats) *stats = r.st;
+    free(r.buf[0]);
+    free(r.buf[1]);
+    lci_cimage_free(&r.img);
+    free(r.order);
+    free(r.pos_of);
+    lci_kd_release(&r.tree);
+    MPI_Comm_free(&r.comm);
+    return s;
+}

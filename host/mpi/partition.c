@@ -1,0 +1,178 @@
+/* The kd-tree of a data-parallel render (dp.h): recursive bisection of the
+ * data's box balanced by points or voxels, and the regions' visibility
+ * order from the camera (SPEC.md "Regions"). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "host/mpi/dp.h"
+
+typedef struct kd_build {
+    lci_kdtree *t;
+    const float *xyz[3];
+    uint32_t *idx;      /* point indices, reordered in place per node */
+    float *key;         /* scratch: the coordinates being split */
+    int cells[3];
+    double origin[3], cellw[3]; /* grid cells: the plane of cell boundary c on axis a */
+} kd_build;
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* Builds the subtree of `nl` regions from leaf id `leaf0` over box b (cell
+ * ranges c0..c1 for grids, points idx[i0 .. i1)); returns its node. */
+static int build_node(kd_build *k, lc_box3 b, const int c0[3], const int c1[3], size_t i0, size_t i1, int nl,
+                      int leaf0)
+{
+    lci_kdtree *t = k->t;
+    int id = t->nnodes++;
+    lci_kd_node *n = &t->node[id];
+    if (nl == 1) {
+        n->axis = -1, n->leaf = leaf0, n->child[0] = n->child[1] = -1, n->split = 0.0f;
+        t->box[leaf0] = b;
+        if (k->xyz[0]) t->weight[leaf0] = (uint64_t)(i1 - i0);
+        else t->weight[leaf0] = (uint64_t)(c1[0] - c0[0]) * (uint64_t)(c1[1] - c0[1]) * (uint64_t)(c1[2] - c0[2]);
+        return id;
+    }
+    float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+    int axis = 0;
+    for (int a = 1; a < 3; a++)
+        if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+    int nleft = nl / 2;
+    float split;
+    size_t im = i0;
+    int cl[3] = {c0[0], c0[1], c0[2]}, cr[3] = {c1[0], c1[1], c1[2]};
+    if (k->xyz[0]) {
+        size_t cnt = i1 - i0, m = (size_t)((double)cnt * nleft / nl);
+        if (cnt == 0) {
+            split = lo[axis] + (hi[axis] - lo[axis]) * (float)nleft / (float)nl;
+        } else {
+            for (size_t i = i0; i < i1; i++) k->key[i - i0] = k->xyz[axis][k->idx[i]];
+            qsort(k->key, cnt, sizeof(float), cmp_float);
+            split = m < cnt ? k->key[m] : nextafterf(k->key[cnt - 1], INFINITY);
+            if (split > hi[axis]) split = hi[axis];
+            if (split < lo[axis]) split = lo[axis];
+        }
+        /* points with x < split go left */
+        size_t j = i0;
+        for (size_t i = i0; i < i1; i++) {
+            if (k->xyz[axis][k->idx[i]] < split) {
+                uint32_t tmp = k->idx[i];
+                k->idx[i] = k->idx[j];
+                k->idx[j++] = tmp;
+            }
+        }
+        im = j;
+    } else {
+        int w = c1[axis] - c0[axis];
+        int c = c0[axis] + (int)lround((double)w * nleft / nl);
+        split = (float)(k->origin[axis] + (double)c * k->cellw[axis]);
+        if (c == k->cells[axis]) split = hi[axis]; /* the last plane is the box's own float */
+        if (split > hi[axis]) split = hi[axis];
+        if (split < lo[axis]) split = lo[axis];
+        cl[axis] = c, cr[axis] = c;
+    }
+    n->axis = axis, n->leaf = -1, n->split = split;
+    lc_box3 bl = b, br = b;
+    float *bh = axis == 0 ? &bl.hi.x : axis == 1 ? &bl.hi.y : &bl.hi.z;
+    float *bo = axis == 0 ? &br.lo.x : axis == 1 ? &br.lo.y : &br.lo.z;
+    *bh = split, *bo = split;
+    int left = build_node(k, bl, c0, cr, i0, im, nleft, leaf0);
+    int right = build_node(k, br, cl, c1, im, i1, nl - nleft, leaf0 + nleft);
+    t->node[id].child[0] = left, t->node[id].child[1] = right;
+    return id;
+}
+
+/* Each region's cell: the splits of its ancestors, -+inf elsewhere. */
+static void cells_of(lci_kdtree *t, int id, lc_kregion c)
+{
+    const lci_kd_node *n = &t->node[id];
+    if (n->leaf >= 0) {
+        t->cell[n->leaf] = c;
+        return;
+    }
+    lc_kregion l = c, r = c;
+    l.hi[n->axis] = n->split;
+    r.lo[n->axis] = n->split;
+    cells_of(t, n->child[0], l);
+    cells_of(t, n->child[1], r);
+}
+
+lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x, const float *y,
+                       const float *z, const int cells[3], lci_kdtree *out)
+{
+    memset(out, 0, sizeof *out);
+    if (nleaves < 1 || nleaves > 65536)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "kd-tree: %d regions, expected 1 to 65536", nleaves);
+    if (x && n > UINT32_MAX)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "kd-tree: %zu points, at most %u", n, UINT32_MAX);
+    out->nleaves = nleaves;
+    out->node = calloc((size_t)(2 * nleaves - 1), sizeof *out->node);
+    out->cell = calloc((size_t)nleaves, sizeof *out->cell);
+    out->box = calloc((size_t)nleaves, sizeof *out->box);
+    out->weight = calloc((size_t)nleaves, sizeof *out->weight);
+    kd_build k;
+    memset(&k, 0, sizeof k);
+    k.t = out;
+    if (x && n > 0) {
+        k.idx = malloc(n * sizeof *k.idx);
+        k.key = malloc(n * sizeof *k.key);
+    }
+    if (!out->node || !out->cell || !out->box || !out->weight || (x && n > 0 && (!k.idx || !k.key))) {
+        free(k.idx), free(k.key);
+        lci_kd_release(out);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "kd-tree: out of memory for %d regions", nleaves);
+    }
+    int c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
+    if (x) {
+        k.xyz[0] = x, k.xyz[1] = y, k.xyz[2] = z;
+        for (size_t i = 0; i < n; i++) k.idx[i] = (uint32_t)i;
+    } else {
+        const float lo[3] = {bounds->lo.x, bounds->lo.y, bounds->lo.z}, hi[3] = {bounds->hi.x, bounds->hi.y, bounds->hi.z};
+        for (int a = 0; a < 3; a++) {
+            k.cells[a] = cells && cells[a] > 0 ? cells[a] : 1;
+            k.origin[a] = lo[a];
+            k.cellw[a] = ((double)hi[a] - (double)lo[a]) / k.cells[a];
+            c1[a] = k.cells[a];
+        }
+    }
+    build_node(&k, *bounds, c0, c1, 0, x ? n : 0, nleaves, 0);
+    lc_kregion all;
+    for (int a = 0; a < 4; a++) all.lo[a] = -INFINITY, all.hi[a] = INFINITY;
+    cells_of(out, 0, all);
+    free(k.idx);
+    free(k.key);
+    return LC_OK;
+}
+
+void lci_kd_release(lci_kdtree *t)
+{
+    free(t->node);
+    free(t->cell);
+    free(t->box);
+    free(t->weight);
+    memset(t, 0, sizeof *t);
+}
+
+/* Front to back below node id: perspective rays start at the eye, so the
+ * side of each split holding the eye comes first along every ray; parallel
+ * (orthographic) rays meet the low side first when they travel up the axis. */
+static void order_node(const lci_kdtree *t, int id, const lc_kcamera *cam, int *order, int *n)
+{
+    const lci_kd_node *nd = &t->node[id];
+    if (nd->leaf >= 0) {
+        order[(*n)++] = nd->leaf;
+        return;
+    }
+    int near = cam->ortho ? (cam->forward[nd->axis] >= 0.0f ? 0 : 1) : (cam->eye[nd->axis] < nd->split ? 0 : 1);
+    order_node(t, nd->child[near], cam, order, n);
+    order_node(t, nd->child[1 - near], cam, order, n);
+}
+
+void lci_kd_order(const lci_kdtree *t, const lc_kcamera *cam, int *order)
+{
+    int n = 0;
+    order_node(t, 0, cam, order, &n);
+}

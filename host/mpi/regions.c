@@ -1,0 +1,135 @@
+/* The regions of a render (dp.h): the partition of a volume, one region's
+ * image, and a whole data-parallel render in one process. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "host/api/render.h"
+#include "host/mpi/dp.h"
+
+lc_status lci_dp_partition(lc_device *dev, const lc_render_desc *d, int P, lci_kdtree *t)
+{
+    memset(t, 0, sizeof *t);
+    const lc_volume *v = d->volume;
+    if (!v) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "data-parallel render: desc->volume is NULL");
+    lci_frame_info info;
+    memset(&info, 0, sizeof info);
+    lc_status s = v->ops->frame_info(dev, v, &info);
+    if (s != LC_OK) return s;
+    size_t n = 0;
+    const float *x = NULL, *y = NULL, *z = NULL;
+    int cells[3] = {1, 1, 1};
+    switch (lc_volume_kind(v)) {
+    case LC_KIND_PARTICLES: {
+        lc_particles_info pi;
+        lc_particles_get_info(v, &pi);
+        if (pi.params.sphere_scale > 0.0f)
+            return lci_error(dev, LC_ERROR_UNSUPPORTED,
+                             "data-parallel render: opaque particle spheres (sphere_scale %g) are not split by regions",
+                             (double)pi.params.sphere_scale);
+        s = lci_particles_centres(v, &n, &x, &y, &z);
+        break;
+    }
+    case LC_KIND_RBF:
+        s = lci_rbf_centres(v, &n, &x, &y, &z);
+        break;
+    case LC_KIND_GRID: {
+        lc_grid_info gi;
+        lc_grid_get_info(v, &gi);
+        if (gi.params.rda != 0.0f)
+            return lci_error(dev, LC_ERROR_UNSUPPORTED,
+                             "data-parallel render: differential sampling (rda %g) leaves the global lattice",
+                             (double)gi.params.rda);
+        for (int a = 0; a < 3; a++) cells[a] = gi.size[a] - 1;
+        break;
+    }
+    default:
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "data-parallel render: unknown volume kind");
+    }
+    if (s != LC_OK) return s;
+    return lci_kd_build(dev, &info.bounds, P, n, x, y, z, x ? NULL : cells, t);
+}
+
+int lci_dp_op(const lc_render_desc *d) { return d->mode == LC_MODE_DVR ? LCI_COMP_OVER : LCI_COMP_DEPTH; }
+
+lc_status lci_dp_camera(lc_device *dev, const lc_render_desc *d, lc_kcamera *cam)
+{
+    lci_frame_info info;
+    memset(&info, 0, sizeof info);
+    lc_status s = d->volume->ops->frame_info(dev, d->volume, &info);
+    if (s != LC_OK) return s;
+    return lci_camera_build(dev, &d->camera, d->width, d->height, &info.bounds, cam);
+}
+
+void lci_cimage_free(lci_cimage *img)
+{
+    free(img->rgba);
+    free(img->depth);
+    img->rgba = img->depth = NULL;
+}
+
+lc_status lci_dp_render_region(lc_device *dev, const lc_render_desc *d, const lci_kdtree *t, int leaf,
+                               lci_cimage *img, lc_render_stats *stats)
+{
+    memset(img, 0, sizeof *img);
+    const float probe = 0.0f; /* lci_render_check asks for an image pointer; img's come below */
+    lc_status s = lci_render_check(dev, d, &probe, "data-parallel render");
+    if (s != LC_OK) return s;
+    if (d->pixel_scale > 1)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "data-parallel render: pixel_scale %d (previews are one process's)",
+                         d->pixel_scale);
+    int op = lci_dp_op(d);
+    size_t np = (size_t)d->width * (size_t)d->height;
+    img->w = d->width, img->h = d->height;
+    img->rgba = malloc(sizeof(float) * 4 * np);
+    img->depth = malloc(sizeof(float) * np); /* the kernels' depth hook; kept for DEPTH only */
+    if (!img->rgba || !img->depth) {
+        lci_cimage_free(img);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel render: out of memory for a %dx%d image",
+                         d->width, d->height);
+    }
+    s = lci_render_region(dev, d, &t->cell[leaf], img->rgba, img->depth, stats);
+    if (s != LC_OK) {
+        lci_cimage_free(img);
+        return s;
+    }
+    if (op != LCI_COMP_DEPTH) {
+        free(img->depth);
+        img->depth = NULL;
+    }
+    lci_cimage_rect(img, op);
+    return LC_OK;
+}
+
+lc_status lci_dp_render_local(lc_device *dev, const lc_render_desc *d, int P, float *rgba, lc_render_stats *stats,
+                              uint64_t *region_samples)
+{
+    lci_kdtree t;
+    lc_status s = lci_dp_partition(dev, d, P, &t);
+    if (s != LC_OK) return s;
+    lc_kcamera cam;
+    s = lci_dp_camera(dev, d, &cam);
+    int *order = malloc(sizeof(int) * (size_t)P);
+    lci_cimage *imgs = calloc((size_t)P, sizeof *imgs);
+    if (s == LC_OK && (!order || !imgs)) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel render: out of memory");
+    if (stats) memset(stats, 0, sizeof *stats);
+    if (s == LC_OK) {
+        lci_kd_order(&t, &cam, order);
+        for (int i = 0; i < P && s == LC_OK; i++) {
+            lc_render_stats rs;
+            s = lci_dp_render_region(dev, d, &t, order[i], &imgs[i], &rs);
+            if (s != LC_OK) break;
+            if (region_samples) region_samples[order[i]] = rs.samples;
+            if (stats) {
+                stats->rays += rs.rays, stats->samples += rs.samples, stats->kernel_evals += rs.kernel_evals;
+                stats->nodes += rs.nodes, stats->leaves += rs.leaves, stats->passes += rs.passes;
+                stats->seconds += rs.seconds, stats->target = rs.target, stats->threads = rs.threads;
+            }
+        }
+    }
+    if (s == LC_OK) s = lci_dp_composite_local(dev, P, imgs, lci_dp_op(d), rgba, NULL, NULL, NULL);
+    for (int i = 0; imgs && i < P; i++) lci_cimage_free(&imgs[i]);
+    free(imgs);
+    free(order);
+    lci_kd_release(&t);
+    return s;
+}

@@ -1,0 +1,62 @@
+#!/bin/sh
+# mpiexec -np K lanecast render: the PNG rank 0 writes equals the
+# one-process PNG byte for byte (mip, iso, slice are the same floats; dvr
+# with alpha_stop 1 differs by float round-off of the "over", far below an
+# 8-bit step; EXR and TIFF files carry a time stamp); --stats prints a line per rank; a bad input on some ranks
+# (MPMD: other ranks get a missing file) makes every rank exit non-zero
+# with that rank's message, within a timeout. usage: test_cli_mpi.sh LANECAST MPIEXEC
+set -eu
+exe=$1
+mpiexec=$2
+if [ -z "$mpiexec" ]; then
+    echo "mpiexec not found (Debian: openmpi-bin): skipped"
+    exit 77
+fi
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail=0
+python3 "$(dirname "$0")/cli_scenes.py" "$dir" # ball.raw, atoms.xyz, set.rbf
+vol="$dir/ball.raw --dims 16,16,16 --type float32"
+run() { # K, name, ext, args...: one process and K ranks, compared byte for byte (default size 40x30)
+    k=$1 name=$2 ext=$3
+    shift 3
+    set -- --size 40x30 "$@"
+    "$exe" render "$@" --threads 1 --quiet -o "$dir/one-$name.$ext" 2> "$dir/err1" || true
+    if timeout 60 "$mpiexec" --oversubscribe -np "$k" "$exe" render "$@" --threads 1 --quiet \
+        -o "$dir/np$k-$name.$ext" 2> "$dir/err" && cmp -s "$dir/one-$name.$ext" "$dir/np$k-$name.$ext"; then
+        echo "ok   np $k $name"
+    else
+        echo "FAIL np $k $name: $(cat "$dir/err1" "$dir/err")"
+        fail=1
+    fi
+}
+run 2 grid-dvr png $vol --alpha-stop 1
+run 3 grid-iso png $vol --mode iso --iso 0.5 --shade phong --eye 8,8,8 --at 20,9,3
+run 2 atoms-mip png "$dir/atoms.xyz" --mode mip --ortho 12
+run 3 rbf-slice png "$dir/set.rbf" --mode slice --plane 0,0,0,0,0,1
+run 4 grid-1x1 png $vol --mode mip --size 1x1
+
+# --stats: rank 0 prints one row per rank and the imbalance
+if timeout 60 "$mpiexec" --oversubscribe -np 3 "$exe" render $vol --size 40x30 --threads 1 --stats \
+    -o "$dir/stats.png" > "$dir/out" 2> "$dir/err" &&
+    grep -q "^mpi .*3 ranks, render imbalance" "$dir/out" && [ "$(grep -c '^ *[0-2] ' "$dir/out")" -ge 3 ]; then
+    echo "ok   --stats per rank"
+else
+    echo "FAIL --stats per rank: $(cat "$dir/out" "$dir/err")"
+    fail=1
+fi
+
+# a bad input on ranks 1 and 2 (a missing file): all three exit non-zero, naming rank 1's file
+set +e
+timeout 60 "$mpiexec" --oversubscribe -np 1 "$exe" render $vol --size 40x30 --threads 1 -o "$dir/bad.png" : \
+    -np 2 "$exe" render "$dir/missing.raw" --dims 16,16,16 --type float32 --size 40x30 --threads 1 -o "$dir/bad.png" \
+    > "$dir/out" 2> "$dir/err"
+rc=$?
+set -e
+if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "rank 1: .*missing.raw" "$dir/err" && [ ! -e "$dir/bad.png" ]; then
+    echo "ok   a missing file on ranks 1-2: exit $rc, rank 0 says: $(grep 'rank 1' "$dir/err" | head -1)"
+else
+    echo "FAIL a missing file on ranks 1-2: exit $rc (124: timed out): $(cat "$dir/err")"
+    fail=1
+fi
+exit $fail
