@@ -86,6 +86,7 @@ reference(f"{out}/adk_ca.trr", f"{out}/adk_ca.trr.ref", step=9)
 # a box, and as a double-precision TRR (gmx_d) with velocities
 if shutil.which("gmx") and shutil.which("gmx_d"):
     q = ["-quiet"]
+    os.environ["GMX_MAXBACKUP"] = "-1"  # no #file.1# backups
     subprocess.run(["gmx", *q, "trjconv", "-f", f"{out}/adk_ca.xtc", "-o", f"{out}/gmx_ca.xtc", "-ndec", "2",
                     "-box", "8", "9", "10"], stdin=subprocess.DEVNULL, capture_output=True, check=True)
     reference(f"{out}/gmx_ca.xtc", f"{out}/gmx_ca.xtc.ref", step=11)
