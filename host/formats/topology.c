@@ -5,6 +5,7 @@
 #include <string.h>
 #include <strings.h>
 #include "host/formats/psf.h"
+#include "host/formats/text_reader.h"
 #include "host/formats/topology.h"
 
 static const char *const kind_names[] = {"", "PSF", "GRO", "PDB"};
@@ -43,6 +44,19 @@ static lci_topo_kind kind_of(const char *path)
         if (n > 4 && !strncasecmp(path + n - 4, ext[k], 4)) return (lci_topo_kind)k;
     if (n > 4 && !strncasecmp(path + n - 4, ".ent", 4)) return LCI_TOPO_PDB;
     return LCI_TOPO_NONE;
+}
+
+/* A topology whose name says nothing: "PSF" starts a PSF, a PDB record name
+ * a PDB file, anything else is read as .gro. */
+static lc_status sniff(lc_device *dev, const char *path, lci_topo_kind *k)
+{
+    unsigned char head[512];
+    size_t n = 0;
+    int gz;
+    lc_status s = lci_file_head(dev, path, head, sizeof head, &n, &gz);
+    if (s != LC_OK) return s;
+    *k = n >= 3 && !memcmp(head, "PSF", 3) ? LCI_TOPO_PSF : lci_format_pdb.magic(head, n) ? LCI_TOPO_PDB : LCI_TOPO_GRO;
+    return LC_OK;
 }
 
 static lc_status read_psf(lc_device *dev, lci_topo *t)
@@ -93,9 +107,12 @@ lc_status lci_topo_load(lc_device *dev, const lci_read_args *a, const char *exts
     if (c && c[0]) {
         snprintf(t->path, sizeof t->path, "%s", c);
         t->kind = kind_of(c);
-        if (t->kind == LCI_TOPO_NONE)
-            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: topology %s: expected a .psf, .gro or .pdb file", a->path,
-                             c);
+        lc_status s = t->kind == LCI_TOPO_NONE ? sniff(dev, c, &t->kind) : LC_OK;
+        if (s != LC_OK) {
+            char msg[LCI_MSG_MAX];
+            snprintf(msg, sizeof msg, "%s", lc_last_error());
+            return lci_error(dev, s, "%s: topology: %s", a->path, msg);
+        }
     } else {
         const char *slash = strrchr(a->path, '/');
         const char *dot = strrchr(slash ? slash + 1 : a->path, '.');

@@ -27,7 +27,8 @@ typedef struct lci_topo {
 } lci_topo;
 
 /* The topology of trajectory a->path: lc_load_desc.companion (its kind from
- * its extension, .psf/.gro/.pdb, after a ".gz"), else the first of
+ * its extension, .psf/.gro/.pdb, after a ".gz"; else from its first bytes),
+ * else the first of
  * STEM + each of exts (".psf", or ".gro .pdb .psf") that exists, else none
  * (t->kind = LCI_TOPO_NONE and *why says what was looked for). A topology
  * that fails to read fails the load, naming the trajectory and the
