@@ -2,6 +2,7 @@
 #include <errno.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include "host/formats/binfile.h"
 #include "host/formats/checked.h"
 
@@ -33,9 +34,17 @@ lc_status lci_bin_read(lci_bin *b, int64_t off, void *dst, size_t n, const char 
     if (off < 0 || off > b->size || (int64_t)n > b->size - off)
         return lci_error(b->dev, LC_ERROR_FORMAT, "%s: byte %lld: the file ends inside %s (%zu bytes needed, %lld left)",
                          b->path, (long long)off, what, n, (long long)(off < b->size ? b->size - off : 0));
-    if (fseeko(b->f, (off_t)off, SEEK_SET) != 0 || fread(dst, 1, n, b->f) != n)
-        return lci_error(b->dev, LC_ERROR_IO, "%s: byte %lld: read error in %s: %s", b->path, (long long)off, what,
-                         strerror(errno));
+    /* pread: no stdio buffer refilled for each small read after a seek (the
+       XTC/TRR header scans read 56-92 bytes per frame) */
+    int fd = fileno(b->f);
+    for (size_t got = 0; got < n;) {
+        ssize_t k = pread(fd, (char *)dst + got, n - got, (off_t)(off + (int64_t)got));
+        if (k < 0 && errno == EINTR) continue;
+        if (k <= 0)
+            return lci_error(b->dev, LC_ERROR_IO, "%s: byte %lld: read error in %s: %s", b->path,
+                             (long long)(off + (int64_t)got), what, k < 0 ? strerror(errno) : "the file shrank");
+        got += (size_t)k;
+    }
     if (n >= 4096) lci_load_progress(b->dev, (double)(off + (int64_t)n) / (double)b->size);
     return LC_OK;
 }

@@ -138,12 +138,15 @@ typedef struct bits {
     uint64_t n, pos; /* bits in the stream, bits read */
 } bits;
 
+/* nb (0..32) bits from a window of the 5 bytes that hold them. */
 static int get_bits(bits *r, int nb, uint32_t *out)
 {
     if (r->pos + (uint64_t)nb > r->n) return -1;
-    uint64_t v = 0;
-    for (int i = 0; i < nb; i++, r->pos++) v = v << 1 | ((r->p[r->pos >> 3] >> (7 - (r->pos & 7))) & 1u);
-    *out = (uint32_t)v;
+    uint64_t byte = r->pos >> 3, nbytes = r->n >> 3, w = 0;
+    int shift = (int)(r->pos & 7);
+    for (uint64_t i = 0; i < 5; i++) w = w << 8 | (byte + i < nbytes ? r->p[byte + i] : 0u);
+    *out = (uint32_t)((w >> (40 - shift - nb)) & ((1ull << nb) - 1));
+    r->pos += (uint64_t)nb;
     return 0;
 }
 
