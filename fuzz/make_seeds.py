@@ -148,6 +148,9 @@ if os.path.isdir(TRAJ):
                   for i, a in enumerate(["N", "HT1", "HT2", "HT3", "CA", "HA", "CB"])) + "END\n"
     put("xtc_top", "pdb", companion(pdb.encode(), small))
     put("xtc_top", "none", companion(b"", small))
+    for name in ("adk_ca.ncdf", "restart.ncrst"):
+        with open(os.path.join(TRAJ, name), "rb") as f:
+            put("ncdf", name, f.read())
 
 # ---- raw
 put("raw_particles", "four", b"count=4 radius=0.5\n" + struct.pack("<12f", *[float(i) for i in range(12)]))

@@ -44,7 +44,7 @@ static size_t particle_count(const lc_volume *v)
 static void rows(void)
 {
     static const char *const want[] = {"nrrd", "metaimage", "pdb", "rbf", "rbf-binary", "xyz",
-                                       "gro", "raw-particles", "raw-volume", "dcd", "xtc", "trr", "lammps", "gadget",
+                                       "gro", "raw-particles", "raw-volume", "dcd", "xtc", "trr", "ncdf", "lammps", "gadget",
                                        "nifti", "vtk", "hdf5", "mmcif", "csv"};
     int n = lc_format_count(), found = 0;
     CHECK(n == (int)(sizeof want / sizeof want[0]), "lc_format_count = %d", n);

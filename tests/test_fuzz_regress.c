@@ -37,6 +37,7 @@ static const struct {
     {"xtc", "xtc", ".xtc", 0},
     {"xtc_top", "xtc", ".xtc", 2},
     {"trr", "trr", ".trr", 0},
+    {"ncdf", "ncdf", ".nc", 0},
     {"raw_particles", "raw-particles", ".f32", 1},
     {"nrrd", "nrrd", ".nrrd", 0},
     {"metaimage", "metaimage", ".mha", 0},

@@ -278,6 +278,84 @@ static void malformed(void)
     free(b), free(x), free(t);
 }
 
+/* 1 if this build has the named optional feature. */
+static int have_feature(const char *name)
+{
+    for (int i = 0; i < lc_feature_count(); i++) {
+        lc_feature_info fi;
+        if (lc_feature_get(i, &fi) == LC_OK && !strcmp(fi.name, name)) return fi.available;
+    }
+    return 0;
+}
+
+/* Replaces the first occurrence of `from` (same length as `to`) in a copy of src. */
+static void put_edited(const char *name, const unsigned char *src, size_t n, const char *from, const char *to)
+{
+    unsigned char *b = malloc(n);
+    memcpy(b, src, n);
+    size_t k = strlen(from);
+    for (size_t i = 0; i + k <= n; i++)
+        if (!memcmp(b + i, from, k)) {
+            memcpy(b + i, to, k);
+            break;
+        }
+    put(name, b, n);
+    free(b);
+}
+
+/* AMBER NetCDF (host/formats/ncdf.c): MDAnalysis's NCDFWriter file against its
+ * reading, a restart made by ncgen from restart.cdl against the CDL's numbers,
+ * damaged variants; without libnetcdf, one line naming the package. */
+static void amber_netcdf(void)
+{
+    if (!have_feature("netcdf")) {
+        lc_volume *v = NULL;
+        lc_status s = lc_volume_load(dev, dpath("adk_ca.ncdf"), NULL, &v);
+        CHECK(s == LC_ERROR_UNSUPPORTED && strstr(lc_last_error(), "libnetcdf-dev") && !strchr(lc_last_error(), '\n'),
+              "without libnetcdf: adk_ca.ncdf fails naming libnetcdf-dev: %s", lc_last_error());
+        lc_volume_destroy(v);
+        printf("skip: this build has no netcdf feature: the AMBER NetCDF decoding cases\n");
+        return;
+    }
+    against_ref(&lci_format_ncdf, "adk_ca.ncdf");
+    lc_option sp = {"value", "speed"};
+    lci_loaded l;
+    const lc_particles_desc *d = load(&lci_format_ncdf, dpath("restart.ncrst"), 0, NULL, &sp, 1, &l);
+    static const float want[9] = {1.5f, 2.25f, -3.125f, 2.0f, 2.25f, -3.125f, 1.25f, 2.75f, -3.0f};
+    int same = d && d->count == 3;
+    for (int i = 0; same && i < 9; i++) same = d->positions[i] == want[i];
+    CHECK(same && fabsf(d->values[0] - 0.1f * 20.455f) < 1e-5f && fabsf(d->values[2] - 0.3f * 20.455f) < 1e-5f,
+          "restart.ncrst (ncgen, AMBERRESTART): the CDL's 3 atoms, speeds |v| x scale_factor 20.455");
+    if (d) lci_loaded_free(&l);
+    d = load(&lci_format_ncdf, dpath("adk_ca.ncdf"), 2, dpath("adk_ca.gro"), &sp, 1, &l);
+    CHECK(d && d->count == 214 && d->radii[5] == 0.76f && d->values, "adk_ca.ncdf --topology adk_ca.gro --value speed");
+    if (d) lci_loaded_free(&l);
+    size_t n = 0, m = 0;
+    unsigned char *r = slurp(dpath("restart.ncrst"), &n), *t = slurp(dpath("adk_ca.ncdf"), &m);
+    if (!r || !t) {
+        CHECK(0, "the NetCDF files read");
+        free(r), free(t);
+        return;
+    }
+    put_edited("conv.ncrst", r, n, "AMBERRESTART", "AMBERXESTART");
+    load_must_fail(dev, tpath("conv.ncrst"), ": ", "Conventions does not name AMBER", NULL, LC_ERROR_FORMAT, NULL);
+    put_edited("var.ncrst", r, n, "coordinates", "coordinatez");
+    load_must_fail(dev, tpath("var.ncrst"), ": ", "variable coordinates:", "(netCDF)", LC_ERROR_FORMAT, NULL);
+    put_edited("dim.ncrst", r, n, "spatial", "spatiaX");
+    load_must_fail(dev, tpath("dim.ncrst"), ": ", "variable coordinates: dimension 1 is 'spatiaX'", NULL,
+                   LC_ERROR_FORMAT, NULL);
+    put("cut.ncdf", t, m - 3000);
+    lc_load_desc f4 = {.frame = 4};
+    load_must_fail(dev, tpath("cut.ncdf"), ": byte 23332: ", "the file ends before the data its header declares", NULL,
+                   LC_ERROR_FORMAT, &f4);
+    put("head.ncdf", t, 200);
+    load_must_fail(dev, tpath("head.ncdf"), ": ", "not readable as netCDF", NULL, LC_ERROR_FORMAT, NULL);
+    lc_load_desc f5 = {.frame = 5};
+    load_must_fail(dev, dpath("adk_ca.ncdf"), ": ", "frame 5 is past the end: the file holds 5 frames", NULL,
+                   LC_ERROR_INVALID_ARGUMENT, &f5);
+    free(r), free(t);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 4) return fprintf(stderr, "usage: test_traj SHARED_DATA_DIR TMP_DIR TRAJ_DATA_DIR\n"), 2;
@@ -295,6 +373,7 @@ int main(int argc, char **argv)
     trr_values();
     topologies();
     malformed();
+    amber_netcdf();
     lc_device_destroy(dev);
     return check_summary("traj");
 }

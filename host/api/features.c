@@ -15,6 +15,8 @@ static const lc_feature_info features[] = {
                            "NIfTI-1/2 volumes: .nii, .nii.gz, .hdr/.img pairs"},
     [LCI_FEATURE_HDF5] = {"hdf5", "libhdf5", LC_HAVE_HDF5, "libhdf5-dev",
                           "HDF5 files: GADGET/AREPO/SWIFT PartTypeN snapshots, a dataset as a grid or particles"},
+    [LCI_FEATURE_NETCDF] = {"netcdf", "libnetcdf", LC_HAVE_NETCDF, "libnetcdf-dev",
+                            "AMBER NetCDF trajectories and restarts: .nc, .ncdf, .ncrst"},
 };
 #define NFEATURES ((int)(sizeof features / sizeof features[0]))
 

@@ -82,6 +82,17 @@ with TRRWriter(f"{out}/adk_ca.trr", ca.n_atoms) as w:
         w.write(ca_u.atoms)
 reference(f"{out}/adk_ca.trr", f"{out}/adk_ca.trr.ref", step=9)
 
+# AMBER NetCDF (MDAnalysis NCDFWriter, scipy's netCDF 3 64-bit-offset writer): the
+# same CA frames with velocities
+from MDAnalysis.coordinates.TRJ import NCDFWriter
+with NCDFWriter(f"{out}/adk_ca.ncdf", ca.n_atoms, velocities=True) as w:
+    for ts in ca_u.trajectory:
+        w.write(ca_u.atoms)
+reference(f"{out}/adk_ca.ncdf", f"{out}/adk_ca.ncdf.ref", step=9)
+# a restart (no frame dimension) and a scale_factor on velocities, from a CDL by ncgen
+if shutil.which("ncgen"):
+    subprocess.run(["ncgen", "-k", "nc3", "-o", f"{out}/restart.ncrst", f"{out}/restart.cdl"], check=True)
+
 # GROMACS itself (Debian gromacs): the CA trajectory rewritten at precision 100 with
 # a box, and as a double-precision TRR (gmx_d) with velocities
 if shutil.which("gmx") and shutil.which("gmx_d"):
