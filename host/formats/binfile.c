@@ -124,3 +124,41 @@ lc_status lci_bin_record(lci_bin *b, int64_t off, int64_t expect, const char *wh
     *next = off + 2 * m + n;
     return LC_OK;
 }
+
+lc_status lci_bin_seek_frame(lci_bin *b, int64_t k, lci_frame_header_fn header, void *frame)
+{
+    int64_t off = 0;
+    for (int64_t i = 0;; i++) {
+        if (i > 0 && off == b->size)
+            return lci_error(b->dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld "
+                             "frame%s", b->path, (long long)k, (long long)i, i == 1 ? "" : "s");
+        int eof;
+        int64_t next;
+        lc_status s = header(b, off, i, frame, &next, &eof);
+        if (s != LC_OK || i == k) return s;
+        off = next;
+    }
+}
+
+lc_status lci_bin_count_frames(lci_bin *b, lci_frame_header_fn header, void *frame, const char *what, int64_t *out)
+{
+    int64_t off = 0, k = 0, next;
+    lc_status s = LC_OK;
+    *out = 0;
+    while (off < b->size) {
+        int eof;
+        s = header(b, off, k, frame, &next, &eof);
+        if (s != LC_OK && eof && k > 0) { /* a last frame cut short: the complete ones count */
+            lci_log(b->dev, LC_LOG_WARNING, "%s: %lld bytes after frame %lld are not a whole frame (a run cut short?); "
+                    "ignored", b->path, (long long)(b->size - off), (long long)k - 1);
+            s = LC_OK;
+            break;
+        }
+        if (s != LC_OK) return s;
+        off = next;
+        k++;
+    }
+    if (k == 0) return lci_error(b->dev, LC_ERROR_FORMAT, "%s: byte 0: empty file, expected %s", b->path, what);
+    *out = k;
+    return LC_OK;
+}

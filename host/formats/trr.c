@@ -110,18 +110,12 @@ static lc_status frame_header(lci_bin *b, int64_t off, int64_t k, trr_frame *f, 
     return LC_OK;
 }
 
-static lc_status seek_frame(lci_bin *b, int64_t k, trr_frame *f)
+/* frame_header as an lci_frame_header_fn */
+static lc_status header_fn(lci_bin *b, int64_t off, int64_t k, void *frame, int64_t *next, int *eof)
 {
-    int64_t off = 0;
-    for (int64_t i = 0;; i++) {
-        if (i > 0 && off == b->size)
-            return lci_error(b->dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld "
-                             "frame%s", b->path, (long long)k, (long long)i, i == 1 ? "" : "s");
-        int eof;
-        lc_status s = frame_header(b, off, i, f, &eof);
-        if (s != LC_OK || i == k) return s;
-        off = f->next;
-    }
+    lc_status s = frame_header(b, off, k, frame, eof);
+    *next = ((trr_frame *)frame)->next;
+    return s;
 }
 
 /* Block `which` (x, v or f) of frame k as floats (times scale) into out. */
@@ -170,7 +164,7 @@ static lc_status trr_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     trr_frame f;
     int64_t k = a->desc->frame;
     lc_status s = trr_open(dev, a->path, &b);
-    if (s == LC_OK) s = seek_frame(&b, k, &f);
+    if (s == LC_OK) s = lci_bin_seek_frame(&b, k, header_fn, &f);
     if (s == LC_OK && !f.size[S_X])
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: frame %lld holds no positions (x_size 0)", a->path,
                       (long long)f.off, (long long)k);
@@ -197,27 +191,11 @@ static lc_status trr_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
 static lc_status trr_frames(lc_device *dev, const char *path, int64_t *out)
 {
     lci_bin b;
+    trr_frame f;
     *out = 0;
     lc_status s = trr_open(dev, path, &b);
-    if (s != LC_OK) return s;
-    int64_t off = 0, k = 0;
-    trr_frame f;
-    while (off < b.size) {
-        int eof;
-        s = frame_header(&b, off, k, &f, &eof);
-        if (s != LC_OK && eof && k > 0) {
-            lci_log(dev, LC_LOG_WARNING, "%s: %lld bytes after frame %lld are not a whole frame (a run cut short?); "
-                    "ignored", path, (long long)(b.size - off), (long long)k - 1);
-            s = LC_OK;
-            break;
-        }
-        if (s != LC_OK) break;
-        off = f.next;
-        k++;
-    }
-    if (s == LC_OK && k == 0) s = lci_error(dev, LC_ERROR_FORMAT, "%s: byte 0: empty file, expected a TRR frame", path);
+    if (s == LC_OK) s = lci_bin_count_frames(&b, header_fn, &f, "a TRR frame", out);
     lci_bin_close(&b);
-    *out = s == LC_OK ? k : 0;
     return s;
 }
 

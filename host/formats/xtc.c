@@ -335,20 +335,12 @@ static lc_status xtc_open(lc_device *dev, const char *path, lci_bin *b)
     return s;
 }
 
-/* Seeks frame k by the headers of frames 0..k-1. */
-static lc_status seek_frame(lci_bin *b, int64_t k, xtc_frame *f)
+/* frame_header as an lci_frame_header_fn */
+static lc_status header_fn(lci_bin *b, int64_t off, int64_t k, void *frame, int64_t *next, int *eof)
 {
-    int64_t off = 0;
-    for (int64_t i = 0;; i++) {
-        if (i > 0 && off == b->size)
-            return lci_error(b->dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld "
-                             "frame%s", b->path, (long long)k, (long long)i, i == 1 ? "" : "s");
-        int eof;
-        lc_status s = frame_header(b, off, i, f, &eof);
-        if (s != LC_OK) return s;
-        if (i == k) return LC_OK;
-        off = f->next;
-    }
+    lc_status s = frame_header(b, off, k, frame, eof);
+    *next = ((xtc_frame *)frame)->next;
+    return s;
 }
 
 static lc_status xtc_read(lc_device *dev, const lci_read_args *a, lci_loaded *out)
@@ -359,7 +351,7 @@ static lc_status xtc_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     char why[4300] = "";
     xtc_frame f;
     lc_status s = xtc_open(dev, a->path, &b);
-    if (s == LC_OK) s = seek_frame(&b, a->desc->frame, &f);
+    if (s == LC_OK) s = lci_bin_seek_frame(&b, a->desc->frame, header_fn, &f);
     if (s == LC_OK) s = lci_topo_load(dev, a, ".gro .pdb .psf", &topo, why, sizeof why);
     if (s == LC_OK && !(xyz = lci_alloc_checked(dev, a->path, (uint64_t)f.natoms, 12, 0, "atoms", 0)))
         s = LC_ERROR_OUT_OF_MEMORY;
@@ -375,34 +367,11 @@ static lc_status xtc_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
 static lc_status xtc_frames(lc_device *dev, const char *path, int64_t *out)
 {
     lci_bin b;
+    xtc_frame f;
     *out = 0;
     lc_status s = xtc_open(dev, path, &b);
-    if (s != LC_OK) return s;
-    int64_t off = 0, k = 0;
-    xtc_frame f;
-    int32_t natoms = 0;
-    while (off < b.size) {
-        int eof;
-        s = frame_header(&b, off, k, &f, &eof);
-        if (s != LC_OK && eof && k > 0) { /* a last frame cut short: the complete ones count */
-            lci_log(dev, LC_LOG_WARNING, "%s: %lld bytes after frame %lld are not a whole frame (a run cut short?); "
-                    "ignored", path, (long long)(b.size - off), (long long)k - 1);
-            s = LC_OK;
-            break;
-        }
-        if (s != LC_OK) break;
-        if (k > 0 && f.natoms != natoms) {
-            s = lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: frame %lld has %d atoms, frame 0 %d", path,
-                          (long long)off + 4, (long long)k, f.natoms, natoms);
-            break;
-        }
-        natoms = f.natoms;
-        off = f.next;
-        k++;
-    }
-    if (s == LC_OK && k == 0) s = lci_error(dev, LC_ERROR_FORMAT, "%s: byte 0: empty file, expected an XTC frame", path);
+    if (s == LC_OK) s = lci_bin_count_frames(&b, header_fn, &f, "an XTC frame", out);
     lci_bin_close(&b);
-    *out = s == LC_OK ? k : 0;
     return s;
 }
 
