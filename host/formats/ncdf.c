@@ -98,21 +98,28 @@ static lc_status check_dims(lc_device *dev, const char *path, const ncf *f, int 
     return LC_OK;
 }
 
-/* Classic netCDF (CDF-1, -2, -5) files: libnetcdf fills what lies past the
- * end of a truncated file with zeros, so the end of every variable's data
- * (from the header's begin offsets, numrecs and vsizes; NetCDF Classic
- * Format Specification) is checked against the file's size. 0 ok, else the
- * byte offset where the header stops making sense (-1: the data is cut). */
+/* Classic netCDF (CDF-1, -2, -5) files, before libnetcdf sees them: the
+ * header's lists and names must fit the file (libnetcdf allocates what a
+ * damaged count says: 4 GB for one name, found by fuzz_ncdf), and, since
+ * libnetcdf fills what lies past the end of a cut file with zeros, the end
+ * of every variable's data (begin offsets, numrecs and vsizes; NetCDF
+ * Classic Format Specification) must lie inside the file. Returns 0 (ok, or
+ * a header longer than the bytes read: left to libnetcdf), -1 (the data is
+ * cut) or the byte offset where the header stops making sense. AMBER files
+ * have a dozen variables; more than 1024 dimensions or variables are
+ * refused. */
 typedef struct cdf {
     const unsigned char *p;
     size_t n, at;
     int v; /* 1, 2 or 5 */
-    int bad;
+    int bad;    /* a count or a name past the end of the file */
+    int beyond; /* past the bytes read, inside the file */
+    uint64_t fsize;
 } cdf;
 
 static uint64_t cdf_u(cdf *c, int bytes)
 {
-    if (c->at + (size_t)bytes > c->n) return c->bad = 1, 0;
+    if (c->at + (size_t)bytes > c->n) return c->beyond = 1, c->bad = 1, 0;
     uint64_t v = 0;
     for (int i = 0; i < bytes; i++) v = v << 8 | c->p[c->at++];
     return v;
@@ -120,7 +127,9 @@ static uint64_t cdf_u(cdf *c, int bytes)
 
 static void cdf_skip(cdf *c, uint64_t bytes)
 {
-    if (bytes > c->n - c->at) c->bad = 1, c->at = c->n;
+    if (bytes > c->fsize - c->at) c->bad = 1;
+    else if (bytes > c->n - c->at) c->beyond = c->bad = 1;
+    if (c->bad) c->at = c->n;
     else c->at += (size_t)bytes;
 }
 
@@ -135,18 +144,19 @@ static void cdf_atts(cdf *c)
     for (uint64_t i = 0; i < n && !c->bad; i++) {
         cdf_name(c);
         uint64_t t = cdf_u(c, 4), k = cdf_count(c);
-        if (t < 1 || t > 11 || k > c->n) c->bad = 1;
+        if (t < 1 || t > 11 || k > c->fsize) c->bad = 1;
         else cdf_skip(c, (k * (uint64_t)tsize[t] + 3) / 4 * 4);
     }
 }
 
 static int64_t cdf_check(const unsigned char *p, size_t n, int64_t fsize)
 {
-    cdf c = {p, n, 4, p[3], 0};
+    cdf c = {p, n, 4, p[3], 0, 0, (uint64_t)fsize};
     uint64_t numrecs = cdf_count(&c);
     uint64_t tag = cdf_u(&c, 4), ndims = cdf_count(&c);
     uint64_t dimlen[1024];
     int recdim = -1;
+    if (c.beyond) return 0;
     if ((tag != 0 && tag != 10) || ndims > 1024) return (int64_t)c.at;
     for (uint64_t i = 0; i < ndims && !c.bad; i++) {
         cdf_name(&c);
@@ -156,6 +166,7 @@ static int64_t cdf_check(const unsigned char *p, size_t n, int64_t fsize)
     cdf_atts(&c);
     tag = cdf_u(&c, 4);
     uint64_t nvars = cdf_count(&c);
+    if (c.beyond) return 0;
     if (c.bad || (tag != 0 && tag != 11) || nvars > 1024) return (int64_t)c.at;
     uint64_t recsize = 0, nrecvars = 0, begins[1024], vsizes[1024];
     int isrec[1024];
@@ -174,7 +185,8 @@ static int64_t cdf_check(const unsigned char *p, size_t n, int64_t fsize)
         isrec[i] = nd > 0 && (int)first == recdim;
         if (isrec[i]) recsize += vsizes[i], nrecvars++;
     }
-    if (c.bad) return (int64_t)c.at;
+    if (c.beyond) return 0;
+    if (c.bad) return (int64_t)(c.at ? c.at : 1);
     for (uint64_t i = 0; i < nvars; i++) {
         uint64_t rs = nrecvars == 1 ? vsizes[i] : recsize; /* one record variable: records are not padded */
         uint64_t f = (uint64_t)fsize;
@@ -208,14 +220,11 @@ static lc_status nc_header(lc_device *dev, const char *path, ncf *f)
     if (bad < 0)
         return lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: the file ends before the data its header declares (cut "
                          "short?)", path, (long long)size);
+    if (bad > 0)
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: damaged netCDF header (a list, name or type that does "
+                         "not fit the file, or over 1024 dimensions or variables)", path, (long long)bad);
     int rc = nc_open(path, NC_NOWRITE, &f->id);
-    if (rc != NC_NOERR) {
-        f->id = -1;
-        if (bad > 0)
-            return lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: not readable as netCDF: %s (netCDF)", path,
-                             (long long)bad, nc_strerror(rc));
-        return nc_fail(dev, path, "not readable as netCDF", rc);
-    }
+    if (rc != NC_NOERR) return f->id = -1, nc_fail(dev, path, "not readable as netCDF", rc);
     char conv[256];
     att_text(f->id, NC_GLOBAL, "Conventions", conv, sizeof conv);
     /* a list, comma or space separated, holding AMBER or AMBERRESTART */
