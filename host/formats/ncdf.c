@@ -162,6 +162,7 @@ static int64_t cdf_check(const unsigned char *p, size_t n, int64_t fsize)
         cdf_name(&c);
         dimlen[i] = cdf_count(&c);
         if (dimlen[i] == 0) recdim = (int)i;
+        if (dimlen[i] > c.fsize) c.bad = 1; /* longer than the file: libnetcdf sizes its shapes from it */
     }
     cdf_atts(&c);
     tag = cdf_u(&c, 4);
@@ -221,8 +222,8 @@ static lc_status nc_header(lc_device *dev, const char *path, ncf *f)
         return lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: the file ends before the data its header declares (cut "
                          "short?)", path, (long long)size);
     if (bad > 0)
-        return lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: damaged netCDF header (a list, name or type that does "
-                         "not fit the file, or over 1024 dimensions or variables)", path, (long long)bad);
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: damaged netCDF header (a list, name, type or dimension "
+                         "that does not fit the file, or over 1024 dimensions or variables)", path, (long long)bad);
     int rc = nc_open(path, NC_NOWRITE, &f->id);
     if (rc != NC_NOERR) return f->id = -1, nc_fail(dev, path, "not readable as netCDF", rc);
     char conv[256];
