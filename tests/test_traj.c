@@ -349,7 +349,7 @@ static void amber_netcdf(void)
     load_must_fail(dev, tpath("cut.ncdf"), ": byte 23332: ", "the file ends before the data its header declares", NULL,
                    LC_ERROR_FORMAT, &f4);
     put("head.ncdf", t, 200);
-    load_must_fail(dev, tpath("head.ncdf"), ": byte 60: ", "damaged netCDF header", NULL, LC_ERROR_FORMAT, NULL);
+    load_must_fail(dev, tpath("head.ncdf"), ": byte 44: ", "damaged netCDF header", NULL, LC_ERROR_FORMAT, NULL);
     lc_load_desc f5 = {.frame = 5};
     load_must_fail(dev, dpath("adk_ca.ncdf"), ": ", "frame 5 is past the end: the file holds 5 frames", NULL,
                    LC_ERROR_INVALID_ARGUMENT, &f5);

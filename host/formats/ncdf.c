@@ -119,7 +119,11 @@ typedef struct cdf {
 
 static uint64_t cdf_u(cdf *c, int bytes)
 {
-    if (c->at + (size_t)bytes > c->n) return c->beyond = 1, c->bad = 1, 0;
+    if (c->bad) return 0; /* the first damage decides: not read past */
+    if (c->at + (size_t)bytes > c->n) {
+        if ((uint64_t)c->at + (uint64_t)bytes <= c->fsize) c->beyond = 1; /* only past the bytes read */
+        return c->bad = 1, 0;
+    }
     uint64_t v = 0;
     for (int i = 0; i < bytes; i++) v = v << 8 | c->p[c->at++];
     return v;
@@ -127,6 +131,7 @@ static uint64_t cdf_u(cdf *c, int bytes)
 
 static void cdf_skip(cdf *c, uint64_t bytes)
 {
+    if (c->bad) return;
     if (bytes > c->fsize - c->at) c->bad = 1;
     else if (bytes > c->n - c->at) c->beyond = c->bad = 1;
     if (c->bad) c->at = c->n;
