@@ -114,6 +114,44 @@ put("dcd_psf", "cell2", companion(psf, dcd(3, 2, 1)))
 put("dcd_psf", "nocell", companion(psf, dcd(3, 1, 0)))
 put("dcd_psf", "no_topology", companion(b"", dcd(3, 1, 0)))
 
+# ---- GROMACS XTC/TRR: the first frame of each file of tests/data/traj (written
+# by MDAnalysis and GROMACS; README.md there), and a .gro/.pdb/.psf topology
+TRAJ = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "traj")
+
+
+def first_frames(name, count=1):
+    """The first `count` frames of an XTC or TRR file, by their headers."""
+    with open(os.path.join(TRAJ, name), "rb") as f:
+        b = f.read()
+    off = 0
+    for _ in range(count):
+        if name.endswith(".xtc"):
+            n = struct.unpack_from(">i", b, off + 4)[0]
+            off += 56 + 12 * n if n <= 9 else 92 + (struct.unpack_from(">i", b, off + 88)[0] + 3) // 4 * 4
+        else:
+            sizes = struct.unpack_from(">13i", b, off + 24)
+            real = sizes[2] // 9 if sizes[2] else sizes[7] // (3 * sizes[10])
+            off += 76 + 2 * real + sum(sizes[:10])
+    return b[:off]
+
+
+if os.path.isdir(TRAJ):
+    for name in ("small.xtc", "adk_ca.xtc", "wide.xtc", "gmx_ca.xtc"):
+        put("xtc", name, first_frames(name, 2 if name == "small.xtc" else 1))
+    for name in ("adk_ca.trr", "gmx_ca_d.trr"):
+        put("trr", name, first_frames(name))
+    small = first_frames("small.xtc")
+    gro = "seven\n    7\n" + "".join("    1MET     %-3s%5d   0.100   0.200   0.300\n" % (a, i + 1) for i, a in
+                                       enumerate(["N", "HT1", "HT2", "HT3", "CA", "HA", "CB"])) + "   1.0 1.0 1.0\n"
+    put("xtc_top", "gro", companion(gro.encode(), small))
+    pdb = "".join("ATOM  %5d  %-3s MET A   1       0.000   0.000   0.000  1.00  0.00           %s\n" % (i + 1, a, a[0])
+                  for i, a in enumerate(["N", "HT1", "HT2", "HT3", "CA", "HA", "CB"])) + "END\n"
+    put("xtc_top", "pdb", companion(pdb.encode(), small))
+    put("xtc_top", "none", companion(b"", small))
+    for name in ("adk_ca.ncdf", "restart.ncrst"):
+        with open(os.path.join(TRAJ, name), "rb") as f:
+            put("ncdf", name, f.read())
+
 # ---- raw
 put("raw_particles", "four", b"count=4 radius=0.5\n" + struct.pack("<12f", *[float(i) for i in range(12)]))
 put("raw_volume", "u8", b"size=4,4,2 type=uint8\n" + bytes(range(32)))

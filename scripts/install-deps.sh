@@ -2,7 +2,7 @@
 # Installs lanecast's build and test dependencies from Debian's packages.
 # Idempotent: when everything is present it only runs dpkg-query and exits.
 set -eu
-PKGS="meson ninja-build pkg-config cmake gcc g++ libembree-dev libopenimageio-dev libcglm-dev libjson-c-dev zlib1g-dev liblapacke-dev libnifti2-dev libhdf5-dev openmpi-bin libopenmpi-dev"
+PKGS="meson ninja-build pkg-config cmake gcc g++ libembree-dev libopenimageio-dev libcglm-dev libjson-c-dev zlib1g-dev liblapacke-dev libnifti2-dev libhdf5-dev openmpi-bin libopenmpi-dev libnetcdf-dev"
 missing=""
 for p in $PKGS; do
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

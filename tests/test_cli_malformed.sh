@@ -6,10 +6,12 @@
 # exactly one line on stderr naming the file, and leave a pre-existing
 # out.png byte for byte as it was. A well-formed control of each generator
 # must render (so the damage, not the generator, is what fails).
-# usage: test_cli_malformed.sh LANECAST_EXE DATA_DIR
+# usage: test_cli_malformed.sh LANECAST_EXE DATA_DIR [TRAJ_DIR]
 set -u
 exe=$1
 data=${2:-}
+traj=${3:-}
+case $traj in /* | "") ;; *) traj=$(pwd)/$traj ;; esac
 case $exe in /*) ;; *) exe=$(pwd)/$exe ;; esac
 case $data in /* | "") ;; *) data=$(pwd)/$data ;; esac
 fail=0
@@ -191,6 +193,29 @@ if [ -n "$data" ] && [ -f "$data/particles/adk.dcd" ]; then
     case_bad "dcd truncated" short.dcd --radius 1
 else
     echo "skip: dcd cases ($data/particles/adk.dcd is absent)"
+fi
+
+# ---- GROMACS XTC / TRR (tests/data/traj): truncation, bad magic, a lying
+# count, a topology pointing nowhere or of the wrong size, a frame past the end
+if [ -n "$traj" ] && [ -f "$traj/adk_ca.xtc" ]; then
+    cp "$traj/adk_ca.xtc" "$traj/adk_ca.gro" "$traj/adk_ca.trr" "$traj/small.xtc" .
+    case_good xtc adk_ca.xtc
+    case_good trr adk_ca.trr --frame 4
+    head -c 300 adk_ca.xtc >cut.xtc
+    case_bad "xtc truncated in frame 0" cut.xtc
+    { be32 1996; tail -c +5 adk_ca.xtc; } >magic.xtc
+    case_bad "xtc bad magic" magic.xtc
+    { head -c 4 adk_ca.xtc; be32 215; tail -c +9 adk_ca.xtc; } >count.xtc
+    case_bad "xtc atom counts that disagree" count.xtc
+    case_bad "xtc with --topology pointing nowhere" adk_ca.xtc --topology nowhere.gro
+    case_bad "xtc with a topology of another size" small.xtc --topology adk_ca.gro
+    case_bad "xtc frame past the end" adk_ca.xtc --frame 10
+    head -c 2000 adk_ca.trr >cut.trr
+    case_bad "trr truncated in frame 0" cut.trr
+    { be32 1990; tail -c +5 adk_ca.trr; } >magic.trr
+    case_bad "trr bad magic" magic.trr
+else
+    echo "skip: xtc/trr cases (no trajectory directory given)"
 fi
 
 echo "$n malformed cases"

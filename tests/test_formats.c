@@ -44,7 +44,7 @@ static size_t particle_count(const lc_volume *v)
 static void rows(void)
 {
     static const char *const want[] = {"nrrd", "metaimage", "pdb", "rbf", "rbf-binary", "xyz",
-                                       "gro", "raw-particles", "raw-volume", "dcd", "lammps", "gadget",
+                                       "gro", "raw-particles", "raw-volume", "dcd", "xtc", "trr", "ncdf", "lammps", "gadget",
                                        "nifti", "vtk", "hdf5", "mmcif", "csv"};
     int n = lc_format_count(), found = 0;
     CHECK(n == (int)(sizeof want / sizeof want[0]), "lc_format_count = %d", n);
@@ -57,6 +57,7 @@ static void rows(void)
                  (f.available == 1 || f.package[0]) && (f.kind != LC_KIND_NONE || !strcmp(f.name, "hdf5"));
         if (ok && !strcmp(f.name, "nifti")) ok = f.available == LC_HAVE_NIFTI && !strcmp(f.package, "libnifti2-dev");
         if (ok && !strcmp(f.name, "hdf5")) ok = f.available == LC_HAVE_HDF5 && !strcmp(f.package, "libhdf5-dev");
+        if (ok && !strcmp(f.name, "ncdf")) ok = f.available == LC_HAVE_NETCDF && !strcmp(f.package, "libnetcdf-dev");
         for (int j = 0; ok && j < i; j++) {
             lc_format_info g;
             ok &= lc_format_get(j, &g) == LC_OK && strcmp(g.name, f.name) != 0;
@@ -81,7 +82,7 @@ static void rows(void)
     }
     CHECK(l.name && l.available == LC_HAVE_LAPACKE && !strcmp(l.package, "liblapacke-dev"),
           "feature lapacke %d (this build: LC_HAVE_LAPACKE %d)", l.available, LC_HAVE_LAPACKE);
-    CHECK(nf == 6 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
+    CHECK(nf == 7 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
               !strcmp(z.package, "zlib1g-dev") && !strcmp(j.package, "libjson-c-dev") &&
               lc_feature_get(nf, &z) == LC_ERROR_INVALID_ARGUMENT,
           "features: zlib %d, json %d (this build: LC_HAVE_ZLIB %d, LC_HAVE_JSON %d)", z.available, j.available,

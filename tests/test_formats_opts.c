@@ -353,7 +353,7 @@ static void dcd_psf(const char *data)
     d = read_with(&lci_format_dcd, tpath("t.dcd"), tpath("t.psf"), OPT("fields", "column:type"), 1, &l);
     CHECK(d && d->nfields == 4 && d->fields[3] == 3, "t.dcd + t.psf fields = column:type");
     lci_loaded_free(&l);
-    must_fail(tpath("t.dcd"), ": ", "value = 'occupancy'", "(it has mass, charge and resid)", LC_ERROR_INVALID_ARGUMENT,
+    must_fail(tpath("t.dcd"), ": ", "value = 'occupancy'", "(it has resid, charge, mass)", LC_ERROR_INVALID_ARGUMENT,
               &(lc_load_desc){.companion = tpath("t.psf"), .options = OPT("value", "occupancy"), .noptions = 1});
     must_fail(tpath("t.dcd"), ": ", "fields by column 'chain'", "PSF topology has no such column",
               LC_ERROR_INVALID_ARGUMENT,
@@ -364,7 +364,7 @@ static void dcd_psf(const char *data)
     must_fail(tpath("one.dcd"), ": topology: ", ":7: expected atom 1 of 1", NULL, LC_ERROR_FORMAT,
               &(lc_load_desc){.companion = tpath("badq.psf"), .options = OPT("value", "charge"), .noptions = 1});
     write_dcd("nopsf.dcd", 4); /* no nopsf.psf next to it */
-    must_fail(tpath("nopsf.dcd"), ": ", "value = 'mass' needs the PSF topology", NULL, LC_ERROR_INVALID_ARGUMENT,
+    must_fail(tpath("nopsf.dcd"), ": ", "value = 'mass' needs the topology", NULL, LC_ERROR_INVALID_ARGUMENT,
               LOAD({"value", "mass"}));
 
     /* adk.psf: masses, charges and types against the test's own reading */

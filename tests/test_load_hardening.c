@@ -4,6 +4,7 @@
  * offsets, streamed gzip (several members, trailing bytes), and the
  * transfer-function messages for empty and truncated JSON.
  * usage: test_load_hardening BUILD_DIR */
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -87,6 +88,24 @@ int main(int argc, char **argv)
     s = lc_volume_load(dev, f32, &pd, &pv);
     CHECK(s == LC_OK, "control: raw particles without the limit: %s", s ? lc_last_error() : "loaded");
     lc_volume_destroy(pv);
+
+    /* XTC (uncompressed, 3 atoms: 36 bytes of positions) and TRR: the memory
+       limit before the positions are allocated, a header whose atom count
+       the file cannot hold refused before any allocation */
+    unsigned char xtc[92] = {0};
+    uint32_t xh[14] = {1995, 3, 0, 0, 0x3f800000u, 0, 0, 0, 0x3f800000u, 0, 0, 0, 0x3f800000u, 3};
+    for (int i = 0; i < 23; i++) {
+        uint32_t v = i < 14 ? xh[i] : 0x3f000000u * (i % 2); /* 0.5 or 0 nm */
+        xtc[4 * i] = (unsigned char)(v >> 24), xtc[4 * i + 1] = (unsigned char)(v >> 16);
+        xtc[4 * i + 2] = (unsigned char)(v >> 8), xtc[4 * i + 3] = (unsigned char)v;
+    }
+    const char *x3 = put("three.xtc", xtc, sizeof xtc);
+    lc_option r1 = {"radius", "1"}, xm[2] = {{"radius", "1"}, {"max_memory", "20"}};
+    expect(dev, "XTC control (3 atoms)", x3, &r1, 1, LC_OK, "");
+    expect(dev, "XTC over max_memory", x3, xm, 2, LC_ERROR_OUT_OF_MEMORY, "more than the memory limit of 20 bytes");
+    xtc[7] = xtc[55] = 9; /* 9 atoms declared, 3 stored */
+    expect(dev, "XTC atom count past the file", put("lying.xtc", xtc, sizeof xtc), &r1, 1, LC_ERROR_FORMAT,
+           "the file ends inside frame 0 (108 bytes needed, 36 left)");
 
     /* data files that are not regular files */
     char sub[4200];

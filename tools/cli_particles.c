@@ -10,7 +10,9 @@ static const char help[] =
     "  INPUT                 .xyz/.extxyz (element x y z, frames), .pdb/.ent (ATOM/HETATM, MODELs as\n"
     "                        frames), .cif (mmCIF _atom_site, models as frames), .gro (frames), .csv\n"
     "                        (named columns), optionally .gz; .dcd (CHARMM/NAMD trajectory, with\n"
-    "                        --topology FILE.psf), LAMMPS text dumps, GADGET snapshots (format 1 or 2),\n"
+    "                        --topology FILE.psf), .xtc/.trr (GROMACS trajectories, nm read as\n"
+    "                        Angstrom, with --topology FILE.gro|.pdb|.psf; TRR: --value speed|force),\n"
+    "                        LAMMPS text dumps, GADGET snapshots (format 1 or 2),\n"
     "                        HDF5 PartTypeN snapshots; raw float32 x,y,z triples with --raw-particles\n"
     "  --raw-particles N     INPUT holds exactly N little-endian float32 xyz triples (needs --radius)\n"
     "  --radius R            radius of every particle (default: covalent radius by element)\n"
@@ -74,6 +76,7 @@ static const char help[] =
     "            lanecast render gadget_lcdm_gas.dat --types 0 --value u --knn 16 -o gas.png\n"
     "            lanecast render 1tii.pdb --value bfactor --field-by column chain -o bfac.png\n"
     "            lanecast render adk.dcd --topology adk.psf --value charge --field-by column segid -o q.png\n"
+    "            lanecast render md.xtc --topology conf.gro --frame 500 --select protein -o md.png\n"
     "            lanecast render atoms.csv --select 'type 1 2 and index 0:9999' --value energy -o e.png\n"
     "\n";
 

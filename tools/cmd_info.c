@@ -17,7 +17,7 @@ static const char info_help[] =
     "the fields, the default value range, radii or voxel spacing.\n"
     "\n"
     "  --frame N             the frame to load (default 0)\n"
-    "  --topology FILE       a companion file (a DCD's PSF topology)\n"
+    "  --topology FILE       a companion file (a DCD's PSF, an XTC/TRR's .gro/.pdb/.psf topology)\n"
     "  --format NAME         the format, when it cannot be detected (see lanecast formats)\n"
     "  --option KEY=VALUE    a load option of the format or kind (lanecast formats lists them),\n"
     "                        e.g. --option fields=element; may be repeated\n"

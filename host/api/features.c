@@ -17,6 +17,8 @@ static const lc_feature_info features[] = {
                           "HDF5 files: GADGET/AREPO/SWIFT PartTypeN snapshots, a dataset as a grid or particles"},
     [LCI_FEATURE_MPI] = {"mpi", "MPI (OpenMPI)", LC_HAVE_MPI, "libopenmpi-dev",
                          "data-parallel rendering: lc_mpi_render (lanecast_mpi.h), mpirun -np N lanecast render"},
+    [LCI_FEATURE_NETCDF] = {"netcdf", "libnetcdf", LC_HAVE_NETCDF, "libnetcdf-dev",
+                            "AMBER NetCDF trajectories and restarts: .nc, .ncdf, .ncrst"},
 };
 #define NFEATURES ((int)(sizeof features / sizeof features[0]))
 

@@ -2,6 +2,7 @@
 #include <errno.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include "host/formats/binfile.h"
 #include "host/formats/checked.h"
 
@@ -33,9 +34,17 @@ lc_status lci_bin_read(lci_bin *b, int64_t off, void *dst, size_t n, const char 
     if (off < 0 || off > b->size || (int64_t)n > b->size - off)
         return lci_error(b->dev, LC_ERROR_FORMAT, "%s: byte %lld: the file ends inside %s (%zu bytes needed, %lld left)",
                          b->path, (long long)off, what, n, (long long)(off < b->size ? b->size - off : 0));
-    if (fseeko(b->f, (off_t)off, SEEK_SET) != 0 || fread(dst, 1, n, b->f) != n)
-        return lci_error(b->dev, LC_ERROR_IO, "%s: byte %lld: read error in %s: %s", b->path, (long long)off, what,
-                         strerror(errno));
+    /* pread: no stdio buffer refilled for each small read after a seek (the
+       XTC/TRR header scans read 56-92 bytes per frame) */
+    int fd = fileno(b->f);
+    for (size_t got = 0; got < n;) {
+        ssize_t k = pread(fd, (char *)dst + got, n - got, (off_t)(off + (int64_t)got));
+        if (k < 0 && errno == EINTR) continue;
+        if (k <= 0)
+            return lci_error(b->dev, LC_ERROR_IO, "%s: byte %lld: read error in %s: %s", b->path,
+                             (long long)(off + (int64_t)got), what, k < 0 ? strerror(errno) : "the file shrank");
+        got += (size_t)k;
+    }
     if (n >= 4096) lci_load_progress(b->dev, (double)(off + (int64_t)n) / (double)b->size);
     return LC_OK;
 }
@@ -113,5 +122,43 @@ lc_status lci_bin_record(lci_bin *b, int64_t off, int64_t expect, const char *wh
                          b->path, (long long)(off + m + n), what, (long long)end, (long long)off, (long long)n);
     *len = n;
     *next = off + 2 * m + n;
+    return LC_OK;
+}
+
+lc_status lci_bin_seek_frame(lci_bin *b, int64_t k, lci_frame_header_fn header, void *frame)
+{
+    int64_t off = 0;
+    for (int64_t i = 0;; i++) {
+        if (i > 0 && off == b->size)
+            return lci_error(b->dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld "
+                             "frame%s", b->path, (long long)k, (long long)i, i == 1 ? "" : "s");
+        int eof;
+        int64_t next;
+        lc_status s = header(b, off, i, frame, &next, &eof);
+        if (s != LC_OK || i == k) return s;
+        off = next;
+    }
+}
+
+lc_status lci_bin_count_frames(lci_bin *b, lci_frame_header_fn header, void *frame, const char *what, int64_t *out)
+{
+    int64_t off = 0, k = 0, next;
+    lc_status s = LC_OK;
+    *out = 0;
+    while (off < b->size) {
+        int eof;
+        s = header(b, off, k, frame, &next, &eof);
+        if (s != LC_OK && eof && k > 0) { /* a last frame cut short: the complete ones count */
+            lci_log(b->dev, LC_LOG_WARNING, "%s: %lld bytes after frame %lld are not a whole frame (a run cut short?); "
+                    "ignored", b->path, (long long)(b->size - off), (long long)k - 1);
+            s = LC_OK;
+            break;
+        }
+        if (s != LC_OK) return s;
+        off = next;
+        k++;
+    }
+    if (k == 0) return lci_error(b->dev, LC_ERROR_FORMAT, "%s: byte 0: empty file, expected %s", b->path, what);
+    *out = k;
     return LC_OK;
 }

@@ -38,4 +38,15 @@ void lci_bin_fix(const lci_bin *b, void *p, size_t n, size_t width);
  * whole record inside the file. *next = the offset after it. */
 lc_status lci_bin_record(lci_bin *b, int64_t off, int64_t expect, const char *what, int64_t *len, int64_t *next);
 
+/* Frames of self-delimiting records (XTC, TRR): header(b, off, k, frame,
+ * &next, &eof) reads frame k's header at off into frame, sets next (the
+ * offset after frame k) and eof = 1 when the file ends inside it. */
+typedef lc_status (*lci_frame_header_fn)(lci_bin *b, int64_t off, int64_t k, void *frame, int64_t *next, int *eof);
+/* Frame k's header into frame, by the headers of frames 0..k-1 (none of
+ * their data is read); a k past the last frame fails naming the count. */
+lc_status lci_bin_seek_frame(lci_bin *b, int64_t k, lci_frame_header_fn header, void *frame);
+/* The whole frames; a last frame cut short is left out with a warning
+ * (what = "an XTC frame", ... for an empty file's message). */
+lc_status lci_bin_count_frames(lci_bin *b, lci_frame_header_fn header, void *frame, const char *what, int64_t *out);
+
 #endif

@@ -17,11 +17,12 @@
  *   (the free atoms only) in every later frame.
  *
  * lc_load_desc.frame picks a frame; frames are found by seeking. The
- * companion (lc_load_desc.companion, or else STEM.psf next to the DCD) gives
- * each atom its element, hence its radius (elements.h) and, with
- * `fields = element`, its field; `fields = column:NAME` maps any PSF column
- * (segid, resid, resname, name, type, charge, mass, element) to fields and
- * `value = mass | charge | resid` takes k_i from the PSF. Without a topology every atom gets one
+ * companion (lc_load_desc.companion: a PSF, or a .gro or PDB file; else
+ * STEM.psf next to the DCD) gives each atom its element, hence its radius
+ * (elements.h) and, with `fields = element`, its field; `fields =
+ * column:NAME` maps any PSF column (segid, resid, resname, name, type,
+ * charge, mass, element) to fields and `value = mass | charge | resid` takes
+ * k_i from the PSF (topology.h). Without a topology every atom gets one
  * radius and a warning says why. Every error names the file and byte. */
 #include <errno.h>
 #include <math.h>
@@ -30,8 +31,7 @@
 #include <string.h>
 #include <strings.h>
 #include "host/formats/binfile.h"
-#include "host/formats/elements.h"
-#include "host/formats/psf.h"
+#include "host/formats/topology.h"
 
 #define DCD_MAX_ATOMS ((int64_t)INT32_MAX / 2)
 
@@ -172,139 +172,36 @@ static lc_status read_coords(dcd *d, int64_t k, int64_t off, int64_t n, const in
     return LC_OK;
 }
 
-/* The topology: the companion, else STEM.psf if it exists, else none (*psf
- * left empty and *why says so). */
-static lc_status topology(lc_device *dev, const lci_read_args *a, lci_psf *psf, char *why, size_t n)
-{
-    const char *c = a->desc->companion;
-    char guess[4096];
-    if (!c || !c[0]) {
-        const char *slash = strrchr(a->path, '/');
-        const char *dot = strrchr(slash ? slash + 1 : a->path, '.');
-        size_t stem = dot ? (size_t)(dot - a->path) : strlen(a->path);
-        snprintf(guess, sizeof guess, "%.*s.psf", (int)stem, a->path);
-        FILE *f = fopen(guess, "rb");
-        if (!f) {
-            snprintf(why, n, "no topology: %s does not exist and none was given (--topology FILE.psf, "
-                     "lc_load_desc.companion)", guess);
-            return LC_OK;
-        }
-        fclose(f);
-        c = guess;
-    }
-    lc_status s = lci_psf_read(dev, c, psf);
-    if (s != LC_OK) {
-        char msg[LCI_MSG_MAX];
-        snprintf(msg, sizeof msg, "%s", lc_last_error());
-        return lci_error(dev, s, "%s: topology: %s", a->path, msg);
-    }
-    return LC_OK;
-}
-
-/* The PSF columns `fields = column:NAME` can name (the element is the one
- * psf.c gives the atom); `value = COLUMN` takes the numeric ones. */
-enum { P_SEGID, P_RESID, P_RESNAME, P_NAME, P_TYPE, P_CHARGE, P_MASS, P_ELEMENT, P_N };
-static const char *const psf_cols[P_N] = {"segid", "resid", "resname", "name", "type", "charge", "mass", "element"};
-
-static lc_status psf_columns(lc_device *dev, const char *path, const lci_atom_opts *o, int *fcol, int *vcol)
-{
-    for (int k = 0; k < P_N; k++) {
-        if (o->column && !strcasecmp(o->column, psf_cols[k])) *fcol = k;
-        if (o->value && !strcasecmp(o->value, psf_cols[k]) && (k == P_RESID || k == P_CHARGE || k == P_MASS)) *vcol = k;
-    }
-    if (o->column && *fcol < 0)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: fields by column '%s': the PSF topology has no such "
-                         "column (it has segid, resid, resname, name, type, charge, mass, and element)", path, o->column);
-    if (o->value && *vcol < 0)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: value = '%s': the PSF topology has no such numeric column "
-                         "(it has mass, charge and resid)", path, o->value);
-    return LC_OK;
-}
-
-/* An atom's column k as text (for fields by column). */
-static const char *psf_text(const lci_psf_atom *pa, int k, char *buf, size_t n)
-{
-    switch (k) {
-    case P_SEGID: return pa->segid;
-    case P_RESNAME: return pa->resname;
-    case P_NAME: return pa->name;
-    case P_TYPE: return pa->type;
-    case P_ELEMENT: return pa->element;
-    case P_RESID: snprintf(buf, n, "%ld", pa->resid); return buf;
-    default: snprintf(buf, n, "%g", (double)(k == P_CHARGE ? pa->charge : pa->mass)); return buf;
-    }
-}
-
 static lc_status dcd_read(lc_device *dev, const lci_read_args *a, lci_loaded *out)
 {
-    lci_atoms p;
-    memset(&p, 0, sizeof p);
-    lc_status s = lci_atom_options(dev, a, &p.o);
-    if (s != LC_OK) return s;
     dcd d;
-    lci_psf psf = {0};
+    lci_topo topo = {0};
     float *xyz = NULL, *buf = NULL;
     char why[4300] = "";
-    if ((s = header(dev, a->path, &d)) != LC_OK) goto out;
+    lc_status s = header(dev, a->path, &d);
     int64_t k = a->desc->frame;
-    if (d.nframes == 0) {
+    if (s == LC_OK && d.nframes == 0)
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: the file ends inside frame 0 (%lld bytes needed, %lld left)",
                       a->path, (long long)d.first, (long long)d.frame0, (long long)d.tail);
-        goto out;
-    }
-    if (k >= d.nframes) {
+    if (s == LC_OK && k >= d.nframes)
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld frame%s",
                       a->path, (long long)k, (long long)d.nframes, d.nframes == 1 ? "" : "s");
-        goto out;
-    }
-    if ((s = topology(dev, a, &psf, why, sizeof why)) != LC_OK) goto out;
-    if (psf.atom && psf.natom != d.natom) {
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: holds %lld atoms but its topology %s has %ld", a->path,
-                      (long long)d.natom, a->desc->companion && a->desc->companion[0] ? a->desc->companion : "(STEM.psf)",
-                      psf.natom);
-        goto out;
-    }
-    xyz = malloc(sizeof *xyz * 3 * (size_t)d.natom);
-    buf = malloc(sizeof *buf * (size_t)d.natom);
-    if (!xyz || !buf) {
-        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld atoms", a->path, (long long)d.natom);
-        goto out;
+    if (s == LC_OK) s = lci_topo_load(dev, a, ".psf", &topo, why, sizeof why);
+    if (s == LC_OK) {
+        xyz = malloc(sizeof *xyz * 3 * (size_t)d.natom);
+        buf = malloc(sizeof *buf * (size_t)d.natom);
+        if (!xyz || !buf)
+            s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld atoms", a->path, (long long)d.natom);
     }
     /* fixed atoms: their coordinates come from frame 0 */
-    if ((s = read_coords(&d, 0, d.first, d.natom, NULL, buf, xyz)) != LC_OK) goto out;
-    if (k > 0 && (s = read_coords(&d, k, d.first + d.frame0 + (k - 1) * d.frame, d.nfree, d.free_idx, buf, xyz)) != LC_OK)
-        goto out;
-    if (!psf.atom) {
-        lci_log(dev, LC_LOG_WARNING, "%s: %s; every atom gets radius %g", a->path, why,
-                (double)(p.o.radius > 0.0f ? p.o.radius : LCI_DEFAULT_RADIUS));
-        if (!(p.o.radius > 0.0f)) p.o.radius = LCI_DEFAULT_RADIUS;
-    }
-    int fcol = -1, vcol = -1;
-    if ((p.o.column || p.o.value) && !psf.atom) {
-        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %s '%s' needs the PSF topology (%s)", a->path,
-                      p.o.column ? "fields by column" : "value =", p.o.column ? p.o.column : p.o.value, why);
-        goto out;
-    }
-    if ((s = psf_columns(dev, a->path, &p.o, &fcol, &vcol)) != LC_OK) goto out;
-    for (int64_t i = 0; i < d.natom; i++) {
-        const lci_psf_atom *pa = psf.atom ? &psf.atom[i] : NULL;
-        char colv[32];
-        lci_atom_attr at = {.name = pa ? pa->name : NULL, .resname = pa ? pa->resname : NULL,
-                            .segid = pa ? pa->segid : NULL, .type = pa ? pa->type : NULL, .resid = pa ? pa->resid : 0,
-                            .has_resid = pa != NULL};
-        if (fcol >= 0) at.column = psf_text(pa, fcol, colv, sizeof colv);
-        if (vcol >= 0) at.value = vcol == P_MASS ? pa->mass : vcol == P_CHARGE ? pa->charge : (float)pa->resid;
-        if (lci_atoms_add_attr(&p, xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], pa ? pa->element : "X", &at)) {
-            s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", a->path);
-            break;
-        }
-    }
-out:
+    if (s == LC_OK) s = read_coords(&d, 0, d.first, d.natom, NULL, buf, xyz);
+    if (s == LC_OK && k > 0) s = read_coords(&d, k, d.first + d.frame0 + (k - 1) * d.frame, d.nfree, d.free_idx, buf, xyz);
+    dcd_close(&d);
+    s = lci_topo_atoms(dev, a, s, &topo, why, xyz, s == LC_OK ? d.natom : 0, NULL, out);
     free(xyz);
     free(buf);
-    lci_psf_free(&psf);
-    dcd_close(&d);
-    return lci_atoms_finish(dev, a->path, s, &p, out);
+    lci_topo_free(&topo);
+    return s;
 }
 
 static lc_status dcd_frames(lc_device *dev, const char *path, int64_t *out)

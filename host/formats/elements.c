@@ -4,6 +4,7 @@
 #include <string.h>
 #include <strings.h>
 #include "host/formats/elements.h"
+#include "host/formats/topology.h"
 
 typedef struct element {
     const char *sym;
@@ -118,6 +119,7 @@ int lci_atoms_add(lci_atoms *p, float x, float y, float z, const char *sym)
 int lci_atoms_add_attr(lci_atoms *p, float x, float y, float z, const char *sym, const lci_atom_attr *attr)
 {
     size_t index = p->seen++;
+    if (p->capture) return lci_topo_capture(p->capture, sym, attr);
     if (p->o.select[0]) {
         if (!p->sel && lci_select_parse(NULL, "select", p->o.select, &p->sel) != LC_OK) return -1;
         if (!lci_select_match(p->sel, index, sym, attr, &p->sel_missing)) return 0;

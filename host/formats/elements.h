@@ -23,7 +23,7 @@ float lci_element_radius(const char *sym);
  * the atoms read hold something besides solvent; nfields = 1 + the largest
  * id used. */
 #define LCI_CPK_SOLVENT 7
-#define LCI_COLUMN_FORMATS "pdb mmcif dcd" /* formats taking fields = column:NAME and value = COLUMN */
+#define LCI_COLUMN_FORMATS "pdb mmcif dcd xtc trr ncdf" /* formats taking fields = column:NAME and value = COLUMN */
 typedef struct lci_atom_opts {
     float radius;       /* > 0: every atom's radius */
     float radius_scale; /* > 0: scales the element radii */
@@ -56,6 +56,7 @@ typedef struct lci_atoms {
     const char *sel_missing;       /* a keyword the file could not answer */
     uint8_t *solvent;              /* cpk: 1 per solvent atom */
     size_t nsolvent;
+    struct lci_topo *capture;      /* set: atoms go to the topology (topology.h), unselected, not here */
 } lci_atoms;
 
 /* An atom of element sym at (x, y, z): its radius and field from the element

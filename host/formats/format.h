@@ -62,6 +62,7 @@ extern const lci_format lci_format_xyz, lci_format_pdb, lci_format_gro, lci_form
 extern const lci_format lci_format_nrrd, lci_format_metaimage, lci_format_raw_volume;
 extern const lci_format lci_format_rbf, lci_format_rbf_binary;
 extern const lci_format lci_format_dcd, lci_format_lammps, lci_format_gadget;
+extern const lci_format lci_format_xtc, lci_format_trr, lci_format_ncdf;
 extern const lci_format lci_format_nifti, lci_format_vtk, lci_format_hdf5, lci_format_mmcif, lci_format_csv;
 
 /* Reads a structured volume's lc_grid_desc without creating the volume (the

@@ -25,6 +25,7 @@
 #include <strings.h>
 #include "host/formats/elements.h"
 #include "host/formats/text_reader.h"
+#include "host/formats/topology.h"
 
 #define GRO_MAX_ATOMS ((long)INT32_MAX / 2)
 
@@ -210,6 +211,16 @@ static lc_status gro_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
     s = read_atoms(&t, a->desc->frame, &p);
     lci_text_close(&t);
     return lci_atoms_finish(dev, a->path, s, &p, out);
+}
+
+lc_status lci_gro_topology(lc_device *dev, const char *path, lci_atoms *p)
+{
+    lci_text t;
+    lc_status s = lci_text_open(dev, path, &t);
+    if (s != LC_OK) return s;
+    s = read_atoms(&t, 0, p);
+    lci_text_close(&t);
+    return s;
 }
 
 /* Counts the frames by their count lines, skipping the atom lines unparsed. */

@@ -77,7 +77,9 @@ int lci_guarded(lc_device *dev, const char *env, uint64_t limit, lc_status (*fn)
 #else
         (void)vm, (void)limit;
 #endif
-        lc_device copy = *dev;
+        lc_device copy;
+        if (dev) copy = *dev;
+        else memset(&copy, 0, sizeof copy); /* lc_file_probe's counting has no device */
         copy.log = NULL, copy.log_user = NULL;
         copy.load_progress = NULL, copy.load_progress_user = NULL;
         copy.pool = NULL, copy.embree = NULL; /* threads do not survive fork */

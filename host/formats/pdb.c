@@ -17,6 +17,7 @@
 #include "host/formats/altloc.h"
 #include "host/formats/elements.h"
 #include "host/formats/text_reader.h"
+#include "host/formats/topology.h"
 
 static void pdb_element(const char *line, char *el, size_t n)
 {
@@ -181,6 +182,19 @@ static lc_status pdb_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
                 alt.skipped);
     lci_altlocs_free(&alt);
     return lci_atoms_finish(dev, a->path, s, &p, out);
+}
+
+lc_status lci_pdb_topology(lc_device *dev, const char *path, lci_atoms *p)
+{
+    lci_text t;
+    lc_status s = lci_text_open(dev, path, &t);
+    if (s != LC_OK) return s;
+    lci_altlocs alt;
+    memset(&alt, 0, sizeof alt);
+    s = read_atoms(&t, 0, p, &alt, -1, -1);
+    lci_text_close(&t);
+    lci_altlocs_free(&alt);
+    return s;
 }
 
 /* Frames are MODEL records (1 when there are none). */

@@ -16,7 +16,7 @@
 static const lci_format *const formats[] = {
     &lci_format_nrrd, &lci_format_metaimage, &lci_format_pdb, &lci_format_rbf, &lci_format_rbf_binary,
     &lci_format_xyz, &lci_format_gro, &lci_format_raw_particles, &lci_format_raw_volume,
-    &lci_format_dcd, &lci_format_lammps, &lci_format_gadget,
+    &lci_format_dcd, &lci_format_xtc, &lci_format_trr, &lci_format_ncdf, &lci_format_lammps, &lci_format_gadget,
     &lci_format_nifti, &lci_format_vtk, &lci_format_hdf5, &lci_format_mmcif, &lci_format_csv,
 };
 #define NFORMATS ((int)(sizeof formats / sizeof formats[0]))
