@@ -58,11 +58,17 @@ lc_target lci_target_auto(void);
 #define LCI_TARGET_NAMES "auto, scalar, sse4, avx2, avx512, avx512_8"
 
 /* Threads (host/pool.c): runs fn(ctx, task, worker) for task in [0, ntasks)
- * on the pool's threads plus the caller; FTZ/DAZ are set in every worker. */
+ * on the pool's threads plus the caller; FTZ/DAZ are set in every worker.
+ * Runs from several threads take the pool one after another. */
 typedef void (*lci_task_fn)(void *ctx, int task, int worker);
 lci_pool *lci_pool_create(int threads);
 void lci_pool_destroy(lci_pool *pool);
 void lci_pool_run(lci_pool *pool, int ntasks, lci_task_fn fn, void *ctx);
+/* lci_pool_run that stops waiting for the pool once *stop is non-zero (a
+ * cancelled render job): 1 when it ran, 0 when it gave up. lci_pool_wake
+ * makes waiting runs look at their flags again. */
+int lci_pool_run_until(lci_pool *pool, int ntasks, lci_task_fn fn, void *ctx, const _Atomic int *stop);
+void lci_pool_wake(lci_pool *pool);
 int lci_pool_threads(const lci_pool *pool);
 void lci_flush_denormals(void);
 

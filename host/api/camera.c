@@ -103,3 +103,24 @@ lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int 
     out->pad = 0;
     return LC_OK;
 }
+
+/* The camera of a pass at pixel scale s (lc_render_desc.pixel_scale): an
+ * image of ceil(w / s) x ceil(h / s) pixels whose pixel (i, j) takes the ray
+ * of pixel (s i, s j) of the w x h image. Pixel centres map affinely,
+ * u_full = a u + b (kernels/dvr.h), so the basis is scaled by a and the
+ * offset b moves the direction (perspective) or the origin (orthographic). */
+void lci_camera_subsample(lc_kcamera *c, int s)
+{
+    int w = c->width, h = c->height;
+    int pw = (w + s - 1) / s, ph = (h + s - 1) / s;
+    double ax = (double)s * pw / w, bx = ax - 1.0 + (1.0 - s) / w;
+    double ay = (double)s * ph / h, by = 1.0 + (s - 1.0) / h - ay;
+    float *base = c->ortho ? c->eye : c->forward;
+    for (int k = 0; k < 3; k++) {
+        base[k] = (float)(base[k] + bx * c->right[k] + by * c->up[k]);
+        c->right[k] = (float)(ax * c->right[k]);
+        c->up[k] = (float)(ay * c->up[k]);
+    }
+    c->width = pw;
+    c->height = ph;
+}

@@ -1,11 +1,12 @@
 /* lc_render: validation, the frame (camera, TFs, shading, mode), tiles over
  * the device's threads, stats. One implementation for every data kind: the
- * volume's row (host/kinds/kind.h) supplies its frame info and kernel. */
+ * volume's row (host/kinds/kind.h) supplies its frame info and kernel. A
+ * render is a pass (render.h); render jobs (job.c) run two of them. */
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include "host/kinds/kind.h"
+#include "host/api/render.h"
 #include "host/api/tf.h"
 
 
@@ -53,14 +54,23 @@ static lc_status mode_params(lc_device *dev, const lc_render_desc *d, int nfield
 #define FRAME_TABLE_FLOATS ((size_t)LC_MAX_FIELDS * (LC_TF_TABLE_SIZE * 4 + (LC_TF_TABLE_SIZE + 1) * 4))
 
 static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_frame_info *info, const lc_tf *tf,
-                             float *tables, lc_kframe *f)
+                             int scale, float *tables, lc_kframe *f)
 {
     memset(f, 0, sizeof *f);
     lc_status s = lci_camera_build(dev, &d->camera, d->width, d->height, &info->bounds, &f->cam);
     if (s != LC_OK) return s;
+    if (scale > 1) lci_camera_subsample(&f->cam, scale);
     f->dt = d->dt == 0.0f ? info->default_dt : d->dt;
     if (!(f->dt > 0.0f) || !isfinite(f->dt))
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "dt = %g, expected a finite step > 0", (double)f->dt);
+    float step = d->step_scale == 0.0f ? 1.0f : d->step_scale;
+    if (!(step >= 1.0f) || !isfinite(step))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "step_scale = %g, expected a finite factor >= 1 (0 = 1)",
+                         (double)d->step_scale);
+    f->dt *= step;
+    if (!isfinite(f->dt))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "dt %g times step_scale %g is not finite", (double)d->dt,
+                         (double)step);
     f->alpha_stop = d->alpha_stop == 0.0f ? 0.97f : d->alpha_stop;
     if (!(f->alpha_stop > 0.0f && f->alpha_stop <= 1.0f))
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "alpha_stop = %g, expected (0, 1]", (double)d->alpha_stop);
@@ -123,41 +133,182 @@ static lc_status frame_build(lc_device *dev, const lc_render_desc *d, const lci_
 
 /* Each worker's counters on their own cache lines: kernels bump them in hot
  * loops, and two workers sharing a line would ping-pong it between cores. */
-typedef struct padded_stats {
+struct lci_pass_stats {
     lc_kstats s;
     unsigned char pad[128 - sizeof(lc_kstats)];
-} padded_stats;
+};
 
-typedef struct job {
-    const lci_prepared *prep;
-    const lc_kframe *frame;
-    float *rgba, *depth;
-    int width, height, tile, ntx;
-    unsigned char *scratch;
-    uint64_t scratch_bytes;
-    padded_stats *stats; /* one per worker */
-    atomic_int done;
-    int ntasks;
-    void (*progress)(void *user, float fraction);
-    void *progress_user;
-} job;
+lc_status lci_render_check(lc_device *dev, const lc_render_desc *d, const float *rgba, const char *fn)
+{
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "%s: device is NULL", fn);
+    if (!d) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: desc is NULL", fn);
+    if (!rgba) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: rgba is NULL", fn);
+    if (d->width < 1 || d->height < 1 || d->width > LC_MAX_IMAGE_SIDE || d->height > LC_MAX_IMAGE_SIDE)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: image size %dx%d, expected 1 to %d per side", fn,
+                         d->width, d->height, LC_MAX_IMAGE_SIDE);
+    if (!d->volume) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: desc->volume is NULL", fn);
+    if (d->tile < 0 || d->tile > 4096)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: tile = %d pixels, expected 1 to 4096", fn, d->tile);
+    if (d->pixel_scale < 0 || d->pixel_scale > 16)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: pixel_scale = %d, expected 0 or 1 (every pixel) to 16",
+                         fn, d->pixel_scale);
+    return LC_OK;
+}
+
+lc_status lci_pass_prepare(lc_device *dev, const lc_render_desc *d, const lc_tf *tf, int scale, int depth,
+                           lci_pass *p)
+{
+    memset(p, 0, sizeof *p);
+    const lc_volume *vol = d->volume;
+    lci_frame_info info;
+    memset(&info, 0, sizeof info);
+    lc_status s = vol->ops->frame_info(dev, vol, &info);
+    if (s != LC_OK) return s;
+    p->scale = scale;
+    p->width = d->width;
+    p->height = d->height;
+    p->pw = (d->width + scale - 1) / scale;
+    p->ph = (d->height + scale - 1) / scale;
+    p->tables = lci_aligned_alloc(64, sizeof(float) * FRAME_TABLE_FLOATS);
+    p->frame = lci_aligned_alloc(64, sizeof *p->frame);
+    if (!p->tables || !p->frame) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
+    s = frame_build(dev, d, &info, tf, scale, p->tables, p->frame);
+    if (s != LC_OK) return s;
+    s = vol->ops->prepare(dev, vol, d, p->frame, &p->prep);
+    if (s != LC_OK) return s;
+    p->tile = d->tile ? d->tile : p->prep.tile_side ? p->prep.tile_side : 32;
+    p->ntx = (p->pw + p->tile - 1) / p->tile;
+    p->ntasks = p->ntx * ((p->ph + p->tile - 1) / p->tile);
+    p->nthreads = lci_pool_threads(dev->pool);
+    p->scratch_bytes = (p->prep.scratch_bytes + 63) & ~(uint64_t)63;
+    p->scratch = lci_aligned_alloc(64, (size_t)p->scratch_bytes * (size_t)p->nthreads);
+    p->ws = lci_aligned_alloc(128, (size_t)p->nthreads * sizeof *p->ws);
+    if (!p->scratch || !p->ws)
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for %d x %llu bytes of scratch",
+                         p->nthreads, (unsigned long long)p->scratch_bytes);
+    if (scale > 1) {
+        size_t n = (size_t)p->pw * (size_t)p->ph;
+        p->small = lci_aligned_alloc(64, sizeof(float) * 4 * n);
+        p->small_depth = depth ? lci_aligned_alloc(64, sizeof(float) * n) : NULL;
+        if (!p->small || (depth && !p->small_depth))
+            return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for a %dx%d pass", p->pw, p->ph);
+    }
+    return LC_OK;
+}
+
+void lci_pass_release(lci_pass *p)
+{
+    lci_aligned_free(p->small_depth);
+    lci_aligned_free(p->small);
+    lci_aligned_free(p->ws);
+    lci_aligned_free(p->scratch);
+    if (p->prep.release) p->prep.release(p->prep.owned);
+    else free(p->prep.owned);
+    lci_aligned_free(p->frame);
+    lci_aligned_free(p->tables);
+    memset(p, 0, sizeof *p);
+}
+
+typedef struct pass_run {
+    lci_pass *p;
+    const lci_pass_ctl *ctl;
+    float *rgba, *depth;  /* the full image */
+    atomic_int stopped;   /* a tile saw the stop flag or the cancel callback */
+} pass_run;
+
+static int stop_asked(const lci_pass_ctl *c)
+{
+    return (c->stop && atomic_load_explicit(c->stop, memory_order_relaxed)) || (c->cancel && c->cancel(c->cancel_user));
+}
+
+/* A tile is cleared before its kernel runs, so a pass does not depend on
+ * what the buffer held (depth is written only in iso and slice modes) and
+ * a job's full pass replaces its preview tile by tile, with no clear of the
+ * whole image between them. */
+static void clear_tile(const lc_ktile *t)
+{
+    for (int y = t->y0; y < t->y1; y++) {
+        memset(t->rgba + ((size_t)y * (size_t)t->stride + (size_t)t->x0) * 4, 0, sizeof(float) * 4 * (size_t)(t->x1 - t->x0));
+        if (t->depth)
+            for (int x = t->x0; x < t->x1; x++) t->depth[(size_t)y * (size_t)t->stride + (size_t)x] = INFINITY;
+    }
+}
+
+/* A scaled pass's tile into the full image: pixel (i, j) fills the block
+ * [s i, s i + s) x [s j, s j + s), clipped to the image. */
+static void fill_blocks(const pass_run *r, const lc_ktile *t)
+{
+    const lci_pass *p = r->p;
+    int s = p->scale;
+    for (int j = t->y0; j < t->y1; j++) {
+        for (int y = j * s; y < (j + 1) * s && y < p->height; y++) {
+            float *row = r->rgba + (size_t)y * (size_t)p->width * 4;
+            float *drow = r->depth ? r->depth + (size_t)y * (size_t)p->width : NULL;
+            for (int i = t->x0; i < t->x1; i++) {
+                const float *src = t->rgba + ((size_t)j * (size_t)p->pw + (size_t)i) * 4;
+                for (int x = i * s; x < (i + 1) * s && x < p->width; x++) {
+                    memcpy(row + (size_t)x * 4, src, sizeof(float) * 4);
+                    if (drow) drow[x] = t->depth[(size_t)j * (size_t)p->pw + (size_t)i];
+                }
+            }
+        }
+    }
+}
 
 static void run_tile(void *ctx, int task, int worker)
 {
-    job *j = ctx;
+    pass_run *r = ctx;
+    lci_pass *p = r->p;
+    const lci_pass_ctl *c = r->ctl;
+    if (atomic_load_explicit(&r->stopped, memory_order_relaxed)) return;
+    if (stop_asked(c)) {
+        atomic_store_explicit(&r->stopped, 1, memory_order_relaxed);
+        return;
+    }
     lc_ktile t;
-    t.x0 = (task % j->ntx) * j->tile;
-    t.y0 = (task / j->ntx) * j->tile;
-    t.x1 = t.x0 + j->tile < j->width ? t.x0 + j->tile : j->width;
-    t.y1 = t.y0 + j->tile < j->height ? t.y0 + j->tile : j->height;
-    t.stride = j->width;
+    t.x0 = (task % p->ntx) * p->tile;
+    t.y0 = (task / p->ntx) * p->tile;
+    t.x1 = t.x0 + p->tile < p->pw ? t.x0 + p->tile : p->pw;
+    t.y1 = t.y0 + p->tile < p->ph ? t.y0 + p->tile : p->ph;
+    t.stride = p->pw;
     t.pad = 0;
-    t.rgba = j->rgba;
-    t.depth = j->depth;
-    lc_kscratch sc = {j->scratch + (size_t)worker * j->scratch_bytes, j->scratch_bytes};
-    j->prep->tile(j->prep->kscene, j->frame, &t, &sc, &j->stats[worker].s);
-    int done = atomic_fetch_add_explicit(&j->done, 1, memory_order_relaxed) + 1;
-    if (j->progress && worker == 0) j->progress(j->progress_user, (float)done / (float)j->ntasks);
+    t.rgba = p->scale > 1 ? p->small : r->rgba;
+    t.depth = p->scale > 1 ? p->small_depth : r->depth;
+    clear_tile(&t);
+    lc_kscratch sc = {p->scratch + (size_t)worker * p->scratch_bytes, p->scratch_bytes};
+    p->prep.tile(p->prep.kscene, p->frame, &t, &sc, &p->ws[worker].s);
+    if (p->scale > 1) fill_blocks(r, &t);
+    int done = atomic_fetch_add_explicit(c->done, 1, memory_order_relaxed) + 1;
+    if (c->progress && worker == 0) c->progress(c->progress_user, c->base + c->span * (float)done / (float)p->ntasks);
+}
+
+int lci_pass_run(lc_device *dev, lci_pass *p, const lci_pass_ctl *ctl, float *rgba, float *depth)
+{
+    atomic_int own_done = 0;
+    lci_pass_ctl c = *ctl;
+    if (!c.done) c.done = &own_done;
+    pass_run r = {p, &c, rgba, depth, 0};
+    memset(p->ws, 0, (size_t)p->nthreads * sizeof *p->ws);
+    if (!lci_pool_run_until(dev->pool, p->ntasks, run_tile, &r, c.stop)) return 0;
+    return !atomic_load(&r.stopped);
+}
+
+void lci_pass_stats_add(const lci_pass *p, lc_render_stats *acc)
+{
+    for (int w = 0; w < p->nthreads; w++) {
+        acc->rays += p->ws[w].s.rays;
+        acc->samples += p->ws[w].s.samples;
+        acc->kernel_evals += p->ws[w].s.kernel_evals;
+        acc->nodes += p->ws[w].s.nodes;
+        acc->leaves += p->ws[w].s.leaves;
+        acc->passes += p->ws[w].s.passes;
+    }
+}
+
+int lci_preview_scale(int width, int height)
+{
+    int side = width > height ? width : height;
+    return side < 256 ? 2 : side < 2048 ? 4 : 8;
 }
 
 lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_render_stats *stats)
@@ -167,21 +318,9 @@ lc_status lc_render(lc_device *dev, const lc_render_desc *d, float *rgba, lc_ren
 
 lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float *depth, lc_render_stats *stats)
 {
-    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_render: device is NULL");
-    if (!d) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: desc is NULL");
-    if (!rgba) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: rgba is NULL");
-    if (d->width < 1 || d->height < 1 || d->width > LC_MAX_IMAGE_SIDE || d->height > LC_MAX_IMAGE_SIDE)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: image size %dx%d, expected 1 to %d per side",
-                         d->width, d->height, LC_MAX_IMAGE_SIDE);
-    if (!d->volume) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: desc->volume is NULL");
-    const lc_volume *vol = d->volume;
-    if (d->tile < 0 || d->tile > 4096)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_render: tile = %d pixels, expected 1 to 4096", d->tile);
-    double t0 = lci_now();
-    lci_frame_info info;
-    memset(&info, 0, sizeof info);
-    lc_status s = vol->ops->frame_info(dev, vol, &info);
+    lc_status s = lci_render_check(dev, d, rgba, "lc_render");
     if (s != LC_OK) return s;
+    double t0 = lci_now();
     lc_tf *own_tf = NULL;
     const lc_tf *tf = d->tf;
     if (!tf) {
@@ -189,59 +328,25 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
         if (s != LC_OK) return s;
         tf = own_tf;
     }
-    float *tables = lci_aligned_alloc(64, sizeof(float) * FRAME_TABLE_FLOATS);
-    lc_kframe *frame = lci_aligned_alloc(64, sizeof *frame);
-    lci_prepared prep;
-    memset(&prep, 0, sizeof prep);
-    unsigned char *scratch = NULL;
-    padded_stats *ws = NULL;
-    if (!tables || !frame) {
-        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
-        goto done;
-    }
-    s = frame_build(dev, d, &info, tf, tables, frame);
-    if (s != LC_OK) goto done;
-    s = vol->ops->prepare(dev, vol, d, frame, &prep);
-    if (s != LC_OK) goto done;
-    int tile = d->tile ? d->tile : prep.tile_side ? prep.tile_side : 32;
-    int nthreads = lci_pool_threads(dev->pool);
-    uint64_t sb = (prep.scratch_bytes + 63) & ~(uint64_t)63;
-    scratch = lci_aligned_alloc(64, (size_t)sb * (size_t)nthreads);
-    ws = lci_aligned_alloc(128, (size_t)nthreads * sizeof *ws);
-    if (!scratch || !ws) {
-        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for %d x %llu bytes of scratch", nthreads,
-                      (unsigned long long)sb);
-        goto done;
-    }
-    memset(rgba, 0, sizeof(float) * 4 * (size_t)d->width * (size_t)d->height);
-    if (depth)
-        for (size_t i = 0; i < (size_t)d->width * (size_t)d->height; i++) depth[i] = INFINITY;
-    job j = {&prep, frame, rgba, depth, d->width, d->height, tile, (d->width + tile - 1) / tile, scratch, sb, ws,
-             0, 0, d->progress, d->progress_user};
-    j.ntasks = j.ntx * ((d->height + tile - 1) / tile);
-    lci_pool_run(dev->pool, j.ntasks, run_tile, &j);
-    if (d->progress) d->progress(d->progress_user, 1.0f);
-    if (stats) {
-        memset(stats, 0, sizeof *stats);
-        for (int w = 0; w < nthreads; w++) {
-            stats->rays += ws[w].s.rays;
-            stats->samples += ws[w].s.samples;
-            stats->kernel_evals += ws[w].s.kernel_evals;
-            stats->nodes += ws[w].s.nodes;
-            stats->leaves += ws[w].s.leaves;
-            stats->passes += ws[w].s.passes;
+    lci_pass p;
+    s = lci_pass_prepare(dev, d, tf, d->pixel_scale > 1 ? d->pixel_scale : 1, depth != NULL, &p);
+    if (s == LC_OK) {
+        lci_pass_ctl ctl = {.cancel = d->cancel, .cancel_user = d->cancel_user, .progress = d->progress,
+                            .progress_user = d->progress_user, .base = 0.0f, .span = 1.0f};
+        if (!lci_pass_run(dev, &p, &ctl, rgba, depth)) {
+            s = lci_error(dev, LC_CANCELLED, "lc_render: cancelled by desc->cancel; the image is not complete");
+        } else {
+            if (d->progress) d->progress(d->progress_user, 1.0f);
+            if (stats) {
+                memset(stats, 0, sizeof *stats);
+                lci_pass_stats_add(&p, stats);
+                stats->target = dev->target;
+                stats->threads = p.nthreads;
+                stats->seconds = lci_now() - t0;
+            }
         }
-        stats->target = dev->target;
-        stats->threads = nthreads;
-        stats->seconds = lci_now() - t0;
     }
-done:
-    lci_aligned_free(ws);
-    lci_aligned_free(scratch);
-    if (prep.release) prep.release(prep.owned);
-    else free(prep.owned);
-    lci_aligned_free(frame);
-    lci_aligned_free(tables);
+    lci_pass_release(&p);
     lc_tf_destroy(own_tf);
     return s;
 }

@@ -1,7 +1,9 @@
 /* A small pthread pool for tile-parallel work: workers sleep on a condition
  * variable between jobs (no spinning that would slow an Embree build), take
  * tasks from an atomic counter, and run with denormals flushed. The calling
- * thread is worker 0 and takes tasks too. */
+ * thread is worker 0 and takes tasks too. Runs from several threads (a
+ * device's render jobs and its caller) take the pool one after another;
+ * a waiting run gives up when its stop flag is set (lci_pool_wake). */
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -21,6 +23,10 @@ struct lci_pool {
     void *ctx;
     int ntasks;
     atomic_int next;
+    /* who runs now: one run at a time, the others wait on `free` */
+    pthread_mutex_t owner_mu;
+    pthread_cond_t freed;
+    int owned;
 };
 
 typedef struct worker_arg {
@@ -73,6 +79,8 @@ lci_pool *lci_pool_create(int threads)
     pthread_mutex_init(&p->mu, NULL);
     pthread_cond_init(&p->wake, NULL);
     pthread_cond_init(&p->done, NULL);
+    pthread_mutex_init(&p->owner_mu, NULL);
+    pthread_cond_init(&p->freed, NULL);
     if (p->nthreads > 1) {
         p->tid = calloc((size_t)p->nthreads - 1, sizeof *p->tid);
         if (!p->tid) goto fail;
@@ -110,14 +118,41 @@ void lci_pool_destroy(lci_pool *p)
     pthread_mutex_destroy(&p->mu);
     pthread_cond_destroy(&p->wake);
     pthread_cond_destroy(&p->done);
+    pthread_mutex_destroy(&p->owner_mu);
+    pthread_cond_destroy(&p->freed);
     free(p);
 }
 
 int lci_pool_threads(const lci_pool *p) { return p->nthreads; }
 
-void lci_pool_run(lci_pool *p, int ntasks, lci_task_fn fn, void *ctx)
+static int acquire(lci_pool *p, const atomic_int *stop)
 {
-    if (ntasks <= 0) return;
+    pthread_mutex_lock(&p->owner_mu);
+    while (p->owned && !(stop && atomic_load_explicit(stop, memory_order_acquire)))
+        pthread_cond_wait(&p->freed, &p->owner_mu);
+    int got = !p->owned;
+    if (got) p->owned = 1;
+    pthread_mutex_unlock(&p->owner_mu);
+    return got;
+}
+
+static void release(lci_pool *p)
+{
+    pthread_mutex_lock(&p->owner_mu);
+    p->owned = 0;
+    pthread_cond_broadcast(&p->freed);
+    pthread_mutex_unlock(&p->owner_mu);
+}
+
+void lci_pool_wake(lci_pool *p)
+{
+    pthread_mutex_lock(&p->owner_mu);
+    pthread_cond_broadcast(&p->freed);
+    pthread_mutex_unlock(&p->owner_mu);
+}
+
+static void run(lci_pool *p, int ntasks, lci_task_fn fn, void *ctx)
+{
     unsigned int csr = _mm_getcsr();
     lci_flush_denormals();
     if (p->nthreads == 1 || ntasks == 1) {
@@ -140,3 +175,14 @@ void lci_pool_run(lci_pool *p, int ntasks, lci_task_fn fn, void *ctx)
     pthread_mutex_unlock(&p->mu);
     _mm_setcsr(csr); /* the caller's FP mode is restored */
 }
+
+int lci_pool_run_until(lci_pool *p, int ntasks, lci_task_fn fn, void *ctx, const atomic_int *stop)
+{
+    if (ntasks <= 0) return 1;
+    if (!acquire(p, stop)) return 0;
+    run(p, ntasks, fn, ctx);
+    release(p);
+    return 1;
+}
+
+void lci_pool_run(lci_pool *p, int ntasks, lci_task_fn fn, void *ctx) { lci_pool_run_until(p, ntasks, fn, ctx, NULL); }

@@ -65,6 +65,8 @@ void *lci_volume_as(const lc_volume *v, lc_kind k, const char *fn);
 /* host/api/camera.c: the kernel camera for the desc (default framing of bounds). */
 lc_status lci_camera_build(lc_device *dev, const lc_camera *cam, int width, int height, const lc_box3 *bounds,
                            lc_kcamera *out);
+/* The camera of an image every s-th pixel of the built one (pixel_scale). */
+void lci_camera_subsample(lc_kcamera *cam, int s);
 
 
 #endif
