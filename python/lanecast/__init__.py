@@ -42,7 +42,7 @@ __version__ = _lc.version
 
 __all__ = [
     "Device", "Volume", "Particles", "Grid", "RBFSet", "TransferFunction", "Camera", "Image",
-    "load", "render", "encode", "probe", "targets", "formats", "features", "presets",
+    "load", "render", "encode", "probe", "select_check", "targets", "formats", "features", "presets",
     "Error", "InvalidArgumentError", "UnsupportedError", "OutOfMemoryError", "FileError",
     "FormatError", "InternalError", "CancelledError", "TimeoutError", "MAX_FIELDS", "MAX_PLANES",
 ]
@@ -65,6 +65,12 @@ def formats():
 def features():
     """The optional libraries of this build (name, library, available, package, description)."""
     return _lc.features()
+
+
+def select_check(expr):
+    """Checks an atom selection (the `select` load option) without a file: InvalidArgumentError
+    naming the position of what is wrong."""
+    _lc.select_check(expr)
 
 
 def presets():
