@@ -5,7 +5,7 @@ positions in code units (``code_length``), radii from the smoothing lengths wher
 has them (r = h / 2 by default, so the Gaussian truncated at sigma = 2 radii reaches h), else
 one radius from the mean interparticle spacing. Grid datasets (``yt.load_uniform_grid`` and
 the top level of others) become a Grid of the level-0 covering grid: nodes at the cell centres,
-spacing and origin in code units, the field's values in its own units.
+spacing and origin in code units, the field's values in the units yt gives it (or units=...).
 
     import lanecast.yt
     img = lanecast.yt.render(ds, ("gas", "density"), width=512)
@@ -32,9 +32,10 @@ def _is_particles(ds, field):
     return not hasattr(ds.index, "grids") and bool(ds.particle_types)
 
 
-def particles(ds, field=None, device=None, *, radius_scale=0.5, radius=None, ptype=None):
+def particles(ds, field=None, device=None, *, radius_scale=0.5, radius=None, ptype=None, units=None):
     """The particles of ptype (default: the SPH type, else the first) as lanecast Particles,
-    weighted by `field` (a particle field of that type, or its name; None = unit weights)."""
+    weighted by `field` (a particle field of that type, or its name; None = unit weights) in
+    `units` (default: the units yt gives the field)."""
     ptype = ptype or _ptype(ds, field)
     if ptype is None:
         raise ValueError("lanecast.yt: the dataset has no particle type")
@@ -50,19 +51,22 @@ def particles(ds, field=None, device=None, *, radius_scale=0.5, radius=None, pty
     values = None
     if field is not None:
         name = field[1] if isinstance(field, tuple) else field
-        values = ad[ptype, name].d
+        v = ad[ptype, name]
+        values = (v.to(units) if units is not None else v).d
     return lc.Particles(device, pos, radii=radii, values=values)
 
 
-def grid(ds, field=None, device=None):
-    """The level-0 covering grid of `field` (default: the dataset's first field) as a Grid."""
+def grid(ds, field=None, device=None, *, units=None):
+    """The level-0 covering grid of `field` (default: the dataset's first field) as a Grid,
+    in `units` (default: the units yt gives the field)."""
     if field is None:
         field = ds.field_list[0]
     dims = ds.domain_dimensions
     left = ds.domain_left_edge.to("code_length").d
     dx = (ds.domain_right_edge.to("code_length").d - left) / dims
     cg = ds.covering_grid(level=0, left_edge=ds.domain_left_edge, dims=dims)
-    data = np.asarray(cg[field].d)  # indexed [i, j, k] = x, y, z
+    v = cg[field]
+    data = np.asarray((v.to(units) if units is not None else v).d)  # indexed [i, j, k] = x, y, z
     return lc.Grid(device, data, spacing=tuple(dx), origin=tuple(left + dx / 2), order="xyz")
 
 
