@@ -63,17 +63,22 @@ int lcpy_options(PyObject *dict, lc_option *opts, int max, int *n, PyObject *str
     return 0;
 }
 
+/* Appends d (stolen) to *list; on failure clears *list (NULL = failed before). */
+static void append(PyObject **list, PyObject *d)
+{
+    if (!d || !*list || PyList_Append(*list, d)) Py_CLEAR(*list);
+    Py_XDECREF(d);
+}
+
 static PyObject *py_targets(PyObject *self, PyObject *unused)
 {
     (void)self, (void)unused;
     PyObject *list = PyList_New(0);
     for (int t = LC_TARGET_SCALAR; list && t < LC_TARGET_COUNT; t++) {
-        PyObject *d = Py_BuildValue("{s:s,s:i,s:O,s:O}", "name", lc_target_name((lc_target)t), "lanes",
+        append(&list, Py_BuildValue("{s:s,s:i,s:O,s:O}", "name", lc_target_name((lc_target)t), "lanes",
                                     lc_target_lanes((lc_target)t), "compiled",
                                     lc_target_compiled((lc_target)t) ? Py_True : Py_False, "supported",
-                                    lc_target_supported((lc_target)t) ? Py_True : Py_False);
-        if (!d || PyList_Append(list, d)) Py_CLEAR(list);
-        Py_XDECREF(d);
+                                    lc_target_supported((lc_target)t) ? Py_True : Py_False));
     }
     return list;
 }
@@ -85,11 +90,9 @@ static PyObject *py_formats(PyObject *self, PyObject *unused)
     for (int i = 0; list && i < lc_format_count(); i++) {
         lc_format_info f;
         if (lc_format_get(i, &f) != LC_OK) return Py_DECREF(list), lcpy_raise(LC_ERROR_INTERNAL, NULL);
-        PyObject *d = Py_BuildValue("{s:s,s:s,s:s,s:s,s:s,s:O,s:s}", "name", f.name, "kind", lc_kind_name(f.kind),
+        append(&list, Py_BuildValue("{s:s,s:s,s:s,s:s,s:s,s:O,s:s}", "name", f.name, "kind", lc_kind_name(f.kind),
                                     "extensions", f.extensions, "options", f.options, "description", f.description,
-                                    "available", f.available ? Py_True : Py_False, "package", f.package);
-        if (!d || PyList_Append(list, d)) Py_CLEAR(list);
-        Py_XDECREF(d);
+                                    "available", f.available ? Py_True : Py_False, "package", f.package));
     }
     return list;
 }
@@ -101,11 +104,9 @@ static PyObject *py_features(PyObject *self, PyObject *unused)
     for (int i = 0; list && i < lc_feature_count(); i++) {
         lc_feature_info f;
         if (lc_feature_get(i, &f) != LC_OK) return Py_DECREF(list), lcpy_raise(LC_ERROR_INTERNAL, NULL);
-        PyObject *d = Py_BuildValue("{s:s,s:s,s:O,s:s,s:s}", "name", f.name, "library", f.library, "available",
+        append(&list, Py_BuildValue("{s:s,s:s,s:O,s:s,s:s}", "name", f.name, "library", f.library, "available",
                                     f.available ? Py_True : Py_False, "package", f.package, "description",
-                                    f.description);
-        if (!d || PyList_Append(list, d)) Py_CLEAR(list);
-        Py_XDECREF(d);
+                                    f.description));
     }
     return list;
 }
@@ -114,11 +115,7 @@ static PyObject *py_presets(PyObject *self, PyObject *unused)
 {
     (void)self, (void)unused;
     PyObject *list = PyList_New(0);
-    for (int i = 0; list && lc_tf_preset_name(i); i++) {
-        PyObject *s = PyUnicode_FromString(lc_tf_preset_name(i));
-        if (!s || PyList_Append(list, s)) Py_CLEAR(list);
-        Py_XDECREF(s);
-    }
+    for (int i = 0; list && lc_tf_preset_name(i); i++) append(&list, PyUnicode_FromString(lc_tf_preset_name(i)));
     return list;
 }
 
