@@ -106,6 +106,15 @@ npy_intp lcpy_first_nonfinite(PyArrayObject *a)
     return -1;
 }
 
+/* Names the array holding the first non-finite value, for the library's
+ * message (which names the particle). */
+const char *lcpy_nonfinite_arg(PyArrayObject **arrays, const char *const *names, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (arrays[i] && lcpy_first_nonfinite(arrays[i]) >= 0) return names[i];
+    return NULL;
+}
+
 int lcpy_vec3(PyObject *obj, const char *name, lc_vec3 *out)
 {
     PyObject *seq = PySequence_Fast(obj, "");

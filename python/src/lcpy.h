@@ -52,7 +52,16 @@ void lcpy_unlock(DeviceObject *d);
 /* Issues the collected warnings (GIL held); -1 when a warning filter raised. */
 int lcpy_flush_warnings(DeviceObject *d);
 
-/* ---- volumes (volume.c) */
+/* Runs `status = call` with the GIL released and the device d locked. */
+#define LCPY_UNLOCKED(d, status, call)                                                                               \
+    do {                                                                                                               \
+        Py_BEGIN_ALLOW_THREADS lcpy_lock(d);                                                                           \
+        status = (call);                                                                                               \
+        lcpy_unlock(d);                                                                                                \
+        Py_END_ALLOW_THREADS                                                                                           \
+    } while (0)
+
+/* ---- volumes (volume.c, rbfset.c, load.c) */
 
 typedef struct {
     PyObject_HEAD
@@ -65,6 +74,9 @@ typedef struct {
 
 extern PyTypeObject lcpy_VolumeType, lcpy_ParticlesType, lcpy_GridType, lcpy_RBFSetType;
 
+/* The GC slots every volume type shares. */
+int lcpy_volume_traverse(VolumeObject *v, visitproc visit, void *arg);
+int lcpy_volume_clear(VolumeObject *v);
 /* A new Python object of the type matching the volume's kind, owning vol. */
 PyObject *lcpy_volume_wrap(lc_volume *vol, DeviceObject *d, PyObject *keep);
 /* The lc_volume of obj (a Volume), or NULL with TypeError naming `name`. */
@@ -95,6 +107,9 @@ int lcpy_copy_arg(PyObject *obj, lcpy_copy *out);
  * reference or NULL with TypeError/ValueError set; *copied tells which. */
 PyArrayObject *lcpy_array(PyObject *obj, const char *name, int typenum, const char *kinds, int ndim, npy_intp cols,
                           lcpy_copy copy, int *copied);
+/* The name (of names[i]) of the first of n float32 arrays holding a non-finite
+ * value, or NULL: for the library's message, which names the element. */
+const char *lcpy_nonfinite_arg(PyArrayObject **arrays, const char *const *names, int n);
 /* The first non-finite value of a float32 array, or -1. */
 npy_intp lcpy_first_nonfinite(PyArrayObject *a);
 /* A sequence of 3 finite numbers (x, y, z); -1 with an exception naming name. */
@@ -120,8 +135,8 @@ extern PyObject *lcpy_Warning;
 
 PyObject *lcpy_render(PyObject *self, PyObject *args, PyObject *kw);       /* render.c */
 PyObject *lcpy_image_write(PyObject *self, PyObject *args, PyObject *kw);  /* render.c */
-PyObject *lcpy_load(PyObject *self, PyObject *args, PyObject *kw);         /* volume.c */
-PyObject *lcpy_probe(PyObject *self, PyObject *args, PyObject *kw);        /* volume.c */
+PyObject *lcpy_load(PyObject *self, PyObject *args, PyObject *kw);         /* load.c */
+PyObject *lcpy_probe(PyObject *self, PyObject *args, PyObject *kw);        /* load.c */
 PyObject *lcpy_encode(PyObject *self, PyObject *args, PyObject *kw);       /* encode.c */
 PyObject *lcpy_rbf_write(PyObject *self, PyObject *args, PyObject *kw);    /* encode.c */
 /* load options: a dict of key -> str; fills opts (keys and values borrowed

@@ -48,7 +48,7 @@ static void volume_dealloc(VolumeObject *v)
     Py_TYPE(v)->tp_free((PyObject *)v);
 }
 
-static int volume_traverse(VolumeObject *v, visitproc visit, void *arg)
+int lcpy_volume_traverse(VolumeObject *v, visitproc visit, void *arg)
 {
     Py_VISIT(v->keep);
     Py_VISIT(v->dict);
@@ -56,7 +56,7 @@ static int volume_traverse(VolumeObject *v, visitproc visit, void *arg)
     return 0;
 }
 
-static int volume_clear(VolumeObject *v)
+int lcpy_volume_clear(VolumeObject *v)
 {
     Py_CLEAR(v->dict); /* the C volume and what it borrows go only with the object */
     return 0;
@@ -237,21 +237,13 @@ PyTypeObject lcpy_VolumeType = {
     .tp_dealloc = (destructor)volume_dealloc,
     .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE | Py_TPFLAGS_HAVE_GC,
     .tp_doc = "Data lanecast renders: Particles, Grid, RBFSet, or what load() reads.",
-    .tp_traverse = (traverseproc)volume_traverse,
-    .tp_clear = (inquiry)volume_clear,
+    .tp_traverse = (traverseproc)lcpy_volume_traverse,
+    .tp_clear = (inquiry)lcpy_volume_clear,
     .tp_methods = volume_methods,
     .tp_getset = volume_getset,
     .tp_dictoffset = offsetof(VolumeObject, dict),
 };
 
-/* Runs a create call with the GIL released and the device locked. */
-#define CREATE_UNLOCKED(d, status, call)                                                                               \
-    do {                                                                                                               \
-        Py_BEGIN_ALLOW_THREADS lcpy_lock(d);                                                                           \
-        status = (call);                                                                                               \
-        lcpy_unlock(d);                                                                                                \
-        Py_END_ALLOW_THREADS                                                                                           \
-    } while (0)
 
 /* A float keyword: 1 = given (into *out), 0 = absent/None, -1 error. */
 static int opt_float(PyObject *obj, const char *name, float *out)
@@ -269,14 +261,6 @@ static int opt_float(PyObject *obj, const char *name, float *out)
 
 /* ---------------------------------------------------------------- particles */
 
-/* Names the array holding the first non-finite value, for the library's
- * message (which names the particle). */
-static const char *nonfinite_arg(PyArrayObject **arrays, const char *const *names, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (arrays[i] && lcpy_first_nonfinite(arrays[i]) >= 0) return names[i];
-    return NULL;
-}
 
 /* fields: integer ids 0 .. LC_MAX_FIELDS - 1 as uint8 (checked before the narrowing). */
 static PyArrayObject *field_ids(PyObject *obj, npy_intp n, lcpy_copy copy)
@@ -363,13 +347,13 @@ static PyObject *particles_new(PyTypeObject *type, PyObject *args, PyObject *kw)
     pd.fields = a[3] ? PyArray_DATA(a[3]) : NULL;
     lc_volume *vol = NULL;
     lc_status s;
-    CREATE_UNLOCKED(d, s, lc_particles_create(d->dev, &pd, &vol));
+    LCPY_UNLOCKED(d, s, lc_particles_create(d->dev, &pd, &vol));
     if (lcpy_flush_warnings(d)) {
         lc_volume_destroy(vol);
         goto out;
     }
     if (s != LC_OK) {
-        lcpy_raise(s, nonfinite_arg(a, names, 3));
+        lcpy_raise(s, lcpy_nonfinite_arg(a, names, 3));
         goto out;
     }
     result = lcpy_volume_wrap(vol, d, NULL); /* the library copied the particles */
@@ -413,8 +397,8 @@ PyTypeObject lcpy_ParticlesType = {
               "radii one number or (N,); values (N,) weights k_i; fields (N,) ids 0..7. The library copies\n"
               "the arrays into its own layout while it builds the BVH (the GIL is released meanwhile);\n"
               "C-contiguous float32 arrays are read in place, others converted first (copy=False refuses).",
-    .tp_traverse = (traverseproc)volume_traverse,
-    .tp_clear = (inquiry)volume_clear,
+    .tp_traverse = (traverseproc)lcpy_volume_traverse,
+    .tp_clear = (inquiry)lcpy_volume_clear,
     .tp_methods = particles_methods,
     .tp_base = &lcpy_VolumeType,
     .tp_new = particles_new,
@@ -476,7 +460,7 @@ static PyObject *grid_new(PyTypeObject *type, PyObject *args, PyObject *kw)
     gd.borrow = !copied && copy != LCPY_COPY_ALWAYS && gd.layout != LC_LAYOUT_BRICKED;
     lc_volume *vol = NULL;
     lc_status s;
-    CREATE_UNLOCKED(d, s, lc_grid_create(d->dev, &gd, &vol));
+    LCPY_UNLOCKED(d, s, lc_grid_create(d->dev, &gd, &vol));
     PyObject *result = NULL;
     if (lcpy_flush_warnings(d)) lc_volume_destroy(vol);
     else if (s != LC_OK) lcpy_raise(s, "data");
@@ -545,205 +529,10 @@ PyTypeObject lcpy_GridType = {
               "the axis order) is borrowed in place (kept referenced; do not change it while the grid\n"
               "lives), anything else is converted once and owned by the library; copy=True: the library\n"
               "keeps its own copy (bricked or packed: faster frames); copy=False: borrow or raise.",
-    .tp_traverse = (traverseproc)volume_traverse,
-    .tp_clear = (inquiry)volume_clear,
+    .tp_traverse = (traverseproc)lcpy_volume_traverse,
+    .tp_clear = (inquiry)lcpy_volume_clear,
     .tp_methods = grid_methods,
     .tp_base = &lcpy_VolumeType,
     .tp_new = grid_new,
 };
 
-/* ---------------------------------------------------------------- RBF sets */
-
-static PyObject *rbf_new(PyTypeObject *type, PyObject *args, PyObject *kw)
-{
-    (void)type;
-    static char *kwlist[] = {"device", "centres", "widths", "weights", "bias", "eps", "domain", "leaf_size",
-                             "accel", "cell_max", "significant", NULL};
-    PyObject *dev_o, *c_o, *w_o, *wt_o, *dom_o = Py_None, *acc_o = Py_None;
-    float bias = 0.0f, eps = 0.0f;
-    int leaf = 0, cell = 0, sig = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OOOO|f$fOiOip:RBFSet", kwlist, &dev_o, &c_o, &w_o, &wt_o, &bias, &eps,
-                                     &dom_o, &leaf, &acc_o, &cell, &sig))
-        return NULL;
-    DeviceObject *d = lcpy_device_or_default(dev_o);
-    if (!d) return NULL;
-    lc_rbf_desc rd = {.bias = bias, .eps = eps, .leaf_size = leaf, .cell_max = cell, .significant = sig};
-    static const char *const accels[] = {"default", "bvh", "octree", "coherent"};
-    int acc = 0;
-    if (acc_o != Py_None && lcpy_choice(acc_o, "accel", accels, 4, &acc)) return NULL;
-    rd.accel = (lc_rbf_accel)acc;
-    if (dom_o != Py_None) {
-        PyObject *lo, *hi;
-        if (!PyArg_ParseTuple(dom_o, "OO;domain: expected ((x0, y0, z0), (x1, y1, z1))", &lo, &hi) ||
-            lcpy_vec3(lo, "domain", &rd.domain.lo) || lcpy_vec3(hi, "domain", &rd.domain.hi))
-            return NULL;
-    }
-    PyArrayObject *a[3] = {NULL, NULL, NULL};
-    static const char *const names[] = {"centres", "widths", "weights"};
-    PyObject *result = NULL;
-    int copied;
-    if (!(a[0] = lcpy_array(c_o, "centres", NPY_FLOAT32, "fiu", 2, 3, LCPY_COPY_NEEDED, &copied)) ||
-        !(a[1] = lcpy_array(w_o, "widths", NPY_FLOAT32, "fiu", 1, -1, LCPY_COPY_NEEDED, &copied)) ||
-        !(a[2] = lcpy_array(wt_o, "weights", NPY_FLOAT32, "fiu", 1, -1, LCPY_COPY_NEEDED, &copied)))
-        goto out;
-    npy_intp n = PyArray_DIM(a[0], 0);
-    for (int i = 1; i < 3; i++)
-        if (PyArray_DIM(a[i], 0) != n) {
-            PyErr_Format(PyExc_ValueError, "%s: expected %lld values (one per centre), got %lld", names[i],
-                         (long long)n, (long long)PyArray_DIM(a[i], 0));
-            goto out;
-        }
-    rd.count = (size_t)n;
-    rd.centres = PyArray_DATA(a[0]);
-    rd.widths = PyArray_DATA(a[1]);
-    rd.weights = PyArray_DATA(a[2]);
-    lc_volume *vol = NULL;
-    lc_status s;
-    CREATE_UNLOCKED(d, s, lc_rbf_create(d->dev, &rd, &vol));
-    if (lcpy_flush_warnings(d)) lc_volume_destroy(vol);
-    else if (s != LC_OK) lcpy_raise(s, nonfinite_arg(a, names, 3));
-    else if ((result = lcpy_volume_wrap(vol, d, NULL))) {
-        /* the arrays as given (float32), for save() */
-        PyObject *arrays = Py_BuildValue("(OOOf)", a[0], a[1], a[2], bias);
-        if (!arrays || PyObject_SetAttrString(result, "_arrays", arrays)) Py_CLEAR(result);
-        Py_XDECREF(arrays);
-    }
-out:
-    for (int i = 0; i < 3; i++) Py_XDECREF(a[i]);
-    return result;
-}
-
-/* save(path, text=False): the set as a .rbf file (docs/FORMATS-rbf.md) */
-static PyObject *rbf_save(VolumeObject *v, PyObject *args, PyObject *kw)
-{
-    static char *kwlist[] = {"path", "text", NULL};
-    PyObject *path;
-    int text = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|p:save", kwlist, &path, &text)) return NULL;
-    PyObject *arrays = v->dict ? PyDict_GetItemString(v->dict, "_arrays") : NULL;
-    if (!arrays)
-        return PyErr_Format(PyExc_ValueError, "save: only sets made from arrays (RBFSet, encode) can be saved; "
-                            "this one was read from a file");
-    PyObject *a = Py_BuildValue("(OO)", (PyObject *)v->device, path), *k = Py_BuildValue("{s:O}", "text", text ? Py_True : Py_False);
-    PyObject *full = a ? PySequence_Concat(a, arrays) : NULL, *r = NULL;
-    if (full && k) r = lcpy_rbf_write(NULL, full, k);
-    Py_XDECREF(a);
-    Py_XDECREF(k);
-    Py_XDECREF(full);
-    return r;
-}
-
-static PyMethodDef rbf_methods[] = {
-    {"save", (PyCFunction)(void (*)(void))rbf_save, METH_VARARGS | METH_KEYWORDS,
-     "save(path, text=False): writes the set as a .rbf file (binary, or text with text=True)."},
-    {NULL, NULL, 0, NULL},
-};
-
-PyTypeObject lcpy_RBFSetType = {
-    PyVarObject_HEAD_INIT(NULL, 0)
-    .tp_name = "lanecast.RBFSet",
-    .tp_basicsize = sizeof(VolumeObject),
-    .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
-    .tp_doc = "RBFSet(device, centres, widths, weights, bias=0.0, *, eps=0.0, domain=None, leaf_size=0,\n"
-              "       accel=None, cell_max=0, significant=False)\n\n"
-              "An RBF-encoded volume (Jang et al. 2004): f(x) = bias + sum w_i exp(-|x - mu_i|^2 / (2 s_i^2)),\n"
-              "centres (N, 3), widths (N,), weights (N,); copied by the library. accel: 'default',\n"
-              "'coherent', 'bvh' or 'octree'; domain ((x0, y0, z0), (x1, y1, z1)) bounds where rays sample.",
-    .tp_traverse = (traverseproc)volume_traverse,
-    .tp_clear = (inquiry)volume_clear,
-    .tp_methods = rbf_methods,
-    .tp_base = &lcpy_VolumeType,
-    .tp_new = rbf_new,
-};
-
-/* ---------------------------------------------------------------- files */
-
-typedef struct {
-    PyObject *callback;
-    PyThreadState *tstate;
-    int failed;
-} progress_ctx;
-
-/* Reading progress, on the loading thread (which released the GIL). */
-static void load_progress(void *user, float fraction)
-{
-    progress_ctx *c = user;
-    if (c->failed) return;
-    PyGILState_STATE g = PyGILState_Ensure();
-    PyObject *r = PyObject_CallFunction(c->callback, "f", fraction);
-    if (!r) c->failed = 1; /* raised after the load */
-    Py_XDECREF(r);
-    PyGILState_Release(g);
-}
-
-static int load_desc(PyObject *format, PyObject *companion, long long frame, PyObject *options, lc_load_desc *ld,
-                     lc_option *opts, PyObject *strings)
-{
-    if (format != Py_None && !(ld->format = PyUnicode_AsUTF8(format))) return -1;
-    if (companion != Py_None) {
-        PyObject *p = PyOS_FSPath(companion);
-        if (!p || PyList_Append(strings, p)) return Py_XDECREF(p), -1;
-        Py_DECREF(p);
-        if (!(ld->companion = PyUnicode_Check(p) ? PyUnicode_AsUTF8(p) : NULL)) return -1;
-    }
-    if (frame < 0) return PyErr_Format(PyExc_ValueError, "frame: expected 0, 1, ... got %lld", frame), -1;
-    ld->frame = frame;
-    return lcpy_options(options, opts, 32, &ld->noptions, strings);
-}
-
-/* load(device, path, format, companion, frame, options, progress) */
-PyObject *lcpy_load(PyObject *self, PyObject *args, PyObject *kw)
-{
-    (void)self;
-    static char *kwlist[] = {"device", "path", "format", "companion", "frame", "options", "progress", NULL};
-    PyObject *dev_o, *path_o, *format = Py_None, *companion = Py_None, *options = Py_None, *progress = Py_None;
-    long long frame = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO&|OOLOO:load", kwlist, &dev_o, PyUnicode_FSConverter, &path_o,
-                                     &format, &companion, &frame, &options, &progress))
-        return NULL;
-    DeviceObject *d = lcpy_device_or_default(dev_o);
-    PyObject *strings = PyList_New(0), *result = NULL;
-    lc_option opts[32];
-    lc_load_desc ld = {.options = opts};
-    progress_ctx pc = {progress, NULL, 0};
-    if (!d || !strings || load_desc(format, companion, frame, options, &ld, opts, strings)) goto out;
-    if (progress != Py_None) ld.progress = load_progress, ld.progress_user = &pc;
-    const char *path = PyBytes_AS_STRING(path_o);
-    lc_volume *vol = NULL;
-    lc_status s;
-    CREATE_UNLOCKED(d, s, lc_volume_load(d->dev, path, &ld, &vol));
-    if (pc.failed || lcpy_flush_warnings(d)) {
-        lc_volume_destroy(vol);
-        goto out;
-    }
-    if (s != LC_OK) lcpy_raise(s, NULL); /* the message names the file */
-    else result = lcpy_volume_wrap(vol, d, NULL);
-out:
-    Py_XDECREF(strings);
-    Py_DECREF(path_o);
-    return result;
-}
-
-/* probe(path, format=None, companion=None, options=None) -> dict */
-PyObject *lcpy_probe(PyObject *self, PyObject *args, PyObject *kw)
-{
-    (void)self;
-    static char *kwlist[] = {"path", "format", "companion", "options", NULL};
-    PyObject *path_o, *format = Py_None, *companion = Py_None, *options = Py_None;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|OOO:probe", kwlist, PyUnicode_FSConverter, &path_o, &format,
-                                     &companion, &options))
-        return NULL;
-    PyObject *strings = PyList_New(0), *result = NULL;
-    lc_option opts[32];
-    lc_load_desc ld = {.options = opts};
-    if (strings && !load_desc(format, companion, 0, options, &ld, opts, strings)) {
-        lc_file_info fi;
-        lc_status s = lc_file_probe(NULL, PyBytes_AS_STRING(path_o), &ld, &fi);
-        if (s != LC_OK) lcpy_raise(s, NULL);
-        else result = Py_BuildValue("{s:s,s:s,s:L,s:O}", "format", fi.format, "kind", lc_kind_name(fi.kind), "frames",
-                                    (long long)fi.frames, "gzip", fi.gzip ? Py_True : Py_False);
-    }
-    Py_XDECREF(strings);
-    Py_DECREF(path_o);
-    return result;
-}
