@@ -90,7 +90,10 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
         if (skip && !c->touched[v]) continue;
         vray r;
         r.dx = vf_load(c->dx + o), r.dy = vf_load(c->dy + o), r.dz = vf_load(c->dz + o);
+        /* origins are read by iso only; set otherwise so that GCC at -O1/-O2 (the sanitizer
+           builds) sees no use before definition */
         if (mode == LC_KMODE_ISO) r.ox = vf_load(c->ox + o), r.oy = vf_load(c->oy + o), r.oz = vf_load(c->oz + o);
+        else r.ox = r.oy = r.oz = vf_set1(0.0f);
         ivec q;
         ivec_load(c, v, kend, &q);
         for (int k = kp; k <= kend; k++) {

@@ -14,4 +14,7 @@ int cli_info(int argc, char **argv);
 int cli_encode(int argc, char **argv);
 int cli_bench(int argc, char **argv);
 
+/* The procedural scene of lanecast demo and its TF (cli_particles.c). */
+lc_status cli_demo_scene(lc_device *dev, lc_volume **out, lc_tf **tf);
+
 #endif

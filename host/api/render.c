@@ -4,6 +4,7 @@
  * render is a pass (render.h); render jobs (job.c) run two of them. */
 #include <math.h>
 #include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/api/render.h"
@@ -334,7 +335,10 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
         lci_pass_ctl ctl = {.cancel = d->cancel, .cancel_user = d->cancel_user, .progress = d->progress,
                             .progress_user = d->progress_user, .base = 0.0f, .span = 1.0f};
         if (!lci_pass_run(dev, &p, &ctl, rgba, depth)) {
-            s = lci_error(dev, LC_CANCELLED, "lc_render: cancelled by desc->cancel; the image is not complete");
+            /* asked for, not a failure: recorded as errors are, logged as information */
+            s = lci_error(NULL, LC_CANCELLED, "lc_render: cancelled by desc->cancel; the image is not complete");
+            snprintf(dev->last_error, sizeof dev->last_error, "%s", lc_last_error());
+            lci_log(dev, LC_LOG_INFO, "%s", dev->last_error);
         } else {
             if (d->progress) d->progress(d->progress_user, 1.0f);
             if (stats) {
