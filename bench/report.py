@@ -484,9 +484,10 @@ def main():
     page = a.page or P("REPORT.md")
     rel = os.path.relpath(a.out, os.path.dirname(os.path.abspath(page)) or ".")
     docs = os.path.relpath(os.path.join(a.out), os.path.dirname(os.path.abspath(page)))
-    doc.append("\n## Per-issue measurements\n\nThe A/B runs behind each speed and design change, made with the "
-               "older per-kind harnesses (`build/bench/bench_particles`, `bench_grid`, `bench_rbf`) and kept with "
-               "their commands and raw results: [particles](%s/particles.md), [grids](%s/grid.md), "
+    doc.append("\n## Why the kernels are as they are\n\nEach design choice of the kernels with the figure that "
+               "decided it (machine, commit and raw file in `bench/results/`), and a ledger of what was tried and "
+               "not kept, measured with the per-kind harnesses (`build/bench/bench_particles`, `bench_grid`, "
+               "`bench_rbf`): [particles](%s/particles.md), [grids](%s/grid.md), "
                "[RBF sets and the encoder](%s/rbf.md); what those harnesses still cover that `lanecast bench` "
                "does not: [bench/README.md](%s/README.md).\n" % (docs, docs, docs, docs))
     text = "\n".join(doc)
