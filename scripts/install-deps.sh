@@ -3,6 +3,8 @@
 # Idempotent: when everything is present it only runs dpkg-query and exits.
 set -eu
 PKGS="meson ninja-build pkg-config cmake gcc g++ libembree-dev libopenimageio-dev libcglm-dev libjson-c-dev zlib1g-dev liblapacke-dev libnifti2-dev libhdf5-dev"
+# lanecast view (the viewer feature) and its tests under Xvfb
+PKGS="$PKGS libglfw3-dev libimgui-dev libstb-dev xvfb xauth xdotool"
 missing=""
 for p in $PKGS; do
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -13,5 +13,7 @@ int cli_demo(int argc, char **argv);
 int cli_info(int argc, char **argv);
 int cli_encode(int argc, char **argv);
 int cli_bench(int argc, char **argv);
+int cli_view(int argc, char **argv);   /* viewer/ (view_missing.c without the feature) */
+int cli_view_available(void);
 
 #endif
