@@ -247,8 +247,11 @@ void view_panels(view_state *v, lc_device *)
 {
     overlay(v);
     ImGuiIO &io = ImGui::GetIO();
+    // collapsed at first, at the top right: the image stays free for the mouse
+    float w = io.DisplaySize.x - 16 < 340 ? io.DisplaySize.x - 16 : 340;
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 8, 8), ImGuiCond_FirstUseEver, ImVec2(1, 0));
-    ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(w, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
     ImGui::Begin("lanecast view (h hides)");
     tf_panel(v);
     render_panel(v);
