@@ -11,7 +11,7 @@ struct view_script {
     FILE *f;
     const char *path, *cmd;
     int line;
-    int waiting;       /* 1: until the refined frame of the current want */
+    int waiting;       /* 1: until the refined frame of the current want; 2: until its job ended */
     double sleep_until;
     int shot;          /* 1: write shot_path once refined */
     char shot_path[4096];
@@ -36,6 +36,28 @@ void view_script_close(view_script *s)
     if (!s) return;
     fclose(s->f);
     free(s);
+}
+
+/* The job of the current view has ended (its counters are in). */
+static int job_ended(view_state *v)
+{
+    pthread_mutex_lock(&v->mu);
+    int r = v->shown.stats_gen == v->want.gen || v->shown.error[0];
+    pthread_mutex_unlock(&v->mu);
+    return r;
+}
+
+/* One line about the last finished job, for measurements. */
+static void print_stats(view_state *v)
+{
+    pthread_mutex_lock(&v->mu);
+    const view_shown *sh = &v->shown;
+    printf("stats nav %d scale %d passes %d size %dx%d job_ms %.3f samples %llu evals %llu target %s threads %d\n",
+           sh->nav, sh->scale, sh->npasses, sh->width, sh->height, 1e3 * sh->job_seconds,
+           (unsigned long long)sh->stats.samples, (unsigned long long)sh->stats.kernel_evals,
+           lc_target_name(sh->target) ? lc_target_name(sh->target) : "?", sh->threads);
+    pthread_mutex_unlock(&v->mu);
+    fflush(stdout);
 }
 
 /* A drag from the image's centre by (dx, dy) pixels in 8 moves. */
@@ -87,8 +109,20 @@ static int run(view_script *s, view_state *v, lc_device *dev, char *line)
     } else if (!strcmp(c, "save-tf")) {
         if (n != 2) return bad(s, "expected save-tf PATH");
         if (view_tf_save(v, w[1])) return -1;
+    } else if (!strcmp(c, "down")) { /* down X Y [shift|middle]: a button press at image pixel X, Y */
+        if (n < 3 || n > 4) return bad(s, "expected down X Y [shift|middle]");
+        view_drag_begin(v, n == 4 ? VIEW_DRAG_PAN : VIEW_DRAG_ORBIT, a, b);
+    } else if (!strcmp(c, "move")) {
+        if (n != 3) return bad(s, "expected move X Y");
+        view_drag_move(v, a, b);
+    } else if (!strcmp(c, "up")) {
+        view_drag_end(v);
     } else if (!strcmp(c, "wait")) {
         s->waiting = 1;
+    } else if (!strcmp(c, "wait-frame")) {
+        s->waiting = 2;
+    } else if (!strcmp(c, "stats")) {
+        print_stats(v);
     } else if (!strcmp(c, "sleep")) {
         if (n != 2) return bad(s, "expected sleep SECONDS");
         s->sleep_until = view_now() + a;
@@ -105,7 +139,7 @@ static int run(view_script *s, view_state *v, lc_device *dev, char *line)
     } else {
         (void)b;
         return bad(s, "unknown command (orbit, pan, zoom, key, set, mode, target, tf, tf-delete, save-tf, wait, "
-                      "sleep, screenshot, camera, frame, step, play, pause, quit)");
+                      "sleep, screenshot, camera, down, move, up, wait-frame, stats, frame, step, play, pause, quit)");
     }
     (void)dev;
     return 0;
@@ -117,8 +151,12 @@ int view_script_step(view_script *s, view_state *v, lc_device *dev)
         if (view_now() < s->sleep_until) return 1;
         s->sleep_until = 0.0;
     }
+    if (s->waiting == 2) {
+        if (!job_ended(v)) return 1;
+        s->waiting = 0;
+    }
     if (s->waiting) {
-        if (!view_refined(v)) return 1;
+        if (!view_refined(v) || !job_ended(v)) return 1;
         s->waiting = 0;
         if (s->shot) { /* a screenshot waited for its frame */
             s->shot = 0;
