@@ -14,6 +14,9 @@
 #   xinput      the same after real X input (xdotool: drag, wheel, keys c, s, q)
 #   tf          a TF edited by script changes the image; the saved JSON
 #               renders the same image through lanecast render --tf
+#   frames      stepping through a trajectory's frames (loaded in the
+#               background) shows what lanecast render --frame N renders; a
+#               frame that fails to load leaves the current one, with the error
 #   random      1000 random events (drags, wheel, keys, panel values past
 #               their bounds, TF points, targets, frame steps) end in bounded
 #               time with a refined screenshot, no crash
@@ -200,6 +203,39 @@ random)
     t=$(($(date +%s) - start))
     [ $rc -eq 0 ] && [ -f last.png ] && ok "random: 1000 events in ${t}s, exit 0, a refined screenshot" ||
         bad "random: exit $rc after ${t}s: $(tail -n3 err)"
+    ;;
+frames)
+    # a frame that fails to load in the background: the current frame stays, the error is said
+    printf '%s\n' 'MODEL        1' \
+        'ATOM      1  CA  ALA A   1       0.000   0.000   0.000  1.00  0.00           C' \
+        'ATOM      2  CA  ALA A   2       3.800   0.000   0.000  1.00  0.00           C' \
+        'ATOM      3  CA  ALA A   3       3.800   3.800   0.000  1.00  0.00           C' \
+        'ENDMDL' 'MODEL        2' \
+        'ATOM      1  CA  ALA A   1       0.000   0.000   0.000  1.00  0.00           C' \
+        'ATOM      2  CA  ALA A   2       3.800   xx.xxx  0.000  1.00  0.00           C' \
+        'ENDMDL' 'END' > two.pdb
+    printf 'step 1\nwait\nscreenshot after.png\nquit\n' > s.txt
+    view two.pdb --size 96x96 --script s.txt > out 2> err
+    rc=$?
+    "$exe" render two.pdb --size 96x96 -o f0.png --quiet
+    [ $rc -eq 0 ] && grep -q "frame 1: two.pdb:8: ATOM record" err && cmp -s after.png f0.png &&
+        ok "a frame failing to load: $(grep 'frame 1' err); frame 0 stays" ||
+        bad "a frame failing to load: exit $rc, $(cat err)"
+    if [ -f "$data/particles/adk.dcd" ]; then
+        cam="--eye 60,30,90 --at 0,0,0 --size 128x128"
+        printf 'step 3\nwait\nscreenshot f3.png\nstep -1\nwait\nscreenshot f2.png\nquit\n' > s.txt
+        # shellcheck disable=SC2086
+        view "$data/particles/adk.dcd" $cam --script s.txt > out 2> err || bad "adk frames: $(cat err)"
+        for f in 2 3; do
+            # shellcheck disable=SC2086
+            "$exe" render "$data/particles/adk.dcd" $cam --frame $f -o r$f.png --quiet
+            cmp -s f$f.png r$f.png && ok "adk.dcd: frame $f stepped to in the view == lanecast render --frame $f" ||
+                bad "adk.dcd frame $f differs: $("$cmpx" f$f.png r$f.png 50)"
+        done
+        cmp -s f2.png f3.png && bad "adk.dcd: frames 2 and 3 look the same"
+    else
+        echo "skip adk.dcd: no $data/particles/adk.dcd"
+    fi
     ;;
 *)
     echo "test_view.sh: unknown case '$case'"

@@ -118,6 +118,7 @@ typedef struct view_state {
     float target_ms;
     int min_nav_scale;
     int show_ui, show_box;
+    int panels_open, panels_asked; /* the controls window expanded; asked to change */
     int plane_axis;          /* slice plane: normal along x, y or z */
     float plane_pos;         /* its position across the box, 0..1 */
     int save_pending;        /* `s` presses waiting for the refined frame */
@@ -149,7 +150,7 @@ void view_changed(view_state *v);
  * 0 ok, -1 (message in v->status and on stderr) failed or no refined frame. */
 int view_save(view_state *v, lc_device *dev, const char *path);
 void view_print_camera(view_state *v);
-/* 1 when the frame of the current view is refined (no move pending). */
+/* 1 when the frame of the current view is refined (no move and no frame load pending). */
 int view_refined(view_state *v);
 int view_key(view_state *v, const char *key); /* "r", "s", "c", "h", "q", ...: 1 handled */
 /* name = value through the same bounds as the panels (view_set_names lists

@@ -172,7 +172,8 @@ void view_print_camera(view_state *v)
 int view_refined(view_state *v)
 {
     pthread_mutex_lock(&v->mu);
-    int r = v->refined_gen == v->want.gen && !v->want.nav && v->release_at == 0.0;
+    int r = v->refined_gen == v->want.gen && !v->want.nav && v->release_at == 0.0 && v->frame_want < 0 &&
+            v->frame_loading < 0 && !v->next_volume;
     pthread_mutex_unlock(&v->mu);
     return r;
 }

@@ -48,7 +48,7 @@ static const char view_help[] =
     "                        shading, method, target, colormap, iso, dt, alpha_stop, sigma,\n"
     "                        kappa, ka, kd, ks, phong_exp, threads, field, plane_axis, plane_pos,\n"
     "                        range_lo, range_hi, opacity_scale, nav_scale, nav_step, target_ms,\n"
-    "                        adaptive, refine_delay, box), mode M [ISO], target T,\n"
+    "                        adaptive, refine_delay, box, panels), mode M [ISO], target T,\n"
     "                        tf FIELD INDEX V TAU (INDEX = the count adds a point),\n"
     "                        tf-delete FIELD INDEX, save-tf PATH, wait (for the refined frame),\n"
     "                        sleep S, screenshot PATH, camera, frame N, step N, play, pause, quit;\n"
@@ -123,7 +123,8 @@ static void init_state(view_state *v, const ropts *o, const view_opts *vo, lc_vo
     pthread_mutex_init(&v->vol_mu, NULL);
     pthread_cond_init(&v->cv, NULL);
     v->cmd = "lanecast view";
-    v->input = vo->demo ? "demo" : o->input;
+    const char *slash = vo->demo ? NULL : strrchr(o->input, '/');
+    v->input = vo->demo ? "demo" : slash ? slash + 1 : o->input; /* the overlay and title show the file's name */
     v->volume = vol;
     v->initial_tf = tf;
     lc_volume_get_info(vol, &v->vinfo);

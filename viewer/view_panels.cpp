@@ -252,6 +252,8 @@ void view_panels(view_state *v, lc_device *)
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 8, 8), ImGuiCond_FirstUseEver, ImVec2(1, 0));
     ImGui::SetNextWindowSize(ImVec2(w, 0), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
+    if (v->panels_asked) ImGui::SetNextWindowCollapsed(!v->panels_open, ImGuiCond_Always);
+    v->panels_asked = 0;
     ImGui::Begin("lanecast view (h hides)");
     tf_panel(v);
     render_panel(v);

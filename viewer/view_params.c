@@ -27,7 +27,7 @@ int view_param_bounds(const view_state *v, const char *name, float *lo, float *h
         {"phong_exp", 1.0f, 256.0f, 1},  {"threads", 0.0f, 64.0f, 1},    {"nav_scale", 2.0f, 16.0f, 1},
         {"nav_step", 1.0f, 8.0f, 0},     {"target_ms", 5.0f, 1000.0f, 0}, {"adaptive", 0.0f, 1.0f, 1},
         {"refine_delay", 0.0f, 5.0f, 0}, {"opacity_scale", 0.0f, 100.0f, 0}, {"plane_axis", 0.0f, 2.0f, 1},
-        {"plane_pos", 0.0f, 1.0f, 0},    {"box", 0.0f, 1.0f, 1},
+        {"plane_pos", 0.0f, 1.0f, 0},    {"box", 0.0f, 1.0f, 1},          {"panels", 0.0f, 1.0f, 1},
     };
     *integer = 0;
     for (size_t i = 0; i < sizeof fixed / sizeof fixed[0]; i++)
@@ -80,6 +80,7 @@ float view_getf(view_state *v, const char *name)
     if (!strcmp(name, "plane_axis")) return (float)v->plane_axis;
     if (!strcmp(name, "plane_pos")) return v->plane_pos;
     if (!strcmp(name, "box")) return (float)v->show_box;
+    if (!strcmp(name, "panels")) return (float)(v->panels_open > 0);
     if (!strcmp(name, "field")) return (float)rd->field;
     if (!strcmp(name, "range_lo") || !strcmp(name, "range_hi")) {
         float lo = v->vinfo.range[0], hi = v->vinfo.range[1];
@@ -119,6 +120,7 @@ static void setf_locked(view_state *v, const char *name, float x)
     } else if (!strcmp(name, "plane_axis")) set_plane(v, (int)x, v->plane_pos);
     else if (!strcmp(name, "plane_pos")) set_plane(v, v->plane_axis, x);
     else if (!strcmp(name, "box")) v->show_box = (int)x;
+    else if (!strcmp(name, "panels")) v->panels_open = (int)x, v->panels_asked = 1;
     else if (!strcmp(name, "field")) rd->field = (int)x;
     else if (!strcmp(name, "range_lo") || !strcmp(name, "range_hi")) {
         float lo = view_getf(v, "range_lo"), hi = view_getf(v, "range_hi");
