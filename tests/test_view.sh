@@ -14,6 +14,8 @@
 #   xinput      the same after real X input (xdotool: drag, wheel, keys c, s, q)
 #   tf          a TF edited by script changes the image; the saved JSON
 #               renders the same image through lanecast render --tf
+#   switch      mode, shading and target switched live by --script equal
+#               lanecast render given the same (mip on sse4, iso on scalar, slice)
 #   frames      stepping through a trajectory's frames (loaded in the
 #               background) shows what lanecast render --frame N renders; a
 #               frame that fails to load leaves the current one, with the error
@@ -111,7 +113,6 @@ screenshot)
         ok "a different view differs ($(cat cmp.out))"
     if [ -f "$data/volumes/engine.nhdr" ]; then
         check_same engine exr "$data/volumes/engine.nhdr" --size 160x128 --shade phong
-        check_same engine-mip png "$data/volumes/engine.nhdr" --size 128x128 --mode mip --tf gray
         check_same engine-iso-sse4 exr "$data/volumes/engine.nhdr" --size 128x128 --mode iso --iso 150 --shade \
             --target sse4
     else
@@ -194,7 +195,7 @@ random)
             else if (e == 7) printf "tf-delete %d %d\n", int(rand() * 3), int(rand() * 4)
             else printf "step %d\n", int(rand() * 5) - 2
         }
-        print "set target auto"; print "set sigma 2"; print "set threads 0"
+        print "set target auto"; print "set sigma 2"; print "set threads 0"; print "set method default"
         print "wait"; print "screenshot last.png"; print "quit"
     }' > s.txt
     start=$(date +%s)
@@ -203,6 +204,35 @@ random)
     t=$(($(date +%s) - start))
     [ $rc -eq 0 ] && [ -f last.png ] && ok "random: 1000 events in ${t}s, exit 0, a refined screenshot" ||
         bad "random: exit $rc after ${t}s: $(tail -n3 err)"
+    ;;
+switch)
+    # mode, shading and target switched live by script equal lanecast render given them
+    if [ -f "$data/volumes/engine.nhdr" ]; then
+        in="$data/volumes/engine.nhdr" sz="--size 128x112"
+    else
+        in="" sz="--size 128x112"
+        echo "(no engine.nhdr: the demo scene)"
+    fi
+    run_view() { if [ -n "$in" ]; then view "$in" "$@"; else view --demo "$@"; fi; }
+    run_render() { if [ -n "$in" ]; then "$exe" render "$in" "$@"; else "$exe" demo "$@"; fi; }
+    printf '%s\n' 'set mode mip' 'set target sse4' 'wait' 'screenshot mip.png' 'mode iso 150' 'set shading phong' \
+        'set target scalar' 'wait' 'screenshot iso.png' 'set mode slice' 'set plane_axis 0' 'set plane_pos 0.25' \
+        'set target auto' 'wait' 'screenshot slice.png' 'quit' > s.txt
+    # shellcheck disable=SC2086
+    run_view $sz --script s.txt > out 2> err || bad "switch: view: $(cat err)"
+    # shellcheck disable=SC2086
+    run_render $sz --mode mip --target sse4 -o r-mip.png --quiet
+    # shellcheck disable=SC2086
+    run_render $sz --mode iso --iso 150 --shade phong --target scalar -o r-iso.png --quiet
+    # the slice plane: the box's centre, a quarter across in x (the info's bounds)
+    plane=$(if [ -n "$in" ]; then "$exe" info "$in"; else echo "bounds -1 -1 -1 .. 1 1 1"; fi |
+        awk '/^bounds/ {printf "%.9g,%.9g,%.9g,1,0,0", $2 + 0.25 * ($6 - $2), ($3 + $7) / 2, ($4 + $8) / 2}')
+    [ -n "$in" ] && run_render $sz --mode slice --plane "$plane" -o r-slice.png --quiet
+    for m in mip iso slice; do
+        [ $m = slice ] && [ -z "$in" ] && continue
+        cmp -s $m.png r-$m.png && ok "switch: $m equals lanecast render's" || bad "switch: $m differs: $("$cmpx" $m.png r-$m.png 50)"
+    done
+    cmp -s mip.png iso.png && bad "switch: mip and iso look the same"
     ;;
 frames)
     # a frame that fails to load in the background: the current frame stays, the error is said

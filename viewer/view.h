@@ -61,6 +61,7 @@ typedef struct view_shown {
     lc_target target;
     int threads;
     char error[512];         /* the last render error, "" if none */
+    uint64_t failed_gen;     /* the want.gen whose job could not begin (0 = none) */
 } view_shown;
 
 typedef struct view_hist {
@@ -150,6 +151,8 @@ void view_changed(view_state *v);
  * 0 ok, -1 (message in v->status and on stderr) failed or no refined frame. */
 int view_save(view_state *v, lc_device *dev, const char *path);
 void view_print_camera(view_state *v);
+/* 1 when the job of the current view could not begin (shown.error says why). */
+int view_failed(view_state *v);
 /* 1 when the frame of the current view is refined (no move and no frame load pending). */
 int view_refined(view_state *v);
 int view_key(view_state *v, const char *key); /* "r", "s", "c", "h", "q", ...: 1 handled */
@@ -185,6 +188,7 @@ void view_hist_stop(view_state *v);
 typedef struct view_script view_script;
 view_script *view_script_open(const char *path, const char *cmd);
 int view_script_step(view_script *s, view_state *v, lc_device *dev);
+int view_script_waiting(const view_script *s); /* 1: in a wait or sleep (the UI may block for events) */
 void view_script_close(view_script *s);
 
 /* view_frames.c: frames of a trajectory, loaded in the background.
@@ -202,7 +206,6 @@ typedef struct view_run {
     lc_device *ui_dev;       /* the UI thread's own device (saving images) */
     view_script *script;
     const char *screenshot;  /* --screenshot PATH */
-    double timeout;          /* seconds; 0 = none */
 } view_run;
 int view_gui_run(view_run *r);
 void view_gui_close(void); /* after the other threads have stopped */

@@ -169,6 +169,14 @@ void view_print_camera(view_state *v)
     snprintf(v->status, sizeof v->status, "%s", line);
 }
 
+int view_failed(view_state *v)
+{
+    pthread_mutex_lock(&v->mu);
+    int r = v->shown.failed_gen == v->want.gen;
+    pthread_mutex_unlock(&v->mu);
+    return r;
+}
+
 int view_refined(view_state *v)
 {
     pthread_mutex_lock(&v->mu);

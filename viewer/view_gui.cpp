@@ -242,7 +242,9 @@ extern "C" int view_gui_run(view_run *r)
     int rc = 0;
     view_script *script = r->script;
     while (!glfwWindowShouldClose(G.win)) {
-        if (script) glfwPollEvents();
+        // a script that runs its next command polls; otherwise the UI sleeps until an
+        // event or a pass wakes it (a spinning UI thread would take a core from the render)
+        if (script && !view_script_waiting(script)) glfwPollEvents();
         else glfwWaitEventsTimeout(0.05);
         for (int k = 0; script && k < 4; k++) { // a few commands per UI frame
             int s = view_script_step(script, v, r->ui_dev);
@@ -256,6 +258,14 @@ extern "C" int view_gui_run(view_run *r)
         glfwGetFramebufferSize(G.win, &fbw, &fbh);
         if (!v->size_fixed) view_set_size(v, fbw, fbh);
         upload();
+        if (view_failed(v) && (v->save_pending || r->screenshot)) {
+            std::fprintf(stderr, "%s: no refined frame to save: the render failed\n", v->cmd);
+            v->save_pending = 0;
+            if (r->screenshot) {
+                rc = 1;
+                break;
+            }
+        }
         if (v->save_pending && view_refined(v)) {
             v->save_pending--;
             view_save(v, r->ui_dev, nullptr);

@@ -242,7 +242,7 @@ int cli_view(int argc, char **argv)
     if (view_render_start(v) == 0) {
         view_hist_start(v);
         view_frames_start(v);
-        view_run run = {v, ui_dev, script, vo.screenshot, 0.0};
+        view_run run = {v, ui_dev, script, vo.screenshot};
         rc = view_gui_run(&run);
         view_frames_stop(v);
         view_hist_stop(v);

@@ -44,6 +44,7 @@ void overlay(view_state *v)
     s.rgba = nullptr;
     int refined = v->refined_gen == v->want.gen, nav = v->want.nav;
     long long frame = v->frame, frames = v->frames, loading = v->frame_loading;
+    bool playing = v->playing;
     char ferr[512];
     std::snprintf(ferr, sizeof ferr, "%s", v->frame_error);
     pthread_mutex_unlock(&v->mu);
@@ -59,13 +60,13 @@ void overlay(view_state *v)
                 fs > 0 ? 1.0 / fs : 0.0);
     double js = s.job_seconds > 0 ? s.job_seconds : 1e-9;
     ImGui::Text("%.1f M samples/s  %.1f M %s/s", s.stats.samples / js / 1e6, s.stats.kernel_evals / js / 1e6,
-                lc_volume_kind(v->volume) == LC_KIND_GRID ? "voxels" : "Gaussians");
+                v->vinfo.kind == LC_KIND_GRID ? "voxels" : "Gaussians");
     ImGui::Text("target %s (%d lanes), %d threads  nav scale %d%s  UI %.0f fps", lc_target_name(s.target),
                 lc_target_lanes(s.target), s.threads, v->want.nav_scale, v->adaptive ? " (adaptive)" : "",
                 ImGui::GetIO().Framerate);
     if (frames > 1)
         ImGui::Text("frame %lld of %lld%s%s", frame, frames, loading >= 0 ? "  (loading the next)" : "",
-                    v->playing ? "  playing" : "");
+                    playing ? "  playing" : "");
     if (s.error[0]) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", s.error);
     if (ferr[0]) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ferr);
     if (v->status[0]) ImGui::TextWrapped("%s", v->status);
@@ -198,8 +199,15 @@ void render_panel(view_state *v)
     }
     slider(v, "alpha stop", "alpha_stop");
     slider(v, "dt (0 = default)", "dt");
-    combo(v, "method", "method", view_methods, 5, rd.method);
-    if (lc_volume_kind(v->volume) == LC_KIND_PARTICLES) {
+    // the methods of the data's kind (lc_method); "default" is the fast one of each
+    static const char *const pm[] = {"default", "coherent", "direct"}, *const gm[] = {"default", "bvh", "brute"},
+                             *const rm[] = {"default", "coherent", "bvh", "brute"};
+    const char *const *ms = v->vinfo.kind == LC_KIND_PARTICLES ? pm : v->vinfo.kind == LC_KIND_GRID ? gm : rm;
+    int nm = v->vinfo.kind == LC_KIND_RBF ? 4 : 3, cur = 0;
+    for (int i = 0; i < nm; i++)
+        if (!std::strcmp(ms[i], view_methods[rd.method])) cur = i;
+    combo(v, "method", "method", ms, nm, cur);
+    if (v->vinfo.kind == LC_KIND_PARTICLES) {
         slider(v, "sigma", "sigma");
         slider(v, "kappa", "kappa", true);
     }
@@ -232,7 +240,10 @@ void frames_panel(view_state *v)
     if (v->frames <= 1 || !ImGui::CollapsingHeader("Frames", ImGuiTreeNodeFlags_DefaultOpen)) return;
     if (ImGui::Button("<")) view_frames_command(v, "step", -1);
     ImGui::SameLine();
-    if (ImGui::Button(v->playing ? "pause" : "play")) view_frames_command(v, v->playing ? "pause" : "play", 0);
+    pthread_mutex_lock(&v->mu);
+    bool playing = v->playing;
+    pthread_mutex_unlock(&v->mu);
+    if (ImGui::Button(playing ? "pause" : "play")) view_frames_command(v, playing ? "pause" : "play", 0);
     ImGui::SameLine();
     if (ImGui::Button(">")) view_frames_command(v, "step", 1);
     pthread_mutex_lock(&v->mu);

@@ -122,6 +122,9 @@ static void begin(view_render *r, const view_want *w)
         float *b = realloc(r->buf, n * sizeof(float));
         if (!b) {
             set_error(v, "render", "out of memory for the image");
+            pthread_mutex_lock(&v->mu);
+            v->shown.failed_gen = w->gen;
+            pthread_mutex_unlock(&v->mu);
             return;
         }
         r->buf = b, r->cap = n;
@@ -133,6 +136,9 @@ static void begin(view_render *r, const view_want *w)
     if (lc_render_begin(r->dev, &rd, &jd, r->buf, &r->job) != LC_OK) {
         r->job = NULL;
         set_error(v, "render", lc_last_error());
+        pthread_mutex_lock(&v->mu);
+        v->shown.failed_gen = w->gen;
+        pthread_mutex_unlock(&v->mu);
     } else {
         pthread_mutex_lock(&v->mu);
         v->shown.error[0] = '\0';

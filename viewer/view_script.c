@@ -145,11 +145,20 @@ static int run(view_script *s, view_state *v, lc_device *dev, char *line)
     return 0;
 }
 
+int view_script_waiting(const view_script *s) { return s->waiting || s->sleep_until > 0.0; }
+
 int view_script_step(view_script *s, view_state *v, lc_device *dev)
 {
     if (s->sleep_until > 0.0) {
         if (view_now() < s->sleep_until) return 1;
         s->sleep_until = 0.0;
+    }
+    if (s->waiting && view_failed(v)) {
+        pthread_mutex_lock(&v->mu);
+        char why[600];
+        snprintf(why, sizeof why, "waited for a render that failed (%s)", v->shown.error);
+        pthread_mutex_unlock(&v->mu);
+        return bad(s, why);
     }
     if (s->waiting == 2) {
         if (!job_ended(v)) return 1;
