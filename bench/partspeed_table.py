@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Tables for docs/bench/particles.md "Particles 3-10x (issue 8)": A/B of
+"""Tables for docs/bench/particles.md "The exp-free deposit": A/B of
 bench_particles lines (base file, new file), one line per render case and
 round; prints per (set, view, method, target) the median over rounds of the
 CPU seconds per frame (all threads) and of the wall seconds, their ranges, the

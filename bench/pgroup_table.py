@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Table for docs/bench/particles.md "One BVH walk per group (issue 8)": one
+"""Table for docs/bench/particles.md "One BVH walk per group": one
 file of bench_particles lines from interleaved rounds of several binaries,
 each run preceded by a line "# bin=PATH round=N" (bench/results/pgroup_ab.txt).
 Prints per (set, view) the median over rounds of the CPU seconds per frame

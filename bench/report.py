@@ -34,7 +34,7 @@ GROUP_KEYS = ["file", "scene", "view", "width", "height", "mode", "method", "pac
 
 
 def load(paths):
-    cases, roofs, skips, peers = [], [], [], []
+    cases, roofs, skips, peers, jobs = [], [], [], [], []
     for p in paths:
         with open(p) as f:
             for n, line in enumerate(f, 1):
@@ -46,8 +46,9 @@ def load(paths):
                 except json.JSONDecodeError as e:
                     sys.exit("report.py: %s line %d: not JSON (%s)" % (p, n, e))
                 r["file"] = os.path.basename(p)
-                {"case": cases, "roofline": roofs, "skip": skips, "peer": peers}.get(r.get("record"), []).append(r)
-    return cases, roofs, skips, peers
+                {"case": cases, "roofline": roofs, "skip": skips, "peer": peers,
+                 "job": jobs}.get(r.get("record"), []).append(r)
+    return cases, roofs, skips, peers, jobs
 
 
 def groups(cases):
@@ -320,6 +321,24 @@ def checks_section(cases):
     return table(["target", "worst max diff (/255)", "worst PSNR dB", "cases", "failed"], rows)
 
 
+def jobs_section(jobs):
+    """Interactive timings (lanecast bench --jobs): one row per scene, mode and target."""
+    rows = []
+    for r in jobs:
+        rows.append([r["scene"], r["view"], "%dx%d" % (r["width"], r["height"]), r["mode"], r["target"], r["threads"],
+                     fmt(1e3 * r["full_s"], 3), fmt(1e3 * r["nav_s"], 3), fmt(1e3 * r["preview_s"], 3),
+                     fmt(1e3 * r["refined_s"], 3), "%s / %s / %s" % (fmt(r["cancel_median_ms"], 2), fmt(r["cancel_p95_ms"], 2),
+                                                                     fmt(r["cancel_worst_ms"], 2)),
+                     "%d (+%d done first)" % (r["cancels"], r["finished_before_cancel"]), fmt(r.get("loadavg"), 2)])
+    intro = ("What an interactive user waits for: the full frame (`lc_render`), the navigation frame (`pixel_scale` 2, "
+             "what `lanecast view` renders while the camera moves), a render job's preview pass (pixel scale 4 at "
+             "1024^2) and refined image, and the cancel latency, from `lc_job_cancel` to `lc_job_wait` returning, "
+             "at random points of a frame (median / p95 / worst, ms). Times in ms.\n\n")
+    return "\n## Interactive use (`--jobs`)\n\n" + intro + table(
+        ["scene", "view", "size", "mode", "target", "threads", "full", "navigation", "preview", "refined",
+         "cancel med / p95 / worst", "cancels", "load"], rows)
+
+
 def peers_section(peers):
     rows = [[r["scene"], "%s %s" % (r["peer"], r["peer_version"]), r["peer_mapper"], "%dx%d" % (r["size"], r["size"]),
              r["threads"], fmt(r.get("dt")), fmt(r["lanecast_first_s"]), fmt(r["peer_first_s"]), fmt(r["lanecast_frame_s"]),
@@ -372,7 +391,7 @@ def main():
     ap.add_argument("--page", default="", help="where the page goes (default OUT/REPORT.md); its image links "
                     "are made relative to it")
     a = ap.parse_args()
-    cases, roofs, skips, peers = load(a.records)
+    cases, roofs, skips, peers, jobs = load(a.records)
     if not cases and not roofs:
         sys.exit("report.py: no records in %s" % " ".join(a.records))
     os.makedirs(a.out, exist_ok=True)
@@ -387,7 +406,10 @@ def main():
            "times the targets in interleaved rounds and writes one JSON line per case and target (median and spread, "
            "fps, ns per ray, samples/s, Gaussians/s, build time and bytes, peak RSS, CPU, commit, compiler). "
            "`--quick` runs as a test, `--roofline` measures this machine's ceilings, `--width-study` separates "
-           "instruction set from width. `bench/report.py` made this page from the records in `bench/results/`; "
+           "instruction set from width, `--jobs N` times what an interactive user waits for (navigation frames, "
+           "a render job's passes, cancel latency), and `--baseline EXE` compares this build with another build "
+           "of lanecast in interleaved rounds (ratios of wall and CPU time per case). "
+           "`bench/report.py` made this page from the records in `bench/results/`; "
            "`bench/peers.sh` measures VTK and SPLASH on the same data.\n"]
     if a.command:
         doc.append("Made with:\n\n```sh\n%s\n```\n" % a.command.strip())
@@ -453,6 +475,8 @@ def main():
     t = threads_section(cases, P("threads.png"))
     if t:
         doc.append("\n## Thread scaling\n\n![thread scaling](threads.png)\n\n" + t)
+    if jobs:
+        doc.append(jobs_section(jobs))
     if peers:
         doc.append(peers_section(peers))
     if skips:
@@ -460,9 +484,10 @@ def main():
     page = a.page or P("REPORT.md")
     rel = os.path.relpath(a.out, os.path.dirname(os.path.abspath(page)) or ".")
     docs = os.path.relpath(os.path.join(a.out), os.path.dirname(os.path.abspath(page)))
-    doc.append("\n## Per-issue measurements\n\nThe A/B runs behind each speed and design change, made with the "
-               "older per-kind harnesses (`build/bench/bench_particles`, `bench_grid`, `bench_rbf`) and kept with "
-               "their commands and raw results: [particles](%s/particles.md), [grids](%s/grid.md), "
+    doc.append("\n## Why the kernels are as they are\n\nEach design choice of the kernels with the figure that "
+               "decided it (machine, commit and raw file in `bench/results/`), and a ledger of what was tried and "
+               "not kept, measured with the per-kind harnesses (`build/bench/bench_particles`, `bench_grid`, "
+               "`bench_rbf`): [particles](%s/particles.md), [grids](%s/grid.md), "
                "[RBF sets and the encoder](%s/rbf.md); what those harnesses still cover that `lanecast bench` "
                "does not: [bench/README.md](%s/README.md).\n" % (docs, docs, docs, docs))
     text = "\n".join(doc)

@@ -26,6 +26,11 @@ run $common --scenes uniform:1e5,engine --targets scalar,avx512 --views far,medi
     --methods default,direct,brute -o $out/bench_views.jsonl
 # the large sets, widest target only, 2 threads (memory: rss_peak_kb)
 run $common --scenes uniform:1e7,grid:512 --targets avx512 --threads 2 --repeats 3 -o $out/bench_large.jsonl
+# interactive timings (issue 24): 1024^2, 2 threads, every mode, 200 cancels per case
+run --jobs 200 --scenes demo,engine,1tw7,uniform:1e6,rbf:1e4 --sizes 1024 --threads 2 --targets avx2 \
+    --modes dvr,mip,iso,slice --roof-seconds 0.01 -o $out/bench_jobs.jsonl
+run --jobs 200 --scenes 1tw7,uniform:1e6 --views close --sizes 1024 --threads 2 --targets avx2 --roof-seconds 0.01 \
+    -o $out/bench_jobs.jsonl
 /usr/bin/python3 bench/report.py $out/bench_*.jsonl -o docs/bench --page docs/BENCHMARKS.md \
     --command "bench/run_matrix.sh ${1:-build}   # every lanecast bench run in this script, then report.py
 bench/peers.sh ${1:-build}   # VTK and SPLASH side by side (records in bench_peers.jsonl; --install installs them)"

@@ -128,7 +128,8 @@ static inline __attribute__((always_inline)) void grid_packlet_init(const lc_kgr
  * in m is visible (the TF not exactly transparent there), and where the
  * frame shades, the gradient: taken whether or not a lane is visible, as a
  * branch on visibility cost more than the 15 operations it saved (embryo
- * Phong 1.02-1.06x without it, docs/bench/grid.md session 8). After it only phi and
+ * Phong 1.02-1.06x without it, docs/bench/grid.md "Value, visibility and
+ * gradient before the next fetch"). After it only phi and
  * the gradient of this stencil stay live while the next one is fetched and
  * this sample classified (4 registers instead of the 8 voxel values and 3
  * weights: the Phong loop spilled the colour and the stencils). */
@@ -305,8 +306,8 @@ static inline __attribute__((always_inline)) uint64_t grid_run(const lc_kgrid *g
               &cell);
     /* the copies' prefetch every other sample: a ray crosses a plane every
        step or two (measured for the quad copy: 1.01-1.08x over every sample,
-       4 rounds, docs/bench/grid.md session 7; for the pair copy with every
-       lane, 1.03-1.08x, session 8); in every mode (mip and iso on proc1024
+       4 interleaved runs; for the pair copy with every lane, 1.03-1.08x;
+       docs/bench/grid.md "Software prefetch"); in every mode (mip and iso on proc1024
        medium: 1.33x and 1.26x), but not in the profile's stand-in variants */
     unsigned it = 0;
     for (;;) {
@@ -318,7 +319,7 @@ static inline __attribute__((always_inline)) uint64_t grid_run(const lc_kgrid *g
         if (fast) grid_dvr_pre(g, f, shade, m, &cell, &s);
         /* the next stencil only when some lane has a next sample: a run's
            last fetch was otherwise wasted (1 of the ~20-35 a run takes at
-           1024^2; docs/bench/grid.md session 9) */
+           1024^2; docs/bench/grid.md "The run's last fetch skipped") */
         vmask mn = vm_and(m, vm_not(vi_gt(kn, kb)));
         gcell next;
         if (vm_any(mn))
@@ -428,7 +429,7 @@ static inline void grid_finish_store(const lc_kgrid *g, const lc_kframe *f, cons
  * The images do not depend on it: which nodes are leaves depends on the
  * node and on the frame's packet side only (footprint pruning, traverse),
  * and every ray takes the lattice samples of the leaves it crosses, in
- * order. Measured (docs/bench/grid.md, session 6): at 1024^2, 16x16 groups
+ * order. Measured (docs/bench/grid.md "Traversal groups of up to 32x32 rays"): at 1024^2, 16x16 groups
  * take 3.4x fewer node visits than 8x8 and 1.08-1.15x less CPU per frame, 32x32
  * another 1-5 %; at 512^2 16x16 1.00-1.15x; at 256^2 mixed (0.9-1.1x). */
 static inline int grid_group_side(const lc_kframe *f)

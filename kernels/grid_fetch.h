@@ -117,7 +117,7 @@ typedef struct gcell {
  * conversion instead of three, no vpmulld), and the bytes of the two
  * gathered words zero-extended with one vpshufb each instead of a shift and
  * a mask. Same voxel values, same bytes as grid_cell's general path
- * (docs/bench/grid.md session 9: avx512 close 0.99-1.05x alone, within
+ * (docs/bench/grid.md "The uint8 copies": avx512 close 0.99-1.05x alone, within
  * the run-to-run spread; tests: test_grid_copies' quad copy, test_grid). */
 static inline __attribute__((always_inline)) void grid_cell_quads16(const lc_kgrid *g, vfloat fx0, vfloat fy0,
                                                                      vfloat fz0, gcell *c)
@@ -271,8 +271,8 @@ static inline __attribute__((always_inline)) vfloat grid_sample(const lc_kgrid *
 }
 
 /* Samples ahead of the one being integrated whose pair-copy lines the
- * fast dvr loop prefetches (0: none). Measured (docs/bench/grid.md, issue 9
- * second round): proc512 1024^2 1.14-1.24x less CPU per frame, 256^3
+ * fast dvr loop prefetches (0: none). Measured (docs/bench/grid.md "Software
+ * prefetch", commit 63f139c): proc512 1024^2 1.14-1.24x less CPU per frame, 256^3
  * volumes 0-5%; prefetching the bricked layout the same way did not pay. */
 #ifndef GRID_PF
 #define GRID_PF 8
@@ -285,7 +285,7 @@ static inline __attribute__((always_inline)) vfloat grid_sample(const lc_kgrid *
  * z-plane lines of every lane. A 4x4 packlet's lanes span up to four pair
  * rows, and with the corners alone the middle rows' misses stalled the
  * gathers: every lane made proc1024 medium 1.3-1.4x and proc512 1.1-1.2x
- * faster (docs/bench/grid.md, session 8). */
+ * faster (docs/bench/grid.md "Software prefetch"). */
 static inline __attribute__((always_inline)) void grid_prefetch_pairs(const lc_kgrid *g, const gpk *p, vfloat t)
 {
     vfloat ux = vf_mul(vf_sub(vf_fma(t, p->ray.dx, p->ray.ox), vf_set1(g->origin[0])), vf_set1(g->inv_spacing[0]));
@@ -303,7 +303,7 @@ static inline __attribute__((always_inline)) void grid_prefetch_pairs(const lc_k
         const uint32_t *q = g->pairs;
         __builtin_prefetch(q + ev[0]);
         __builtin_prefetch(q + ev[LC_W - 1]);
-        if (LC_W == 16) { /* the 4x4 block's other two corners: 1.00-1.04x (session 7) */
+        if (LC_W == 16) { /* the 4x4 block's other two corners: 1.00-1.04x (commit e8fa572) */
             __builtin_prefetch(q + ev[3]);
             __builtin_prefetch(q + ev[12]);
         }

@@ -380,12 +380,12 @@ static inline int pass_end(int kp, int len, int kmax)
     return e < kmax ? e : kmax;
 }
 
-/* Pass length (issue 8, session 6). Passes change no image, only the work:
+/* Pass length (issue 8; docs/bench/particles.md "Pass length"). Passes change no image, only the work:
  * a long pass deposits terms behind the samples where a vector's rays
  * became opaque (integrate_buffer counts them: the vector's terms of the
  * pass times the share of its lanes' samples in the pass behind each lane's
- * opaque sample; session 8, it counted only those behind the sample where
- * the whole vector became opaque before); a short one costs
+ * opaque sample; until d036bb2 it counted only those behind the sample where
+ * the whole vector became opaque); a short one costs
  * its fixed part again: windows, list scan, the set-up again of every
  * particle and vector pair whose entry spans the boundary, the integration's
  * per-vector setup, each BVH walk for fewer samples. With s->buffer_adapt,
@@ -394,7 +394,7 @@ static inline int pass_end(int kp, int len, int kmax)
  * length: halved when the waste is more than twice the fixed part, doubled
  * when it is less than half (the two balance at the best length; a step of
  * two moves their ratio about four times), within [PG_ANCHOR, K]; each tile
- * starts at PASS_FIRST. PASS_COST was measured (session 6, A/B on the
+ * starts at PASS_FIRST. PASS_COST was measured (commit b345743, A/B on the
  * benchmark sets): 4 and 16 cost uniform 1e6 10-13% (passes too short on
  * its long chords), 64 keeps its times and most of dense1e6's gain. */
 #ifndef PASS_COST
@@ -404,13 +404,13 @@ static inline int pass_end(int kp, int len, int kmax)
 
 /* Groups of more than 256 rays (32x32 on 16 lanes) fill a whole 32-pixel
  * tile, so their P is never adapted: they start (and stay) at
- * PASS_FIRST_BIG (session 8: with 32, dense1e6 far deposited 60% of its
+ * PASS_FIRST_BIG (commit d036bb2: with 32, dense1e6 far deposited 60% of its
  * terms behind opaque samples; 24 took dense1e6 far 5% faster and 1e6 and
  * 1tw7 far the same or 2% faster, 16 dense1e6 7% faster but 1e6 and 1tw7
  * far 3-4% slower). */
 #define PASS_FIRST_BIG 24
 
-/* The same with the eye inside the particles' grown box (session 9: close
+/* The same with the eye inside the particles' grown box (commit 2a05c66: close
  * views take 32x32 groups too; fixed passes at 32x32 there, avx512, CPU s:
  * dense1e6 0.774 (8), 0.841 (16), 0.951 (32); 1e6 0.087, 0.079, 0.080; 1tw7
  * 0.272, 0.256, 0.257; 16x16 groups with the adaptive length: 0.917, 0.089,

@@ -2,13 +2,14 @@
  * Listing 2, lines 11-13), included once by kernels/particles_coherent.c
  * after its scratch layout (cscratch): the general loop (integrate_buffer),
  * the paired loop for one field without gradient in dvr and mip
- * (integrate_two, session 10) and the out-of-line entry (integrate_pass). */
+ * (integrate_two) and the out-of-line entry (integrate_pass); measured in
+ * docs/bench/particles.md "Integration". */
 #ifndef LC_PARTICLES_INTEGRATE_H
 #define LC_PARTICLES_INTEGRATE_H
 
 /* One ray vector's state while a pass is integrated: the live lanes (live0
  * at the start), their ranges, the sample where each lane became opaque
- * (kdie, without a branch per death: session 10, the branch and its
+ * (kdie, without a branch per death: commit e405e06, the branch and its
  * reduction were ~15% of the integration on 1e6 far), its colour and the
  * samples taken. */
 typedef struct ivec {
@@ -50,7 +51,7 @@ static inline __attribute__((always_inline)) void ivec_die(const lc_kframe *f, i
  * deposited behind the samples where its lanes became opaque were for
  * nothing, estimated as the vector's terms times the share of its lanes'
  * samples in the pass behind them (each lane's own opacity, not only the
- * whole vector's: session 8). The lane samples behind are a sum of small
+ * whole vector's: commit d036bb2). The lane samples behind are a sum of small
  * integers, exact in any order. */
 static inline __attribute__((always_inline)) float ivec_store(const cscratch *c, int v, int kp, ivec *q,
                                                               lc_kstats *st)
@@ -90,7 +91,10 @@ static inline __attribute__((always_inline)) float integrate_buffer(const lc_kpa
         if (skip && !c->touched[v]) continue;
         vray r;
         r.dx = vf_load(c->dx + o), r.dy = vf_load(c->dy + o), r.dz = vf_load(c->dz + o);
+        /* origins are read by iso only; set otherwise so that GCC at -O1/-O2 (the sanitizer
+           builds) sees no use before definition */
         if (mode == LC_KMODE_ISO) r.ox = vf_load(c->ox + o), r.oy = vf_load(c->oy + o), r.oz = vf_load(c->oz + o);
+        else r.ox = r.oy = r.oz = vf_set1(0.0f);
         ivec q;
         ivec_load(c, v, kend, &q);
         for (int k = kp; k <= kend; k++) {
@@ -133,7 +137,7 @@ static inline __attribute__((always_inline)) void ivec_sample(const lc_kframe *f
 /* integrate_buffer for one field without gradient in dvr or mip, two ray
  * vectors at a time: each sample's blend waits for the previous sample's
  * opacity (the live lanes), so one vector's samples form a chain; two
- * independent chains interleave (session 10). Each vector's samples, in
+ * independent chains interleave (commit 3dea72f). Each vector's samples, in
  * order, and the waste summed in vector order: the same bits and counts. */
 static inline __attribute__((always_inline)) float integrate_two(const lc_kparticles *s, const lc_kframe *f,
                                                                  int mode, const cscratch *c, int nv, int kp,
@@ -177,7 +181,7 @@ static inline __attribute__((always_inline)) float integrate_two(const lc_kparti
 /* integrate_buffer with one field and no gradient (every dvr frame without
  * shading on one field) compiled apart from the general case, in a function
  * of its own: inlined into coherent_tile with nf and comps unknown, its
- * sample loop kept k and its counters in memory (session 10). */
+ * sample loop kept k and its counters in memory (commit 2da8dad). */
 static __attribute__((noinline)) float integrate_pass(const lc_kparticles *s, const lc_kframe *f, int mode,
                                                       const cscratch *c, int nv, int K, int nf, int kp, int kend,
                                                       int comps, const mprobe *probe, lc_kstats *st)

@@ -128,7 +128,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     }
 }
 
-/* Per-vector cones (issue 8, session 8): a cheap pre-test of a particle
+/* Per-vector cones (issue 8; docs/bench/particles.md "Cone pre-test"): a cheap pre-test of a particle
  * against the vectors of a list entry, LC_W vectors per vector operation,
  * before the per-vector support test (tc, d_perp^2 on every lane).
  *
@@ -156,7 +156,7 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
  * default groups have more than VCONE_MAX_SETS x LC_W vectors, and with the
  * code merely present (never run) 1tw7 frames were 1-2% (sse4) and 5-10%
  * (avx512_8) slower, a code generation effect of the bigger list deposit
- * (session 8). */
+ * (docs/bench/particles.md "Cone pre-test"). */
 #if defined(LC_TARGET_AVX512) || defined(LC_TARGET_AVX2)
 #define VCONES 1
 #else
@@ -232,7 +232,8 @@ static inline uint64_t vcone_bits(const cscratch *c, uint64_t todo, float ocx, f
 }
 
 /* Does a support of squared radius x2 centred at oc (from the eye) miss the
- * samples ka..kb of every ray from the eye (issue 8, session 10)? A ray
+ * samples ka..kb of every ray from the eye (issue 8; docs/bench/particles.md
+ * "Range test from the eye", commit 44bfa95)? A ray
  * eye + t d with |d| = 1 is at distance >= |t - |oc|| from the centre, so
  * its samples inside the support lie within R of |oc|: none of ka..kb does
  * when kd[kb] + R < |oc| or kd[ka] - R > |oc|. R is grown as vcone_bits
@@ -241,8 +242,8 @@ static inline uint64_t vcone_bits(const cscratch *c, uint64_t todo, float ocx, f
  * squares by 1e-4 relative, far beyond their own round-off. Conservative: a
  * particle it skips would have added no term in ka..kb on any lane (the
  * list deposit's terms outside a lane's window included), so images and
- * term counts stay as they were (tests/test_particles_range.c). In session
- * 10's counts 24-48% of the list deposit's (particle, vector) pairs had no
+ * term counts stay as they were (tests/test_particles_range.c). In the work
+ * counters of a3daaf0 24-48% of the list deposit's (particle, vector) pairs had no
  * term in their pass (the entry's range spans several passes). */
 static inline int eye_range_misses(const float *kd, int ka, int kb, float ox, float oy, float oz, float x2)
 {

@@ -1,8 +1,8 @@
 #!/bin/sh
 # Makes docs/images/first-*.png: each shared data set with the defaults of
-# before issue 11 ("before": heat preset, looking down -z, which today's
+# before issue 11 ("before": heat preset, looking down -z, which the current
 # lanecast reproduces exactly with --tf heat --view 0,0; molecules loaded
-# with one field) and with today's defaults ("after": no flags at all).
+# with one field) and with the current defaults ("after": no flags at all).
 # usage: scripts/first_image.sh [LANECAST] [DATA_DIR]   (from the source root)
 set -eu
 exe=${1:-build/tools/lanecast}

@@ -81,4 +81,15 @@ check "alpha_stop 1.5: exit 2" [ $rc -eq 2 ]
 check "--help exits 0 with examples" sh -c "[ $rc -eq 0 ] && grep -q 'lanecast bench --quick' '$tmp/out'"
 "$exe" bench --quick --scenes 1tii --data "$tmp/none" -o "$tmp/s.jsonl" 2>"$tmp/err"; rc=$?
 check "absent data: skipped with a note, exit 0" sh -c "[ $rc -eq 0 ] && grep -q 'is absent' '$tmp/err' && grep -q '\"record\": \"skip\"' '$tmp/s.jsonl'"
+# A/B against itself: every case paired, CPU-time ratios about 1 (wall-time ratios of
+# millisecond frames swing with the machine's load; CPU time does not wait for a core)
+"$exe" bench --quick --scenes grid:24,uniform:2000,rbf:200 --targets scalar --baseline "$exe" --ab-rounds 2 \
+    --data "$data" -o "$tmp/ab.jsonl" 2>"$tmp/err"; rc=$?
+check "--baseline itself: exit 0, one ab record per case" sh -c "[ $rc -eq 0 ] && [ \$(grep -c '\"record\": \"ab\"' '$tmp/ab.jsonl') -eq 3 ]"
+check "--baseline itself: CPU ratios within 0.5 .. 2" awk -F'"cpu_ratio_median": ' 'NF < 2 {exit 1} {split($2, a, ","); if (a[1] < 0.5 || a[1] > 2) exit 1}' "$tmp/ab.jsonl"
+[ $rc -eq 0 ] || cat "$tmp/err"
+"$exe" bench --quick --baseline "$tmp/none" 2>"$tmp/err"; rc=$?
+check "--baseline of no program: exit 1 naming it" sh -c "[ $rc -eq 1 ] && grep -q 'not an executable' '$tmp/err'"
+"$exe" bench --quick --scenes grid:24 --baseline /bin/false --ab-rounds 1 2>"$tmp/err"; rc=$?
+check "--baseline that fails: exit 1 with its status" sh -c "[ $rc -eq 1 ] && grep -q 'exited with status 1' '$tmp/err'"
 exit $fail

@@ -1,9 +1,9 @@
 /* The voxel copies an owned uint8 grid samples (host/kinds/grid.c, kgrid.h),
  * two grids of the same volume side by side, one test per pair:
- * - nopairs (issue 9, second round): no copy (above lci_grid_pairs_max,
+ * - nopairs (issue 9): no copy (above lci_grid_pairs_max,
  *   lowered here), sampled from the bricked or linear voxels, against the
  *   y-pair copy (2 bytes a voxel);
- * - quads (session 7): the z-paired copy (pair_quads, 4 bytes a voxel, one
+ * - quads (issue 9): the z-paired copy (pair_quads, 4 bytes a voxel, one
  *   64-bit gather lane per sample; up to lci_grid_quads_max) against the
  *   y-pair copy.
  * Per target: the first grid against the reference core (tests/ref) at

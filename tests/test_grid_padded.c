@@ -1,4 +1,4 @@
-/* Session 10: owned linear voxels (uint16, int16, float32) pad rows of 1 KiB
+/* Owned linear voxels (uint16, int16, float32) pad rows of 1 KiB
  * and more and planes of 4 KiB and more to an odd number of 64-byte lines
  * (host/kinds/grid.c padded_strides, the pair copy's rule), and every reader
  * honours the strides: the kernels (dvr, BVH and brute force, mip, iso,

@@ -1,4 +1,4 @@
-/* Session 6: a grid keeps its per-frame tables (pre-integrated TF, one-step
+/* A grid keeps its per-frame tables (pre-integrated TF, one-step
  * opacity, per-node TF bits; host/kinds/grid_tables.c) from one frame to the
  * next while the TF, dt and parameters are unchanged. Every frame of a
  * sequence that changes the TF (colour, opacity, range), dt, the shading,

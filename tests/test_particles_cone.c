@@ -1,5 +1,5 @@
-/* The coherent particle kernel's per-vector cone pre-test (issue 8, session
- * 8; kernels/particles_walk.h vcone_bits): a list deposit tests each particle
+/* The coherent particle kernel's per-vector cone pre-test (issue 8;
+ * kernels/particles_walk.h vcone_bits): a list deposit tests each particle
  * against the cones of its entry's vectors, LC_W vectors at once, before the
  * per-vector support test, and skips the vectors whose cones its support
  * cannot reach (compiled in on avx2 and avx512; elsewhere both renders take

@@ -1,5 +1,5 @@
 /* The coherent particle kernel's recurrence ratios from the volume's cache
- * (issue 8, session 7: host/kinds/particles_cstep.c): c_i = exp(2 nir_i dt^2)
+ * (issue 8, host/kinds/particles_cstep.c): c_i = exp(2 nir_i dt^2)
  * per particle, computed once per volume and step instead of in the kernel.
  * On every compiled and supported target, with radii that differ from one
  * particle to the next, for dvr (1 and 2 fields, diffuse and phong shading,

@@ -11,7 +11,7 @@
  *   groups (on scalar 256 vectors: a list bit stands for 4);
  * - with the perspective camera, the default (slab differences and centre
  *   offsets from the eye once per group, and the interval culls of nodes
- *   per group and per vector, session 7) is bit-identical to the arithmetic
+ *   per group and per vector) is bit-identical to the arithmetic
  *   per lane (LANECAST_PARTICLE_EYE=0), with lists and with the walk per
  *   pass (a group cull 3% too eager fails 433 checks, a vector cull 377);
  * - lists visit fewer BVH nodes than the walk per pass, and capacity 1 a

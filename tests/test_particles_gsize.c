@@ -1,7 +1,7 @@
-/* The coherent particle kernel's group size (issue 8, sessions 7 and 8):
+/* The coherent particle kernel's group size (issue 8):
  * with the render desc's packet left at 0 the particle kind picks 16x16
  * groups, 32x32 with a perspective camera on 16-lane targets (the eye outside
- * the particles' box, and since session 9 inside it too; both checked here;
+ * the particles' box or inside it; both checked here;
  * host/kinds/particles.c group_side), LANECAST_PARTICLE_GROUP=N another side.
  * A 32x32 group alone in a 32-pixel tile keeps its first pass length
  * (particles_coherent.c pass_first: 24 samples with the eye outside, 16
@@ -35,7 +35,7 @@ int main(void)
     pcases_scene(0x2545f4914f6cdd1dull);
     static float def[W * H * 4], other[W * H * 4];
     /* outside the particles (pcases' camera), and inside a cluster looking across the
-       others (session 9: 32x32 groups there too, with a first pass of 16 samples) */
+       others (32x32 groups there too, with a first pass of 16 samples) */
     const lc_camera cams[2] = {cam, {LC_PERSPECTIVE, {4.2f, 3.8f, 4.5f}, {6.5f, 5.5f, 5}, {0, 1, 0}, 70.0f, 0.0f}};
     static const char *where[2] = {"outside", "inside"};
     static const struct {

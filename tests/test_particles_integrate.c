@@ -1,5 +1,5 @@
-/* The coherent particle kernel's paired integration (session 10,
- * kernels/particles_coherent.c integrate_two: one field without gradient in
+/* The coherent particle kernel's paired integration (issue 8,
+ * kernels/particles_integrate.h integrate_two: one field without gradient in
  * dvr and mip, two ray vectors' samples interleaved) against the general
  * loop (integrate_buffer, one vector at a time) on the same pass, through
  * each kernel library's probe (lc_pintegrate_probe): every colour channel of

@@ -1,4 +1,4 @@
-/* The coherent particle kernel's pass length (issue 8, session 6:
+/* The coherent particle kernel's pass length (issue 8,
  * kernels/particles_coherent.c pass_end, pass_adapt). How many samples a
  * pass buffers changes which work is done, never a term or the order of the
  * terms a sample sums, so on every compiled and supported target, for dvr

@@ -1,5 +1,5 @@
-/* The coherent particle kernel's range test from the eye (issue 8, session
- * 10; kernels/particles_walk.h deposit_entry): with perspective rays from
+/* The coherent particle kernel's range test from the eye (issue 8;
+ * kernels/particles_walk.h eye_range_misses, called by deposit_entry): with perspective rays from
  * the eye, a list deposit skips a particle whose support, |t - |oc|| < R
  * along any ray, misses the entry's samples ka..kb of the pass. The test
  * must be conservative. It runs only where the kernel takes the eye once per

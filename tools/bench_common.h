@@ -59,6 +59,7 @@ const char *bench_machine_json(void);
 /* Writes s as a JSON string (quotes included). */
 void bench_json_str(FILE *f, const char *s);
 double bench_now(void);
+double bench_cpu_now(void); /* CPU seconds of the whole process (every thread) */
 long bench_rss_peak_kb(void);
 long bench_rss_now_kb(void);
 double bench_loadavg(void);

@@ -35,6 +35,7 @@ static void jnum(FILE *f, const char *key, double v)
 
 typedef struct target_result {
     double t[BENCH_MAX_ROUNDS];
+    double cpu[BENCH_MAX_ROUNDS]; /* CPU seconds of the process per render (every thread) */
     int n;
     lc_render_stats st;
     int check_done, check_pass, render_failed;
@@ -90,12 +91,13 @@ static void time_targets(const bench_group *g, const lc_render_desc *d, target_r
             int i = (k + (r < 0 ? 0 : r)) % g->ntargets; /* rotate the order each round */
             if (res[i].render_failed) continue;
             lc_render_stats st;
+            double c0 = bench_cpu_now();
             if (lc_render(g->devs[i], d, img, &st) != LC_OK) {
                 snprintf(res[i].error, sizeof res[i].error, "render: %s", lc_last_error());
                 res[i].render_failed = 1;
                 continue;
             }
-            if (r >= 0) res[i].t[res[i].n++] = st.seconds, res[i].st = st;
+            if (r >= 0) res[i].cpu[res[i].n] = bench_cpu_now() - c0, res[i].t[res[i].n++] = st.seconds, res[i].st = st;
         }
     }
     free(img);
@@ -130,6 +132,11 @@ static void print_record(const bench_group *g, int i, const target_result *res, 
         double med = quantile(s, r->n, 0.5), secs = med > 0 ? med : 1e-9;
         const lc_render_stats *st = &r->st;
         jnum(f, "median_s", med);
+        memcpy(s, r->cpu, sizeof(double) * (size_t)r->n);
+        qsort(s, (size_t)r->n, sizeof s[0], cmpd);
+        jnum(f, "cpu_median_s", quantile(s, r->n, 0.5)); /* not counting time spent waiting for a core */
+        memcpy(s, r->t, sizeof(double) * (size_t)r->n);
+        qsort(s, (size_t)r->n, sizeof s[0], cmpd);
         jnum(f, "min_s", s[0]);
         jnum(f, "max_s", s[r->n - 1]);
         jnum(f, "q1_s", quantile(s, r->n, 0.25));

@@ -26,5 +26,13 @@ typedef struct bench_group {
 /* Checks and times the group, writes one record per target. Returns the
  * number of targets whose check failed or whose render failed. */
 int bench_run_group(const bench_group *g, const lc_render_desc *d);
+/* --jobs: full and navigation frames, a job's passes and `trials` cancel
+ * latencies per target (bench_job.c), one "job" record each. Returns the
+ * number of targets that failed. */
+int bench_job_group(const bench_group *g, const lc_render_desc *d, int trials);
+/* --baseline: this build's bench and the baseline's on the same case flags
+ * (args) in `rounds` interleaved rounds; one "ab" record per case to out
+ * (bench_ab.c). 0 ok, 1 when a run failed or no case was paired. */
+int bench_ab(const char *baseline, int rounds, char **args, int nargs, FILE *out);
 
 #endif

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "bench_common.h"
+#include "cli.h"
 
 const char bench_scene_help[] =
     "      procedural particles (fixed seed, 1 particle per 8 cubic units; N up to 1e8):\n"
@@ -14,6 +15,7 @@ const char bench_scene_help[] =
     "        cluster:N   dense: 16 Gaussian clusters (sd = side / 24), radii [0.3, 0.6]\n"
     "      procedural grids:  grid:N   uint8 gyroid lattice in a sphere, N^3 nodes (256, 512, 1024; N <= 1290)\n"
     "      procedural RBF sets (as bench/bench_rbf.c): rbf:N uniform, rbfc:N in 8 clusters\n"
+    "      demo        the scene of lanecast demo (a two-field particle helix in a shell)\n"
     "      real data (DATA = --data; skipped with a note when absent):\n"
     "        1tii 1tw7 bigbox adk galaxy lcdm   (particles/)\n"
     "        engine neghip headsq hydrogen embryo headmr   (volumes/)\n"
@@ -66,7 +68,8 @@ static int parse_proc(const char *name, double *n)
 int bench_scene_known(const char *name)
 {
     double n;
-    return find_real(name) || parse_proc(name, &n) >= 0 || (!strncmp(name, "file:", 5) && name[5]);
+    return find_real(name) || parse_proc(name, &n) >= 0 || (!strncmp(name, "file:", 5) && name[5]) ||
+           !strcmp(name, "demo");
 }
 
 /* xorshift64*: the one generator of the procedural sets */
@@ -206,7 +209,12 @@ lc_status bench_scene_make(lc_device *dev, const char *name, const char *data_di
         }
         s = make_grid(dev, (int)n, sc);
     } else if (p == P_RBF || p == P_RBFC) s = make_rbf(dev, p == P_RBFC, (size_t)n, sc);
-    else if (rs || !strncmp(name, "file:", 5)) {
+    else if (!strcmp(name, "demo")) {
+        lc_tf *tf = NULL;
+        s = cli_demo_scene(dev, &sc->vol, &tf);
+        lc_tf_destroy(tf);
+        snprintf(sc->source, sizeof sc->source, "lanecast demo (tools/cli_particles.c)");
+    } else if (rs || !strncmp(name, "file:", 5)) {
         char path[512] = "", comp[512] = "";
         if (rs) {
             snprintf(path, sizeof path, "%s/%s", data_dir, rs->path);

@@ -51,6 +51,13 @@ static const char help[] =
     "  --roof-seconds S  time per roofline kernel (default 0.3; case records carry the fraction\n"
     "                    of these ceilings they reach)\n"
     "  --width-study     targets avx2, avx512_8, avx512 (instruction set vs width), interleaved\n"
+    "  --baseline EXE    A/B: this build against another build's lanecast EXE on the same cases, in\n"
+    "                    interleaved rounds; one \"ab\" record per case: ratio baseline / this of the\n"
+    "                    median frame time (wall and CPU), median, min and max over the rounds\n"
+    "  --ab-rounds N     rounds of --baseline (default 5)\n"
+    "  --jobs N          interactive timings instead (records \"job\"): full frame, navigation frame\n"
+    "                    (pixel_scale 2), a render job's preview and refined image, and the latency of\n"
+    "                    N cancels at random points of a frame (median, p95, worst)\n"
     "\n"
     "examples:\n"
     "  lanecast bench --quick\n"
@@ -58,6 +65,8 @@ static const char help[] =
     "  lanecast bench --scenes uniform:1e5 --alpha-stop 0.9,0.95,0.97,0.99,1 --targets avx512\n"
     "  lanecast bench --roofline\n"
     "  lanecast bench --width-study --scenes uniform:1e5,grid:256\n"
+    "  lanecast bench --baseline ../before/build/tools/lanecast --scenes 1tw7,engine --threads 1\n"
+    "  lanecast bench --jobs 200 --scenes engine,1tw7,uniform:1e6 --sizes 1024 --threads 2 --targets avx2\n"
     "\n"
     "exit status: 0 ok, 1 a check or render failed (the records say which), 2 bad usage\n";
 
@@ -68,9 +77,11 @@ typedef struct list {
 
 typedef struct opts {
     list scenes, views, sizes, targets, threads, methods, modes, packets, shadings, alphas, sigmas;
-    int warmup, repeats, min_repeats, check_size, quick, roofline, width_study;
+    int warmup, repeats, min_repeats, check_size, quick, roofline, width_study, jobs, ab_rounds;
     double seconds, roof_seconds;
-    const char *out, *data;
+    const char *out, *data, *baseline;
+    char *pass[256]; /* the flags a --baseline run passes on (all but -o, --baseline, --ab-rounds) */
+    int npass;
 } opts;
 
 static int split(list *l, const char *flag, const char *s)
@@ -178,6 +189,7 @@ static int parse_opts(int argc, char **argv, opts *o)
 {
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v;
+        int first = i;
         struct {
             const char *flag;
             list *l;
@@ -191,13 +203,23 @@ static int parse_opts(int argc, char **argv, opts *o)
                 if (!(v = arg_value(CMD, argc, argv, &i)) || split(lists[k].l, a, v)) return -1;
                 done = 1;
             }
-        if (done) continue;
+        if (done) goto pass_on;
+        if (!strcmp(a, "--baseline")) {
+            if (!(o->baseline = arg_value(CMD, argc, argv, &i))) return -1;
+            continue;
+        } else if (!strcmp(a, "--ab-rounds")) {
+            if (!(v = arg_value(CMD, argc, argv, &i)) || arg_int(CMD, a, v, 1, 64, &o->ab_rounds)) return -1;
+            continue;
+        } else if (!strcmp(a, "-o")) {
+            if (!(o->out = arg_value(CMD, argc, argv, &i))) return -1;
+            continue;
+        }
         if (!strcmp(a, "--quick")) o->quick = 1;
         else if (!strcmp(a, "--roofline")) o->roofline = 1;
         else if (!strcmp(a, "--width-study")) o->width_study = 1;
         else if (!strcmp(a, "--no-check")) o->check_size = 0;
-        else if (!strcmp(a, "-o")) {
-            if (!(o->out = arg_value(CMD, argc, argv, &i))) return -1;
+        else if (!strcmp(a, "--jobs")) {
+            if (!(v = arg_value(CMD, argc, argv, &i)) || arg_int(CMD, a, v, 1, 100000, &o->jobs)) return -1;
         } else if (!strcmp(a, "--data")) {
             if (!(o->data = arg_value(CMD, argc, argv, &i))) return -1;
         } else if (!strcmp(a, "--warmup") || !strcmp(a, "--repeats") || !strcmp(a, "--min-repeats") ||
@@ -213,6 +235,8 @@ static int parse_opts(int argc, char **argv, opts *o)
             fprintf(stderr, CMD ": unknown option '%s' (see lanecast bench --help)\n", a);
             return -1;
         }
+    pass_on:
+        for (int k = first; k <= i && o->npass < 256; k++) o->pass[o->npass++] = argv[k];
     }
     return 0;
 }
@@ -309,7 +333,7 @@ static void run_view(run *R, bench_scene *sc, const char *view)
                                     fprintf(stderr, CMD ": %s %s %dx%d %s %s packet %d %s threads %d ...\n", sc->name, view,
                                             g.width, g.height, g.mode_name, g.method_name, g.packet, g.shading_name,
                                             g.threads);
-                                    R->bad += bench_run_group(&g, &d);
+                                    R->bad += o->jobs ? bench_job_group(&g, &d, o->jobs) : bench_run_group(&g, &d);
                                     R->cases++;
                                 }
             }
@@ -381,6 +405,15 @@ int cli_bench(int argc, char **argv)
     if (o.out && !(out = fopen(o.out, "a"))) {
         fprintf(stderr, CMD ": -o %s: cannot open for appending\n", o.out);
         return CLI_EXIT_FAIL;
+    }
+    if (o.baseline) {
+        /* as many timed frames in every run, so whole runs do the same work */
+        static char minr[16];
+        snprintf(minr, sizeof minr, "%d", o.repeats);
+        if (o.npass < 254) o.pass[o.npass++] = "--min-repeats", o.pass[o.npass++] = minr;
+        int rc = bench_ab(o.baseline, o.ab_rounds ? o.ab_rounds : 5, o.pass, o.npass, out);
+        if (out != stdout && fclose(out)) rc = 1;
+        return rc ? CLI_EXIT_FAIL : 0;
     }
     bench_roof roof;
     fprintf(stderr, CMD ": measuring this machine's ceilings (%g s per kernel) ...\n", o.roof_seconds);

@@ -13,7 +13,6 @@
 #include "progress.h"
 #include "render_opts.h"
 
-lc_status cli_demo_scene(lc_device *dev, lc_volume **out, lc_tf **tf); /* cli_particles.c */
 
 /* The kind of the input, decided once through the formats registry; flags of
  * another kind are an error (they would be ignored). Returns the row or NULL

@@ -1,5 +1,5 @@
 #!/bin/bash
-# session 10: the CLI hash check of docs/bench/grid.md "Session 10"; MAIN = main's lanecast (a3daaf0)
+# the CLI hash check of docs/bench/grid.md "Padded strides"; MAIN = main's lanecast (a3daaf0)
 # the generated raw volumes, written into /tmp/s10g/cli when missing:
 mkdir -p /tmp/s10g/cli; cd /tmp/s10g/cli
 [ -f w300f32.raw ] || python3 - <<'PY'

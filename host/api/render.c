@@ -4,6 +4,7 @@
  * render is a pass (render.h); render jobs (job.c) run two of them. */
 #include <math.h>
 #include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/api/render.h"
@@ -221,9 +222,10 @@ static int stop_asked(const lci_pass_ctl *c)
     return (c->stop && atomic_load_explicit(c->stop, memory_order_relaxed)) || (c->cancel && c->cancel(c->cancel_user));
 }
 
-/* Every pixel of a tile is written (cleared first: kernels leave pixels no
- * ray reaches untouched), so a pass needs no clear of its own and a job's
- * full pass replaces its preview tile by tile. */
+/* A tile is cleared before its kernel runs, so a pass does not depend on
+ * what the buffer held (depth is written only in iso and slice modes) and
+ * a job's full pass replaces its preview tile by tile, with no clear of the
+ * whole image between them. */
 static void clear_tile(const lc_ktile *t)
 {
     for (int y = t->y0; y < t->y1; y++) {
@@ -333,7 +335,10 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
         lci_pass_ctl ctl = {.cancel = d->cancel, .cancel_user = d->cancel_user, .progress = d->progress,
                             .progress_user = d->progress_user, .base = 0.0f, .span = 1.0f};
         if (!lci_pass_run(dev, &p, &ctl, rgba, depth)) {
-            s = lci_error(dev, LC_CANCELLED, "lc_render: cancelled by desc->cancel; the image is not complete");
+            /* asked for, not a failure: recorded as errors are, logged as information */
+            s = lci_error(NULL, LC_CANCELLED, "lc_render: cancelled by desc->cancel; the image is not complete");
+            snprintf(dev->last_error, sizeof dev->last_error, "%s", lc_last_error());
+            lci_log(dev, LC_LOG_INFO, "%s", dev->last_error);
         } else {
             if (d->progress) d->progress(d->progress_user, 1.0f);
             if (stats) {

@@ -13,16 +13,16 @@
 /* Owned uint8 grids up to lci_grid_pairs_max voxels keep the y-pair-packed
  * copy (lc_kgrid.pairs) in place of the voxels: 2 bytes a voxel instead of 1
  * (the kernels sample only the copy). Measured at 1024^2, avx512, 2
- * threads (docs/bench/grid.md, sessions 5 and 7): 512^3 1.2-1.3x less CPU per
+ * threads (docs/bench/grid.md "The uint8 copies"): 512^3 1.2-1.3x less CPU per
  * frame with it; since the software-pipelined sample loop also 768^3 and
- * 896^3 (1.2-1.4x) and 1024^3 (1.14-1.38x; in session 5, before the
- * pipelining, 1024^3 was 1.07-1.25x slower with it). The bound is 1024^3
+ * 896^3 (1.2-1.4x) and 1024^3 (1.14-1.38x; before the pipelining, at
+ * 63f139c, 1024^3 was 1.07-1.25x slower with it). The bound is 1024^3
  * voxels (a 2 GiB copy): beyond it the copy's int32 element offsets
  * (kgrid.h) come near 2^31, and larger volumes keep only the bricks. */
 int64_t lci_grid_pairs_max = (int64_t)1 << 30; /* tests lower it (tests/test_grid_nopairs.c) */
 /* ... and up to lci_grid_quads_max voxels the copy is z-paired too (4 bytes a
  * voxel, lc_kgrid.pair_quads): one 64-bit gather lane per sample instead of
- * two 32-bit ones (docs/bench/grid.md, session 7). */
+ * two 32-bit ones (docs/bench/grid.md "The uint8 copies"). */
 int64_t lci_grid_quads_max = (int64_t)1 << 25; /* tests change it (tests/test_grid_quads.c) */
 /* nodes per axis: every index up to size - 2 is exact in float32 */
 #define MAX_AXIS (1 << 24)
@@ -80,7 +80,8 @@ static void destroy(lc_volume *v);
  * they are touched: rays cross a z plane every step or two (a plane of the
  * linear pair copy is 2 MiB at 1024^2), so with 4 KiB pages nearly every
  * sample missed the TLB (proc1024 medium: 25% more CPU per frame with the
- * pair copy than without, before; see docs/bench/grid.md). */
+ * pair copy than without, before; see docs/bench/grid.md "Transparent huge
+ * pages"). */
 static void *voxel_alloc(size_t bytes)
 {
     const size_t huge = (size_t)2 << 20;
@@ -171,7 +172,7 @@ static lc_status validate(lc_device *dev, const lc_grid_desc *d, const char *nam
      * neighbours with one gather per pair (4 gathers a sample instead of 8):
      * 1.23-1.46x less CPU per frame than bricked on uint16 volumes (headsq,
      * proc256u16, proc512u16) in every view direction, 1.0-1.1x at 768^3
-     * (docs/bench/grid.md, session 8); float32 stays bricked. (uint8 grids up
+     * (docs/bench/grid.md "Layouts"); float32 stays bricked. (uint8 grids up
      * to lci_grid_pairs_max voxels sample their copy, whatever the layout.) */
     if (layout == LC_LAYOUT_DEFAULT)
         layout = borrow || d->type != LC_VALUE_FLOAT32 ? LC_LAYOUT_LINEAR : LC_LAYOUT_BRICKED;
@@ -230,20 +231,20 @@ static void build_quads(const uint8_t *src, const int32_t n[3], int64_t ys, int6
 /* The row and plane strides, in elements of es bytes, of a linear array the
  * kernels read through lc_kgrid strides: the 2-byte pair copy and owned
  * linear voxels (uint16 and int16 by default, float32 asked linear, uint8
- * past the copies); not the quad copy (padding it measured no gain, session
- * 9), not bricks (a 1024-wide float32 grid measured no cost, session 10),
+ * past the copies); not the quad copy (padding it measured no gain), not
+ * bricks (a 1024-wide float32 grid measured no cost),
  * not borrowed arrays (the caller's). Rows of at least 1 KiB and planes of
  * at least 4 KiB are padded to an odd number of 64-byte lines: with
  * power-of-two strides (1024 wide: rows of 2 or 4 KiB, planes of 2 or 4 MiB)
  * every line a ray's stencil needs at one x maps to one or two of the L1's 64
  * sets (and the planes to one of the L2's), so lines evicted each other
- * before the gathers read them. Measured (docs/bench/grid.md sessions 9 and
- * 10, CPU a frame): the pair copy at proc1024 medium 1.20-1.28x, far 1.5x;
+ * before the gathers read them. Measured (docs/bench/grid.md "Padded
+ * strides", CPU a frame): the pair copy at proc1024 medium 1.20-1.28x, far 1.5x;
  * proc1024u16 1.27-1.30x; 1024^3 float32 linear 1.16-1.38x. Costs at most 2
  * lines a row and a plane, i.e. at most 12 % (rows just over 1 KiB; 1024
  * wide +3 % at 2 bytes, +1.6 % at 4); where the padded array would pass
  * MAX_ELEMENTS (int32 element offsets) the strides stay unpadded. (Named
- * pair_strides until session 10, when it served the pair copy alone.) */
+ * pair_strides until d2f841d, when it served the pair copy alone.) */
 static void padded_strides(const int32_t n[3], int es, int64_t *ys, int64_t *zs)
 {
     const int64_t line = 64 / es;
@@ -505,8 +506,8 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     *k = g->kg;
     k->run_max = 48;
     /* nodes narrower than three packet footprints at 512 rows (at least two
-     * at the frame's rows) are leaves (exact; docs/bench/grid.md, issue 9
-     * second round: 3 best of 1-3 at 512^2, 6 of 2-12 at 1024^2, i.e. the same
+     * at the frame's rows) are leaves (exact; docs/bench/grid.md "Footprint
+     * pruning by node size": 3 best of 1-3 at 512^2, 6 of 2-12 at 1024^2, i.e. the same
      * node size; at 256^2 two of the frame's footprints) */
     k->prune_footprint = 3.0f;
     k->use_preint = p->preintegrated != 0;

@@ -1,5 +1,5 @@
-/* The coherent particle kernel's recurrence ratio per particle (issue 8,
- * session 7). The exp-free deposit steps each particle's Gaussian along a ray
+/* The coherent particle kernel's recurrence ratio per particle (issue 8;
+ * docs/bench/particles.md "The exp-free deposit"). The exp-free deposit steps each particle's Gaussian along a ray
  * by g *= q, q *= c with c = exp(2 nir dt^2) (kernels/particles_common.h
  * pgauss_c, rounded once from double). c depends only on the particle's
  * radius and the frame's step, but the kernel computed it per particle and

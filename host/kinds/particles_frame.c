@@ -49,12 +49,12 @@ void lci_pcoherent_settings(lc_kparticles *k, int nfields, int32_t buffer_sample
 
 /* Rays per coherent group side when the render leaves packet at its default
  * (0): 16x16 groups share one BVH walk per chunk among 4x the rays of 8x8
- * (session 7, docs/bench/particles.md: 8-17% less CPU per close frame on
+ * (commit ba96d7e, docs/bench/particles.md "Groups and tiles": 8-17% less CPU per close frame on
  * the benchmark sets, far frames within noise). With a perspective camera
- * and 16 lanes, 32x32 (session 8, the eye outside the particles' grown box:
+ * and 16 lanes, 32x32 (commit 48c4dd2, the eye outside the particles' grown box:
  * with the kernel's cone pre-test and a list capacity that grows with the
  * group, 1e6 far 4-6% and 1tw7 far 1-3% less CPU, dense1e6 far within noise;
- * session 9, the eye inside too: a 32x32 group fills its tile and keeps its
+ * commit 2a05c66, the eye inside too: a 32x32 group fills its tile and keeps its
  * first pass length, 16 samples there (particles_coherent.c pass_first),
  * 1e6, 1tw7 and dense1e6 close 8-13% less CPU than 16x16 groups). The image
  * is the same whatever the side
@@ -80,8 +80,8 @@ int32_t lci_pgroup_side(const lc_render_desc *d, int lanes)
  * with the eye inside the particles' grown box (lc_kparticles_eye_inside), so
  * that a tile holds four 32x32 groups and the pass length adapts from group
  * to group (particles_coherent.c pass_adapt; a 32x32 group alone in a 32-pixel
- * tile keeps its first length). Session 9, avx512, 2 threads, CPU s, tile 32
- * -> 64, 2 rounds: dense1e6 close 0.839-0.846 -> 0.780-0.792; 1e6 and 1tw7
+ * tile keeps its first length). Commit 9befac8, avx512, 2 threads, CPU s, tile 32
+ * -> 64, 2 interleaved runs: dense1e6 close 0.839-0.846 -> 0.780-0.792; 1e6 and 1tw7
  * close within noise; far views slower with 64 (dense1e6 0.447 -> 0.463, 1e6
  * 0.106 -> 0.117), so they keep 32. Adaptation stays within a tile, which
  * one worker runs in a fixed order: counters do not depend on scheduling. */

@@ -333,7 +333,7 @@ typedef enum lc_value_type {
 } lc_value_type;
 
 typedef enum lc_grid_layout {
-    LC_LAYOUT_DEFAULT = 0, /* linear, except owned float32 grids: bricked (docs/bench/grid.md, session 8) */
+    LC_LAYOUT_DEFAULT = 0, /* linear, except owned float32 grids: bricked (docs/bench/grid.md "Layouts") */
     LC_LAYOUT_LINEAR = 1,  /* x fastest, then y, then z (a borrowed buffer is used in place) */
     LC_LAYOUT_BRICKED = 2  /* 4^3-voxel bricks behind per-axis offset tables (paper §6.1) */
 } lc_grid_layout;

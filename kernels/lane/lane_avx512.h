@@ -48,7 +48,7 @@ static inline vfloat vf_fms(vfloat a, vfloat b, vfloat c) { return _mm512_fmsub_
 static inline vfloat vf_fnma(vfloat a, vfloat b, vfloat c) { return _mm512_fnmadd_ps(a, b, c); }
 static inline vfloat vf_rcp_approx(vfloat a) { return _mm512_rcp14_ps(a); }
 /* lane_math.h's p 2^n in one instruction (the same bits; 3 of exp's 18
- * operations fewer: particle anchors, session 8). Not on avx512_8, where
+ * operations fewer: particle anchors, commits 48c4dd2, fa5e54b). Not on avx512_8, where
  * the ymm form made 1tw7 frames 5-10% slower. */
 #define LC_LANE_SCALE2 1
 static inline vfloat vf_scale2(vfloat p, vfloat n) { return _mm512_scalef_ps(p, n); }
