@@ -228,14 +228,14 @@ random)
 switch)
     # mode, shading and target switched live by script equal lanecast render given them
     if [ -f "$data/volumes/engine.nhdr" ] && [ -n "$gz" ]; then
-        in="$data/volumes/engine.nhdr" sz="--size 128x112"
+        in="$data/volumes/engine.nhdr" sz="--size 128x112" iso=150
     else
-        in="" sz="--size 128x112"
+        in="" sz="--size 128x112" iso=0.5
         echo "(no engine.nhdr or no gzip input: the demo scene)"
     fi
     run_view() { if [ -n "$in" ]; then view "$in" "$@"; else view --demo "$@"; fi; }
     run_render() { if [ -n "$in" ]; then "$exe" render "$in" "$@"; else "$exe" demo "$@"; fi; }
-    printf '%s\n' 'set mode mip' "set target $t2" 'wait' 'screenshot mip.png' 'mode iso 150' 'set shading phong' \
+    printf '%s\n' 'set mode mip' "set target $t2" 'wait' 'screenshot mip.png' "mode iso $iso" 'set shading phong' \
         'set target scalar' 'wait' 'screenshot iso.png' 'set mode slice' 'set plane_axis 0' 'set plane_pos 0.25' \
         'set target auto' 'wait' 'screenshot slice.png' 'quit' > s.txt
     # shellcheck disable=SC2086
@@ -243,7 +243,7 @@ switch)
     # shellcheck disable=SC2086
     run_render $sz --mode mip --target "$t2" -o r-mip.png --quiet
     # shellcheck disable=SC2086
-    run_render $sz --mode iso --iso 150 --shade phong --target scalar -o r-iso.png --quiet
+    run_render $sz --mode iso --iso $iso --shade phong --target scalar -o r-iso.png --quiet
     # the slice plane: the box's centre, a quarter across in x (the info's bounds)
     plane=$(if [ -n "$in" ]; then "$exe" info "$in"; else echo "bounds -1 -1 -1 .. 1 1 1"; fi |
         awk '/^bounds/ {printf "%.9g,%.9g,%.9g,1,0,0", $2 + 0.25 * ($6 - $2), ($3 + $7) / 2, ($4 + $8) / 2}')
