@@ -10,7 +10,6 @@
 #include "render_opts.h"
 #include "view.h"
 
-lc_status cli_demo_scene(lc_device *dev, lc_volume **out, lc_tf **tf); /* tools/cli_particles.c */
 
 static const char view_help[] =
     "usage: lanecast view INPUT [options]\n"
