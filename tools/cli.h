@@ -13,6 +13,8 @@ int cli_demo(int argc, char **argv);
 int cli_info(int argc, char **argv);
 int cli_encode(int argc, char **argv);
 int cli_bench(int argc, char **argv);
+int cli_view(int argc, char **argv);   /* viewer/ (view_missing.c without the feature) */
+int cli_view_available(void);
 
 /* The procedural scene of lanecast demo and its TF (cli_particles.c). */
 lc_status cli_demo_scene(lc_device *dev, lc_volume **out, lc_tf **tf);

@@ -49,5 +49,10 @@ int cli_formats(int argc, char **argv)
         printf("  %-6s %-4s %s (%s)\n", f.name, f.available ? "yes" : "no", f.description, f.library);
         if (!f.available) printf("  %-6s %-4s not in this build: install %s and rebuild\n", "", "", f.package);
     }
+    /* the program's own: lanecast view (viewer/) */
+    printf("  %-6s %-4s lanecast view, an interactive window (GLFW, Dear ImGui, OpenGL 2.1)\n", "viewer",
+           cli_view_available() ? "yes" : "no");
+    if (!cli_view_available())
+        printf("  %-6s %-4s not in this build: install libglfw3-dev libimgui-dev libstb-dev and rebuild\n", "", "");
     return 0;
 }

@@ -19,7 +19,7 @@
  * another kind are an error (they would be ignored). Returns the row or NULL
  * (message printed; *usage set when the flags were at fault). *fopts: the
  * option keys of the file's format ("" for the demo). */
-static const cli_kind *decide_kind(ropts *o, lc_device *dev, lc_kind forced, int *usage, int64_t *frames,
+const cli_kind *render_decide_kind(ropts *o, lc_device *dev, lc_kind forced, int *usage, int64_t *frames,
                                    const char **fopts)
 {
     lc_kind kind = forced;
@@ -92,7 +92,6 @@ static void print_stats(const ropts *o, const cli_kind *kind, const lc_volume *v
     (void)o;
 }
 
-/* Loads (or makes) the volume and its TF. */
 /* The TF from its parts: colours from the TF file, else the kind's default
  * (--tf PRESET or --colormap); opacity from --opacity, else the file (unless
  * a ParaView colour preset gave none), else the default; the range goes with
@@ -144,7 +143,7 @@ static lc_status make_tf(ropts *o, lc_device *dev, const cli_kind *kind, lc_volu
 }
 
 /* Loads (or makes) the volume and its TF. */
-static lc_status load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, int64_t frame, lc_volume **vol,
+lc_status render_load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, int64_t frame, lc_volume **vol,
                       lc_tf **tf)
 {
     lc_status s;
@@ -175,7 +174,7 @@ static void log_warning(void *user, lc_log_level level, const char *msg)
 }
 
 /* Rotates v about the axis through the origin (unit) by a radians. */
-static lc_vec3 rotate(lc_vec3 v, lc_vec3 k, float a)
+lc_vec3 render_rotate(lc_vec3 v, lc_vec3 k, float a)
 {
     float c = cosf(a), s = sinf(a), d = (k.x * v.x + k.y * v.y + k.z * v.z) * (1.0f - c);
     lc_vec3 x = {k.y * v.z - k.z * v.y, k.z * v.x - k.x * v.z, k.x * v.y - k.y * v.x};
@@ -183,7 +182,7 @@ static lc_vec3 rotate(lc_vec3 v, lc_vec3 k, float a)
 }
 
 /* The camera of orbit image i (of o->orbit; i = 0 without --orbit). */
-static lc_status view_camera(const ropts *o, const lc_volume *vol, int i, lc_camera *cam)
+lc_status render_view_camera(const ropts *o, const lc_volume *vol, int i, lc_camera *cam)
 {
     *cam = o->rd.camera;
     float step = o->orbit ? 360.0f * (float)i / (float)o->orbit : 0.0f;
@@ -197,7 +196,7 @@ static lc_status view_camera(const ropts *o, const lc_volume *vol, int i, lc_cam
     float n = sqrtf(up.x * up.x + up.y * up.y + up.z * up.z);
     up = n > 0.0f ? (lc_vec3){up.x / n, up.y / n, up.z / n} : (lc_vec3){0.0f, 1.0f, 0.0f};
     lc_vec3 d = {cam->eye.x - cam->at.x, cam->eye.y - cam->at.y, cam->eye.z - cam->at.z};
-    d = rotate(d, up, step * 3.14159265f / 180.0f);
+    d = render_rotate(d, up, step * 3.14159265f / 180.0f);
     cam->eye = (lc_vec3){cam->at.x + d.x, cam->at.y + d.y, cam->at.z + d.z};
     return LC_OK;
 }
@@ -209,7 +208,7 @@ static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *
     lc_volume *vol = NULL;
     struct timespec ts0;
     clock_gettime(CLOCK_MONOTONIC, &ts0);
-    lc_status s = load(o, dev, demo, kind, f, &vol, tf);
+    lc_status s = render_load(o, dev, demo, kind, f, &vol, tf);
     s = cli_mpi_agree(dev, s); /* a rank that could not load stops every rank */
     double load_s = seconds_since(&ts0);
     lc_camera given = o->rd.camera;
@@ -218,7 +217,7 @@ static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *
     for (int v = 0; s == LC_OK && v < views; v++) {
         if (o->orbit) render_frame_name(o->output, v, name, sizeof name);
         else snprintf(name, sizeof name, "%s", out);
-        s = view_camera(o, vol, v, &o->rd.camera);
+        s = render_view_camera(o, vol, v, &o->rd.camera);
         char label[64];
         if (count > 1 || views > 1)
             snprintf(label, sizeof label, "rendering %d/%d", (o->orbit ? v : index) + 1, o->orbit ? views : count);
@@ -271,7 +270,7 @@ static int run(ropts *o, int demo)
     }
     int64_t frames = 1;
     const char *fopts = "";
-    const cli_kind *kind = decide_kind(o, dev, demo ? LC_KIND_PARTICLES : LC_KIND_NONE, &usage, &frames, &fopts);
+    const cli_kind *kind = render_decide_kind(o, dev, demo ? LC_KIND_PARTICLES : LC_KIND_NONE, &usage, &frames, &fopts);
     if (kind && !demo && kind->defaults &&
         kind->defaults(o->cmd, &o->load, fopts, o->tf || o->colormap || o->nopacity))
         kind = NULL;

@@ -16,6 +16,8 @@ static const char usage[] =
     "  demo -o OUT           render the built-in demo scene (procedural, two fields)\n"
     "  encode INPUT -o OUT.rbf   fit an RBF set to a volume or scattered samples (CSV, VTK)\n"
     "                        (lanecast encode --help)\n"
+    "  view INPUT            explore data in a window: progressive rendering, orbit, TF editor\n"
+    "                        (lanecast view --help; needs the viewer feature and a display)\n"
     "  targets               list SIMD targets: compiled, supported by this CPU, active\n"
     "  formats               list the file formats (kind, extensions, options) and the\n"
     "                        optional features of this build (gzip input, JSON TFs)\n"
@@ -90,6 +92,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "info")) return cli_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "encode")) return cli_encode(argc - 1, argv + 1);
     if (!strcmp(cmd, "bench")) return cli_bench(argc - 1, argv + 1);
+    if (!strcmp(cmd, "view")) return cli_view(argc - 1, argv + 1);
     fprintf(stderr, "lanecast: unknown command '%s' (try lanecast --help)\n", cmd);
     return 2;
 }

@@ -40,4 +40,21 @@ int render_parse(ropts *o, int argc, char **argv, int want_input);
 /* The name of image f of a sequence (-o pattern, checked by the parser). */
 void render_frame_name(const char *pattern, int64_t f, char *out, size_t n);
 
+/* cmd_render.c's steps, shared with lanecast view (viewer/view_main.c). */
+/* The kind of the input, decided once through the formats registry (forced:
+ * LC_KIND_PARTICLES for the demo); NULL after a message (*usage set when the
+ * flags were at fault). *frames: the input's frame count; *fopts: its
+ * format's option keys. */
+const cli_kind *render_decide_kind(ropts *o, lc_device *dev, lc_kind forced, int *usage, int64_t *frames,
+                                   const char **fopts);
+/* Loads frame `frame` (or makes the demo scene), applies the kind's flags,
+ * and builds the TF into *tf unless *tf is already set. */
+lc_status render_load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, int64_t frame, lc_volume **vol,
+                      lc_tf **tf);
+/* The camera of orbit image i (i = 0 without --orbit): the flags' camera,
+ * else the data framed from --view. */
+lc_status render_view_camera(const ropts *o, const lc_volume *vol, int i, lc_camera *cam);
+/* v rotated about the unit axis k through the origin by a radians. */
+lc_vec3 render_rotate(lc_vec3 v, lc_vec3 k, float a);
+
 #endif
