@@ -84,8 +84,10 @@ static inline void dvr_lattice(vfloat t0, vfloat t1, float dt, vint *kf, vint *k
     vfloat a = vf_floor(vf_div(t0, vf_set1(dt)));
     a = vf_select(vf_lt(vf_mul(a, vf_set1(dt)), t0), vf_add(a, vf_set1(1.0f)), a); /* ceil */
     vfloat b = vf_floor(vf_div(t1, vf_set1(dt)));
-    a = vf_min(a, vf_set1(LC_KLATTICE_MAX));
-    b = vf_min(b, vf_set1(LC_KLATTICE_MAX));
+    /* clamped on both sides before the conversion: a missed ray's slab times may be
+       +-1e30 (axis-parallel orthographic rays), which no int holds (UB on the scalar target) */
+    a = vf_max(vf_min(a, vf_set1(LC_KLATTICE_MAX)), vf_set1(-LC_KLATTICE_MAX));
+    b = vf_max(vf_min(b, vf_set1(LC_KLATTICE_MAX)), vf_set1(-LC_KLATTICE_MAX));
     *kf = vi_select(hit, vf_to_vi(a), vi_set1(1));
     *kl = vi_select(hit, vf_to_vi(b), vi_set1(0));
 }
