@@ -17,7 +17,7 @@ def feature(name):
     return any(f["name"] == name and f["available"] for f in lc.features())
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def dev():
     return lc.Device()
 
