@@ -65,6 +65,11 @@ static lc_status fill_params(lc_device *dev, const char *fn, const lc_particle_p
     if (q.buffer_samples < 0 || q.buffer_samples > 4096)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: buffer samples = %d, expected 0 (default) to 4096", fn,
                          q.buffer_samples);
+    if (!lc_kernel_name(q.kernel))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: kernel = %d, expected an lc_kernel value", fn, (int)q.kernel);
+    if (q.kernel != LC_KERNEL_GAUSSIAN)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: kernel %s: the ray-casting kernels evaluate the Gaussian only",
+                         fn, lc_kernel_name(q.kernel));
     *out = q;
     return LC_OK;
 }

@@ -273,6 +273,28 @@ LC_API lc_status lc_volume_sample(lc_device *device, const lc_volume *volume, si
 
 /* ---- particles (Knoll et al. 2014) */
 
+/* The radial kernel of every particle. LC_KERNEL_GAUSSIAN (the default) is
+ * Knoll et al. 2014's truncated Gaussian kappa k_i exp(-d^2 / (2 r_i^2)) for
+ * d < sigma r_i (r_i a standard deviation, k_i the peak). The SPH kernels are
+ * compact with support radius H_i = r_i (GADGET's and yt's HSML; no sigma):
+ * W(d, H) = norm / H^3 f(d / H), normalised in 3-D, and a particle contributes
+ * kappa k_i W(d, H_i) (k_i is then an amount, e.g. m_i / rho_i * A_i). */
+typedef enum lc_kernel {
+    LC_KERNEL_GAUSSIAN = 0,
+    LC_KERNEL_M4 = 1,          /* cubic spline (Monaghan 1985): h = H / 2 */
+    LC_KERNEL_M5 = 2,          /* quartic spline: h = H / 2.5 */
+    LC_KERNEL_M6 = 3,          /* quintic spline: h = H / 3 */
+    LC_KERNEL_WENDLAND_C2 = 4, /* Wendland (1995) C2, C4 and C6 in 3-D: h = H */
+    LC_KERNEL_WENDLAND_C4 = 5,
+    LC_KERNEL_WENDLAND_C6 = 6
+} lc_kernel;
+
+/* "gaussian", "m4", "m5", "m6", "wendland-c2", "wendland-c4", "wendland-c6";
+ * NULL for a value out of range. */
+LC_API const char *lc_kernel_name(lc_kernel kernel);
+/* The kernel of that name (as lc_kernel_name spells it); LC_ERROR_INVALID_ARGUMENT otherwise. */
+LC_API lc_status lc_kernel_from_name(const char *name, lc_kernel *out);
+
 /* Per-render parameters of particles; they change without a rebuild. */
 typedef struct lc_particle_params {
     float sigma;        /* truncation radius in units of r_i; 0 = 2 */
@@ -280,6 +302,7 @@ typedef struct lc_particle_params {
     int buffer_samples; /* samples per ray per pass in the coherent buffer; 0 = adapted per ray
                            group (up to 128, 128/M for M > 1 fields); images do not depend on it */
     float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
+    lc_kernel kernel;   /* the radial kernel (LC_KERNEL_GAUSSIAN = 0 by default) */
 } lc_particle_params;
 
 /* Particle data: a sum of truncated Gaussians per field,
