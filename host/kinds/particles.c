@@ -67,9 +67,6 @@ static lc_status fill_params(lc_device *dev, const char *fn, const lc_particle_p
                          q.buffer_samples);
     if (!lc_kernel_name(q.kernel))
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: kernel = %d, expected an lc_kernel value", fn, (int)q.kernel);
-    if (q.kernel != LC_KERNEL_GAUSSIAN)
-        return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: kernel %s: the ray-casting kernels evaluate the Gaussian only",
-                         fn, lc_kernel_name(q.kernel));
     *out = q;
     return LC_OK;
 }
@@ -531,6 +528,9 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %d does not apply to particles (coherent or direct)",
                          (int)d->method);
     const particles *p = (const particles *)v;
+    if (p->info.params.kernel != LC_KERNEL_GAUSSIAN)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "lc_render: kernel %s: the ray-casting kernels evaluate the Gaussian only",
+                         lc_kernel_name(p->info.params.kernel));
     int skip = frame->mode == LC_KMODE_DVR && p->node_fbound && skip_enabled();
     size_t head = (sizeof(pframe) + 63) & ~(size_t)63;
     pframe *pf = lci_aligned_alloc(64, head + (skip ? (size_t)p->bvh.nnodes : 0));
