@@ -107,9 +107,9 @@ static void make_references(const scene *s)
     rtf_map[1] = (ref_tf){0, 1, dcol1, 2, dopa, 2};
     static double margin[W * H];
     for (int k = 0; k < NKIMG; k++) {
-        ref_particle_set ps = {NP, s->dpos, dhrad, dkval, s->dfield, 2, 0, 0, img_kernels[k], 0};
+        ref_sph_set ps = {{NP, s->dpos, dhrad, dkval, s->dfield, 2, 0, 0}, img_kernels[k], 0};
         ref_source src;
-        CHECK(ref_particles_source(&ps, &src) == 0, "reference source, kernel %d", (int)img_kernels[k]);
+        CHECK(ref_sph_source(&ps, &src) == 0, "reference source, kernel %d", (int)img_kernels[k]);
         for (int m = 0; m < NMODES; m++) {
             ref_params p = ref_view(modes[m].mode == REF_MODE_DVR ? rtf_dvr : rtf_map, &modes[m]);
             int ok = ref_render_f(&src, &p, want[k][m]) == 0;
@@ -135,9 +135,9 @@ static void make_references(const scene *s)
     /* the comparison bites: a normalisation 2% off, in dvr and mip */
     static float wrong[4 * W * H];
     for (int m = 0; m < 2; m++) {
-        ref_particle_set ps = {NP, s->dpos, dhrad, dkval, s->dfield, 2, 0, 0, REF_KERNEL_M4, 1.02};
+        ref_sph_set ps = {{NP, s->dpos, dhrad, dkval, s->dfield, 2, 0, 0}, REF_KERNEL_M4, 1.02};
         ref_source src;
-        ref_particles_source(&ps, &src);
+        ref_sph_source(&ps, &src);
         ref_params p = ref_view(modes[m].mode == REF_MODE_DVR ? rtf_dvr : rtf_map, &modes[m]);
         ref_render_f(&src, &p, wrong);
         char label[64];
@@ -204,10 +204,10 @@ enum { NPT = 400 };
 static void ref_points(const scene *s, ref_kernel kern, double norm_scale, const float *pts, double *val,
                        double (*grad)[3], double *vb, double *gb)
 {
-    ref_particle_set ps = {NP, s->dpos, dhrad, dkval, NULL, 1, 0, 0, kern, norm_scale};
+    ref_sph_set ps = {{NP, s->dpos, dhrad, dkval, NULL, 1, 0, 0}, kern, norm_scale};
     for (int i = 0; i < NPT; i++) {
         double x[3] = {pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]}, g[1][3];
-        ref_particles_eval(&ps, x, &val[i], g);
+        ref_sph_eval(&ps, x, &val[i], g);
         memcpy(grad[i], g[0], sizeof g[0]);
         vb[i] = gb[i] = 0.0;
         for (int j = 0; j < NP; j++) {
@@ -373,9 +373,9 @@ static void make_sparse(void)
         sk_drad[i] = sk_rad[i] = 0.25f + 0.0025f * (float)i;
         sk_dval[i] = sk_val[i] = 0.05f; /* peaks 2.55 k / H^3 of 2.7 .. 8 */
     }
-    ref_particle_set ps = {NSK, sk_dpos, sk_drad, sk_dval, NULL, 1, 0, 0, REF_KERNEL_M4, 0};
+    ref_sph_set ps = {{NSK, sk_dpos, sk_drad, sk_dval, NULL, 1, 0, 0}, REF_KERNEL_M4, 0};
     ref_source src;
-    ref_particles_source(&ps, &src);
+    ref_sph_source(&ps, &src);
     ref_params p = ref_view(rtf_dvr, &modes[0]);
     CHECK(ref_render_f(&src, &p, sk_want) == 0, "reference: sparse small M4 particles");
 }

@@ -59,10 +59,11 @@ static double sph_dw(ref_kernel kernel, double u)
 
 /* One particle's term (and gradient, when gr is not NULL) at offset e = x - x_i,
  * d2 = |e|^2; 0 outside its support. */
-static double pterm(const ref_particle_set *ps, size_t i, const double e[3], double d2, double gr[3])
+static double pterm(const ref_particle_set *ps, ref_kernel kernel, double norm_scale, size_t i, const double e[3],
+                    double d2, double gr[3])
 {
     const double r = ps->radius[i], kk = pkappa(ps) * (ps->value ? ps->value[i] : 1.0);
-    if (ps->kernel == REF_KERNEL_GAUSSIAN) {
+    if (kernel == REF_KERNEL_GAUSSIAN) {
         const double sigma = psigma(ps);
         if (!(d2 < sigma * r * sigma * r)) return 0.0;
         double ph = kk * exp(-d2 / (2.0 * r * r));
@@ -72,17 +73,17 @@ static double pterm(const ref_particle_set *ps, size_t i, const double e[3], dou
         return ph;
     }
     if (!(d2 < r * r)) return 0.0;
-    double d = sqrt(d2), u = d / r, sc = (ps->norm_scale == 0.0 ? 1.0 : ps->norm_scale) * kk / (r * r * r);
+    double d = sqrt(d2), u = d / r, sc = (norm_scale == 0.0 ? 1.0 : norm_scale) * kk / (r * r * r);
     if (gr) {
-        double dw = d > 0.0 ? sc * sph_dw(ps->kernel, u) / r / d : 0.0; /* dW/dd (x - x_i) / d */
+        double dw = d > 0.0 ? sc * sph_dw(kernel, u) / r / d : 0.0; /* dW/dd (x - x_i) / d */
         for (int a = 0; a < 3; a++) gr[a] = dw * e[a];
     }
-    return sc * ref_sph_w(ps->kernel, u);
+    return sc * ref_sph_w(kernel, u);
 }
 
-void ref_particles_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+static void eval_kernel(const ref_particle_set *ps, ref_kernel kernel, double norm_scale, const double p[3],
+                        double *phi, double (*grad)[3])
 {
-    const ref_particle_set *ps = user;
     const int nf = pnfields(ps);
     for (int f = 0; f < nf; f++) {
         phi[f] = 0.0;
@@ -92,7 +93,7 @@ void ref_particles_eval(const void *user, const double p[3], double *phi, double
         const double *c = ps->pos + 3 * i;
         double e[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
         double d2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2], gr[3] = {0.0, 0.0, 0.0};
-        double ph = pterm(ps, i, e, d2, grad ? gr : NULL);
+        double ph = pterm(ps, kernel, norm_scale, i, e, d2, grad ? gr : NULL);
         if (ph == 0.0 && gr[0] == 0.0 && gr[1] == 0.0 && gr[2] == 0.0) continue; /* outside its support */
         int f = ps->field ? ps->field[i] : 0;
         phi[f] += ph;
@@ -101,11 +102,21 @@ void ref_particles_eval(const void *user, const double p[3], double *phi, double
     }
 }
 
-int ref_particles_source(const ref_particle_set *ps, ref_source *src)
+void ref_particles_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+{
+    eval_kernel(user, REF_KERNEL_GAUSSIAN, 0.0, p, phi, grad);
+}
+
+void ref_sph_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+{
+    const ref_sph_set *s = user;
+    eval_kernel(&s->ps, s->kernel, s->norm_scale, p, phi, grad);
+}
+
+static int source_kernel(const ref_particle_set *ps, ref_kernel kernel, ref_source *src)
 {
     const int nf = pnfields(ps);
-    if (nf > REF_MAX_FIELDS || (ps->count && (!ps->pos || !ps->radius)) || ps->kernel < 0 ||
-        ps->kernel >= REF_KERNEL_COUNT)
+    if (nf > REF_MAX_FIELDS || (ps->count && (!ps->pos || !ps->radius)) || kernel < 0 || kernel >= REF_KERNEL_COUNT)
         return -1;
     double rmax = 0.0;
     for (size_t i = 0; i < ps->count; i++) {
@@ -115,10 +126,22 @@ int ref_particles_source(const ref_particle_set *ps, ref_source *src)
     src->eval = ref_particles_eval, src->user = ps, src->nfields = nf;
     box_empty(src);
     for (size_t i = 0; i < ps->count; i++) box_grow(src, ps->pos + 3 * i, 0.0);
-    double g = (ps->kernel == REF_KERNEL_GAUSSIAN ? psigma(ps) : 1.0) * rmax; /* an SPH kernel's support is r */
+    double g = (kernel == REF_KERNEL_GAUSSIAN ? psigma(ps) : 1.0) * rmax; /* an SPH kernel's support is r */
     if (ps->count)
         for (int a = 0; a < 3; a++) src->lo[a] -= g, src->hi[a] += g;
     return 0;
+}
+
+int ref_particles_source(const ref_particle_set *ps, ref_source *src)
+{
+    return source_kernel(ps, REF_KERNEL_GAUSSIAN, src);
+}
+
+int ref_sph_source(const ref_sph_set *s, ref_source *src)
+{
+    int rc = source_kernel(&s->ps, s->kernel, src);
+    src->eval = ref_sph_eval, src->user = s;
+    return rc;
 }
 
 void ref_particles_budget(const ref_particle_set *ps, const double x[3], double *abs_sum, double *gabs_sum,

@@ -34,9 +34,19 @@ typedef struct ref_particle_set {
     const int *field;     /* count, or NULL for field 0 */
     int nfields;          /* 0: 1 */
     double sigma, kappa;  /* 0: 2 and 1 */
-    ref_kernel kernel;    /* 0: the Gaussian */
-    double norm_scale;    /* 0: 1; tests scale SPEC.md's normalisation to show a wrong one is caught */
 } ref_particle_set;
+
+/* The same particles with another kernel (sigma unused for SPH kernels). */
+typedef struct ref_sph_set {
+    ref_particle_set ps;
+    ref_kernel kernel;
+    double norm_scale; /* 0: 1; tests scale SPEC.md's normalisation to show a wrong one is caught */
+} ref_sph_set;
+
+void ref_sph_eval(const void *user, const double p[3], double *phi, double (*grad)[3]);
+/* Box: centre bounds grown by the support (sigma r for the Gaussian, r = H for
+ * SPH kernels). Returns 0, or -1 on bad input. */
+int ref_sph_source(const ref_sph_set *s, ref_source *src);
 
 /* SPEC.md's w(u) of an SPH kernel, normalisation included (0 for u >= 1 and
  * for the Gaussian). */
