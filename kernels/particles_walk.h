@@ -661,16 +661,25 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
 /* The above, with the eye as every ray's origin (perspective) or not, and
  * with the gradient (comps 4) or without (1) as constants: the sample loop
  * then holds no test of comps and no gradient offsets it does not use. */
+static inline __attribute__((always_inline)) int deposit_list_any(const lc_kparticles *s, const lc_kframe *f,
+                                                                   const cscratch *c, int nv, int vshift, int n,
+                                                                   int kp, int kend, float dt, int comps,
+                                                                   lc_kstats *st, int sph)
+{
+    int generic = f->cam.ortho || s->eye_generic;
+    if (comps == 4)
+        return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, NULL, st, sph)
+                       : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, f->cam.eye, st, sph);
+    return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, NULL, st, sph)
+                   : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, f->cam.eye, st, sph);
+}
+
+/* The SPH kernels' list deposits, in a function of their own (the Gaussian's compile as they did). */
 static __attribute__((noinline)) int deposit_list_sph(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
                                                       int nv, int vshift, int n, int kp, int kend, float dt,
                                                       int comps, lc_kstats *st)
 {
-    int generic = f->cam.ortho || s->eye_generic;
-    if (comps == 4)
-        return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, NULL, st, 1)
-                       : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, f->cam.eye, st, 1);
-    return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, NULL, st, 1)
-                   : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, f->cam.eye, st, 1);
+    return deposit_list_any(s, f, c, nv, vshift, n, kp, kend, dt, comps, st, 1);
 }
 
 static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
@@ -678,12 +687,7 @@ static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const 
                                                   lc_kstats *st)
 {
     if (s->kernel != LC_KSPH_GAUSSIAN) return deposit_list_sph(s, f, c, nv, vshift, n, kp, kend, dt, comps, st);
-    int generic = f->cam.ortho || s->eye_generic;
-    if (comps == 4)
-        return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, NULL, st, 0)
-                       : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, f->cam.eye, st, 0);
-    return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, NULL, st, 0)
-                   : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, f->cam.eye, st, 0);
+    return deposit_list_any(s, f, c, nv, vshift, n, kp, kend, dt, comps, st, 0);
 }
 
 #endif
