@@ -134,7 +134,8 @@ static inline __attribute__((always_inline)) void deposit_as(const lc_kparticles
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
-    sph_consts sc = sph_consts_make(s->r[i], kk, s->knorm);
+    sph_consts sc = {0.0f, 0.0f};
+    if (sph) sc = sph_consts_make(s->r[i], kk, s->knorm); /* the Gaussian computes none of it */
     for (int v = 0; v < nv; v++) {
         if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the leaf's box misses these rays */
         int o = v * LC_W;
@@ -328,7 +329,8 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
     int rays = buf_stride(nv);
     float *fb = c->buf + (size_t)s->field[i] * (size_t)c->K * (size_t)comps * (size_t)rays;
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
-    sph_consts sc = sph_consts_make(s->r[i], kk, s->knorm);
+    sph_consts sc = {0.0f, 0.0f};
+    if (sph) sc = sph_consts_make(s->r[i], kk, s->knorm); /* the Gaussian computes none of it */
     /* vshift 0: the set bits of vbits (the list found the support misses
        the other vectors) among the live vectors, in order */
     uint64_t todo = vshift ? 0 : vbits & live;
