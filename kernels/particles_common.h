@@ -11,6 +11,7 @@
 #include "shared/kparticles.h"
 #include "shared/ktable.h"
 #include "kernels.h"
+#include "particles_sph.h"
 
 /* Offset of p from particle centre c and the truncation test d2 < R2 = (sigma r)^2. */
 static inline vfloat sample_d2(vfloat px, vfloat py, vfloat pz, float cx, float cy, float cz, float r2s, vmask m,
@@ -108,9 +109,12 @@ static inline int skip_base(const lc_kparticles *s, const lc_kframe *f)
 
 /* Every field (and, with grad, its gradient) at the points p of the lanes in m,
  * through the BVH: the direct method's per-sample gather, starting from the
- * bias (0 for particles). Returns whether any particle contributed. */
-static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
-                                int skip, int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
+ * bias (0 for particles). Returns whether any particle contributed. sph (a
+ * constant): s->kernel is an SPH kernel (particles_sph.h), else the Gaussian. */
+static inline __attribute__((always_inline)) int gather_fields_as(const lc_kparticles *s, vfloat px, vfloat py,
+                                                                  vfloat pz, vmask m, int grad, int skip,
+                                                                  int32_t *stack, vfloat *phi, vfloat *gx,
+                                                                  vfloat *gy, vfloat *gz, lc_kstats *st, int sph)
 {
     for (int fi = 0; fi < s->nfields; fi++) phi[fi] = vf_set1(s->bias), gx[fi] = gy[fi] = gz[fi] = vf_zero();
     if (s->nnodes == 0) return 0;
@@ -141,11 +145,17 @@ static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vf
             if (vm_none(inside)) continue;
             found = 1;
             evals += (uint64_t)vm_popcnt(inside);
-            vfloat p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
             int fi = s->field[i];
+            vfloat p, gp = vf_zero();
+            if (sph) {
+                sph_consts sc = sph_consts_make(s->r[i], s->kappa * s->k[i], s->knorm);
+                p = sph_term(s->kernel, &sc, d2, inside, grad ? &gp : NULL);
+            } else {
+                p = gaussian(d2, s->neg_inv_2r2[i], s->kappa * s->k[i], inside);
+                gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i])); /* grad phi_i = -(p - c) / r^2 phi_i */
+            }
             phi[fi] = vf_add(phi[fi], p);
             if (grad) {
-                vfloat gp = vf_mul(p, vf_set1(2.0f * s->neg_inv_2r2[i])); /* grad phi_i = -(p - c) / r^2 phi_i */
                 gx[fi] = vf_fma(ex, gp, gx[fi]);
                 gy[fi] = vf_fma(ey, gp, gy[fi]);
                 gz[fi] = vf_fma(ez, gp, gz[fi]);
@@ -154,6 +164,23 @@ static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vf
     }
     if (st) st->nodes += nodes, st->leaves += leaves, st->kernel_evals += evals;
     return found;
+}
+
+/* gather_fields_as for the SPH kernels, out of line (the Gaussian's callers
+ * compile as they did). */
+static __attribute__((noinline, unused)) int gather_fields_sph(const lc_kparticles *s, vfloat px, vfloat py,
+                                                               vfloat pz, vmask m, int grad, int skip,
+                                                               int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy,
+                                                               vfloat *gz, lc_kstats *st)
+{
+    return gather_fields_as(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st, 1);
+}
+
+static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
+                                int skip, int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
+{
+    if (s->kernel != LC_KSPH_GAUSSIAN) return gather_fields_sph(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st);
+    return gather_fields_as(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st, 0);
 }
 
 /* The particles' point evaluation for the modes (mode.h mprobe): field fi

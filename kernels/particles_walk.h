@@ -83,11 +83,48 @@ static inline __attribute__((always_inline)) uint64_t deposit_samples(const pgau
     return evals;
 }
 
+/* deposit_samples for an SPH kernel (particles_sph.h): the same samples and
+ * support test, each term evaluated directly (a compact polynomial has no
+ * ratio recurrence); samples where no lane of m lies inside add nothing. */
+static inline __attribute__((always_inline)) uint64_t deposit_samples_sph(int kernel, const sph_consts *sc,
+                                                                           const float *kdt, float *fb, int rays,
+                                                                           int o, int comps, int kp, int ka, int kb,
+                                                                           float r2s, vfloat tc, vfloat d2,
+                                                                           vfloat ocx, vfloat ocy, vfloat ocz,
+                                                                           vfloat dx, vfloat dy, vfloat dz, vmask m)
+{
+    uint64_t evals = 0;
+    vfloat qx = vf_fnma(tc, dx, ocx), qy = vf_fnma(tc, dy, ocy), qz = vf_fnma(tc, dz, ocz);
+    vfloat rr = vf_set1(r2s);
+    const float *kd = kdt + (PG_ANCHOR - kp);
+    for (int k = ka; k <= kb; k++) {
+        vfloat u = vf_sub(vf_set1(kd[k]), tc);
+        vfloat a = vf_madd(u, u, d2);
+        vmask in = vm_and(m, vf_lt(a, rr));
+        if (vm_none(in)) continue;
+        evals += (uint64_t)vm_popcnt(in);
+        vfloat gs = vf_zero();
+        vfloat phi = sph_term(kernel, sc, a, in, comps == 4 ? &gs : NULL);
+        float *row = fb + (size_t)(k - kp) * (size_t)comps * (size_t)rays + o;
+        vf_store(row, vf_add(vf_load(row), phi));
+        if (comps == 4) {
+            vfloat ex = vf_fms(u, dx, qx), ey = vf_fms(u, dy, qy), ez = vf_fms(u, dz, qz);
+            vf_store(row + rays, vf_fma(ex, gs, vf_load(row + rays)));
+            vf_store(row + 2 * rays, vf_fma(ey, gs, vf_load(row + 2 * rays)));
+            vf_store(row + 3 * rays, vf_fma(ez, gs, vf_load(row + 3 * rays)));
+        }
+    }
+    return evals;
+}
+
 /* Leaf particle i adds its Gaussian (and gradient) to every buffered sample
  * of the group it overlaps (Listing 2, lines 6-8), on the vectors of vbits
- * (bit v >> vshift): the walk per pass. */
-static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
-                           int32_t i, float cstep, uint64_t vbits, int vshift, lc_kstats *st)
+ * (bit v >> vshift): the walk per pass. sph (a constant): its SPH kernel
+ * instead (deposit_samples_sph). */
+static inline __attribute__((always_inline)) void deposit_as(const lc_kparticles *s, const cscratch *c, int nv,
+                                                              int kp, int kend, float dt, int comps, int32_t i,
+                                                              float cstep, uint64_t vbits, int vshift, lc_kstats *st,
+                                                              int sph)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
@@ -97,6 +134,8 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
     float *fb = c->buf + (size_t)s->field[i] * (size_t)K * (size_t)comps * (size_t)rays;
     float gscale = 2.0f * nir; /* grad phi_i = -(p - c) / r^2 phi_i */
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
+    sph_consts sc = {0.0f, 0.0f};
+    if (sph) sc = sph_consts_make(s->r[i], kk, s->knorm); /* the Gaussian computes none of it */
     for (int v = 0; v < nv; v++) {
         if (!((vbits >> (v >> vshift)) & 1u)) continue; /* the leaf's box misses these rays */
         int o = v * LC_W;
@@ -121,11 +160,28 @@ static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, in
         ka = ka < kp ? kp : ka;
         kb = kb > kend ? kend : kb;
         if (ka > kb) continue;
-        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, gscale, tc, d2, ocx, ocy,
-                                     ocz, dx, dy, dz, m);
+        uint64_t e = sph ? deposit_samples_sph(s->kernel, &sc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, tc, d2,
+                                               ocx, ocy, ocz, dx, dy, dz, m)
+                         : deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, gscale, tc, d2, ocx, ocy,
+                                           ocz, dx, dy, dz, m);
         c->touched[v] += (uint32_t)e;
         st->kernel_evals += e;
     }
+}
+
+/* The Gaussian's deposit compiles as it did before the SPH kernels; theirs
+ * is a function of its own. */
+static inline void deposit(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend, float dt, int comps,
+                           int32_t i, float cstep, uint64_t vbits, int vshift, lc_kstats *st)
+{
+    deposit_as(s, c, nv, kp, kend, dt, comps, i, cstep, vbits, vshift, st, 0);
+}
+
+static __attribute__((noinline)) void deposit_sph(const lc_kparticles *s, const cscratch *c, int nv, int kp, int kend,
+                                                  float dt, int comps, int32_t i, uint64_t vbits, int vshift,
+                                                  lc_kstats *st)
+{
+    deposit_as(s, c, nv, kp, kend, dt, comps, i, 0.0f, vbits, vshift, st, 1);
 }
 
 /* Per-vector cones (issue 8; docs/bench/particles.md "Cone pre-test"): a cheap pre-test of a particle
@@ -264,7 +320,8 @@ static inline int eye_range_misses(const float *kd, int ka, int kb, float ox, fl
 static inline __attribute__((always_inline)) void deposit_entry(const lc_kparticles *s, const cscratch *c, int nv,
                                                                  int kp, int ka, int kb, float dt, int comps, int32_t i,
                                                                  float cstep, uint64_t vbits, int vshift,
-                                                                 uint64_t live, const float *eye, lc_kstats *st)
+                                                                 uint64_t live, const float *eye, lc_kstats *st,
+                                                                 int sph)
 {
     float cx = s->px[i], cy = s->py[i], cz = s->pz[i];
     float rs = s->sigma * s->r[i], r2s = rs * rs, nir = s->neg_inv_2r2[i], kk = s->kappa * s->k[i];
@@ -272,6 +329,8 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
     int rays = buf_stride(nv);
     float *fb = c->buf + (size_t)s->field[i] * (size_t)c->K * (size_t)comps * (size_t)rays;
     pgauss_consts gc = pgauss_consts_make(nir, kk, dt, cstep);
+    sph_consts sc = {0.0f, 0.0f};
+    if (sph) sc = sph_consts_make(s->r[i], kk, s->knorm); /* the Gaussian computes none of it */
     /* vshift 0: the set bits of vbits (the list found the support misses
        the other vectors) among the live vectors, in order */
     uint64_t todo = vshift ? 0 : vbits & live;
@@ -300,8 +359,10 @@ static inline __attribute__((always_inline)) void deposit_entry(const lc_kpartic
         vfloat d2 = perp2(ocx, ocy, ocz, dx, dy, dz, tc);
         m = vm_and(m, vf_ge(vf_sub(vf_set1(x2), d2), vf_zero()));
         if (vm_none(m)) continue;
-        uint64_t e = deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, 2.0f * nir, tc, d2, ocx,
-                                     ocy, ocz, dx, dy, dz, m);
+        uint64_t e = sph ? deposit_samples_sph(s->kernel, &sc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, tc, d2,
+                                               ocx, ocy, ocz, dx, dy, dz, m)
+                         : deposit_samples(&gc, c->kdt, fb, rays, o, comps, kp, ka, kb, r2s, 2.0f * nir, tc, d2, ocx,
+                                           ocy, ocz, dx, dy, dz, m);
         /* integrate only where some term landed (lanes without a chord in
            their window would otherwise mark it) */
         c->touched[v] += (uint32_t)e;
@@ -448,7 +509,7 @@ static inline uint64_t vcull_node(const cscratch *c, const lc_kpnode *node, floa
 static inline __attribute__((always_inline)) int walk_group(const lc_kparticles *s, const lc_kframe *f,
                                                             const cscratch *c, int nv, int vshift, int kp, int kend,
                                                             float dt, int comps, int collect, int persp,
-                                                            lc_kstats *st)
+                                                            lc_kstats *st, int sph)
 {
     const float ex = f->cam.eye[0], ey = f->cam.eye[1], ez = f->cam.eye[2];
     int32_t *stack = c->stack;
@@ -527,6 +588,10 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
         }
         for (int32_t i = node->first; i < node->first + node->count; i++) {
             /* c = exp(-dt^2 / r^2): the host's table, or once per radius (neighbours mostly share it) */
+            if (sph) {
+                deposit_sph(s, c, nv, kp, kend, dt, comps, i, bits, vshift, st);
+                continue;
+            }
             if (ctab) cstep = ctab[i];
             else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
             deposit(s, c, nv, kp, kend, dt, comps, i, cstep, bits, vshift, st);
@@ -535,21 +600,35 @@ static inline __attribute__((always_inline)) int walk_group(const lc_kparticles 
     return n;
 }
 
+/* The walk per pass for the SPH kernels, in a function of its own so the
+ * Gaussian's compiles as it did. */
+static __attribute__((noinline)) void traverse_pass_sph(const lc_kparticles *s, const lc_kframe *f,
+                                                        const cscratch *c, int nv, int vshift, int kp, int kend,
+                                                        float dt, int comps, lc_kstats *st)
+{
+    if (f->cam.ortho || s->eye_generic)
+        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 0, st, 1);
+    else
+        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 1, st, 1);
+}
+
 static __attribute__((noinline)) void traverse_pass(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
                                                     int nv, int vshift, int kp, int kend, float dt, int comps,
                                                     lc_kstats *st)
 {
-    if (f->cam.ortho || s->eye_generic)
-        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 0, st);
+    if (s->kernel != LC_KSPH_GAUSSIAN)
+        traverse_pass_sph(s, f, c, nv, vshift, kp, kend, dt, comps, st);
+    else if (f->cam.ortho || s->eye_generic)
+        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 0, st, 0);
     else
-        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 1, st);
+        walk_group(s, f, c, nv, vshift, kp, kend, dt, comps, 0, 1, st, 0);
 }
 
 static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
                                                    int nv, int vshift, int kp, int kend, float dt, lc_kstats *st)
 {
-    return (f->cam.ortho || s->eye_generic) ? walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 0, st)
-                        : walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 1, st);
+    return (f->cam.ortho || s->eye_generic) ? walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 0, st, 0)
+                        : walk_group(s, f, c, nv, vshift, kp, kend, dt, 1, 1, 1, st, 0);
 }
 
 /* One pass from the group list: deposits the n entries overlapping kp..kend
@@ -557,7 +636,7 @@ static __attribute__((noinline)) int collect_group(const lc_kparticles *s, const
  * entries kept. */
 static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparticles *s, const cscratch *c, int nv,
                                                                   int vshift, int n, int kp, int kend, float dt,
-                                                                  int comps, const float *eye, lc_kstats *st)
+                                                                  int comps, const float *eye, lc_kstats *st, int sph)
 {
     float cnir = 1.0f, cstep = 0.0f;
     const float *ctab = particle_cstep(s, dt);
@@ -569,10 +648,11 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
         gent e = c->list[j];
         if (e.ka <= kend && e.kb >= kp) {
             for (int32_t i = e.first; i < e.first + e.count; i++) {
-                if (ctab) cstep = ctab[i];
+                if (sph) cstep = 0.0f; /* no recurrence */
+                else if (ctab) cstep = ctab[i];
                 else if (s->neg_inv_2r2[i] != cnir) cnir = s->neg_inv_2r2[i], cstep = pgauss_c(cnir, dt);
                 deposit_entry(s, c, nv, kp, e.ka > kp ? e.ka : kp, e.kb < kend ? e.kb : kend, dt, comps, i, cstep,
-                              e.vbits, vshift, live, eye, st);
+                              e.vbits, vshift, live, eye, st, sph);
             }
         }
         if (e.kb > kend) c->list[kept++] = e;
@@ -583,16 +663,33 @@ static inline __attribute__((always_inline)) int deposit_list_as(const lc_kparti
 /* The above, with the eye as every ray's origin (perspective) or not, and
  * with the gradient (comps 4) or without (1) as constants: the sample loop
  * then holds no test of comps and no gradient offsets it does not use. */
+static inline __attribute__((always_inline)) int deposit_list_any(const lc_kparticles *s, const lc_kframe *f,
+                                                                   const cscratch *c, int nv, int vshift, int n,
+                                                                   int kp, int kend, float dt, int comps,
+                                                                   lc_kstats *st, int sph)
+{
+    int generic = f->cam.ortho || s->eye_generic;
+    if (comps == 4)
+        return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, NULL, st, sph)
+                       : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, f->cam.eye, st, sph);
+    return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, NULL, st, sph)
+                   : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, f->cam.eye, st, sph);
+}
+
+/* The SPH kernels' list deposits, in a function of their own (the Gaussian's compile as they did). */
+static __attribute__((noinline)) int deposit_list_sph(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
+                                                      int nv, int vshift, int n, int kp, int kend, float dt,
+                                                      int comps, lc_kstats *st)
+{
+    return deposit_list_any(s, f, c, nv, vshift, n, kp, kend, dt, comps, st, 1);
+}
+
 static __attribute__((noinline)) int deposit_list(const lc_kparticles *s, const lc_kframe *f, const cscratch *c,
                                                   int nv, int vshift, int n, int kp, int kend, float dt, int comps,
                                                   lc_kstats *st)
 {
-    int generic = f->cam.ortho || s->eye_generic;
-    if (comps == 4)
-        return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, NULL, st)
-                       : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 4, f->cam.eye, st);
-    return generic ? deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, NULL, st)
-                   : deposit_list_as(s, c, nv, vshift, n, kp, kend, dt, 1, f->cam.eye, st);
+    if (s->kernel != LC_KSPH_GAUSSIAN) return deposit_list_sph(s, f, c, nv, vshift, n, kp, kend, dt, comps, st);
+    return deposit_list_any(s, f, c, nv, vshift, n, kp, kend, dt, comps, st, 0);
 }
 
 #endif

@@ -55,6 +55,17 @@ bad short.xyz:2 "$tmp/short.xyz" -o "$o" --size 16x16
 bad badnum.xyz:2 "$tmp/badnum.xyz" -o "$o" --size 16x16
 bad --raw-particles "$tmp/ok.xyz" -o "$o" --raw-particles 0
 bad "no input" -o "$o"
+bad --kernel "$tmp/ok.xyz" -o "$o" --kernel m7
+bad --hsml-is "$tmp/ok.xyz" -o "$o" --hsml-is x
+bad hsml_is "$tmp/ok.xyz" -o "$o" --hsml-is h
+
+# an SPH kernel renders and is reported (issue 27)
+if "$exe" render "$tmp/ok.xyz" -o "$tmp/sph.png" --size 32x24 --radius 1.5 --kernel wendland-c2 --stats --quiet \
+    >"$tmp/stdout" 2>&1 && [ -s "$tmp/sph.png" ] && grep -q '^kernel  *wendland-c2 (radius = support radius H)' "$tmp/stdout"; then
+    echo "ok   render --kernel wendland-c2: $(grep '^kernel' "$tmp/stdout")"
+else
+    echo "FAIL render --kernel wendland-c2"; cat "$tmp/stdout"; fail=1
+fi
 
 # a good render of a real molecule
 pdb="$data/particles/1tii.pdb"

@@ -386,6 +386,24 @@ static void gadget_format2(void)
     d = read_with(&lci_format_gadget, tpath("f2.g2"), 0, NULL, (lc_option[]){{"value", "rho"}}, 1, &l);
     CHECK(d && d->count == 3 && d->values[2] == 22.0f, "value = rho: the gas only, RHO block");
     lci_loaded_free(&l);
+    /* SPH (issue 27): HSML is H; hsml_is = h makes H = gamma h; with an SPH kernel a value is
+       interpolated: k = m / rho * A (MASS 2, 3, 4; RHO 20, 21, 22; U 10, 11, 12) */
+    d = read_with(&lci_format_gadget, tpath("f2.g2"), 0, NULL, (lc_option[]){{"value", "u"}, {"kernel", "m4"}}, 2, &l);
+    ok = d && d->count == 3 && d->radii[1] == 0.5f && d->radius_note && strstr(d->radius_note, "H = HSML");
+    for (int i = 0; ok && i < 3; i++) ok &= fabsf(d->values[i] - (2.0f + i) / (20.0f + i) * (10.0f + i)) < 1e-6f;
+    CHECK(ok, "kernel = m4, value = u: k = m / rho u for the gas, radii = HSML (%s)",
+          d && d->radius_note ? d->radius_note : "no note");
+    lci_loaded_free(&l);
+    d = read_with(&lci_format_gadget, tpath("f2.g2"), 0, NULL, (lc_option[]){{"hsml_is", "h"}, {"kernel", "wendland-c2"}},
+                  2, &l);
+    CHECK(d && fabsf(d->radii[0] - 0.25f * 1.936492f) < 1e-6f && d->values == NULL && d->radius_note &&
+              strstr(d->radius_note, "wendland-c2"),
+          "hsml_is = h, kernel = wendland-c2: H = 1.936492 h (%s)", d && d->radius_note ? d->radius_note : "no note");
+    lci_loaded_free(&l);
+    must_fail("f2.g2", ": option hsml_is = 'x'", "expected h", LC_ERROR_INVALID_ARGUMENT,
+              &(lc_load_desc){.options = (lc_option[]){{"hsml_is", "x"}}, .noptions = 1});
+    must_fail("f2.g2", ": option kernel = 'm7'", "expected gaussian, m4", LC_ERROR_INVALID_ARGUMENT,
+              &(lc_load_desc){.options = (lc_option[]){{"kernel", "m7"}}, .noptions = 1});
     /* a label that lies about the next block's size */
     size_t lab = 8 + 8 + 256 + 8; /* the POS label record */
     uint32_t lie = __builtin_bswap32(999);

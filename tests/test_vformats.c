@@ -327,7 +327,8 @@ static void h5_data(hid_t g, const char *name, hid_t ftype, hid_t mtype, int ran
 /* A GADGET-style snapshot: 3 gas (double positions, hsml, density, masses)
  * and 2 halo particles (float positions, mass from MassTable). bad: 1 = halo
  * positions N x 2, 2 = NumPart disagrees, 3 = SWIFT's 7-type header and a
- * NumFilesPerSnapshot of 64 values (both fine), 4 = a MassTable of 20. */
+ * NumFilesPerSnapshot of 64 values (both fine), 4 = a MassTable of 20, 5 =
+ * SWIFT's: SmoothingLengths (h) and a /HydroScheme recording Wendland C2. */
 static void h5_snapshot(const char *name, int bad)
 {
     hid_t f = H5Fcreate(tpath(name), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
@@ -344,7 +345,15 @@ static void h5_snapshot(const char *name, int bad)
     hsize_t d3[2] = {3, 3}, d1 = 3;
     h5_data(g, "Coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, d3, x0);
     h5_data(g, "Masses", H5T_IEEE_F32LE, H5T_NATIVE_DOUBLE, 1, &d1, m0);
-    h5_data(g, "SmoothingLength", H5T_IEEE_F32LE, H5T_NATIVE_DOUBLE, 1, &d1, h0);
+    h5_data(g, bad == 5 ? "SmoothingLengths" : "SmoothingLength", H5T_IEEE_F32LE, H5T_NATIVE_DOUBLE, 1, &d1, h0);
+    if (bad == 5) {
+        hid_t hs = H5Gcreate2(f, "HydroScheme", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        hid_t st = H5Tcopy(H5T_C_S1);
+        H5Tset_size(st, 12);
+        h5_attr(hs, "Kernel function", st, "Wendland C2", 1);
+        H5Tclose(st);
+        H5Gclose(hs);
+    }
     h5_data(g, "Density", H5T_IEEE_F32LE, H5T_NATIVE_DOUBLE, 1, &d1, r0);
     H5Gclose(g);
     g = H5Gcreate2(f, "PartType1", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
@@ -408,6 +417,27 @@ static void hdf5(void)
     d = read_with(&lci_format_hdf5, tpath("swift.hdf5"), 0, (lc_option[]){{"value", "mass"}}, 1, &l);
     CHECK(d && d->count == 5 && d->values[3] == 0.5f,
           "swift.hdf5: 7-type header, a 64-value NumFilesPerSnapshot: loads (no fixed buffer overrun)");
+    lci_loaded_free(&l);
+    /* SPH (issue 27): SmoothingLength is H; SWIFT's SmoothingLengths are h, H = gamma h with the
+       rendered kernel's gamma, else the recorded kernel's; k = m / rho A with an SPH kernel */
+    d = read_with(&lci_format_hdf5, tpath("snap.hdf5"), 0, (lc_option[]){{"value", "rho"}, {"kernel", "m4"}}, 2, &l);
+    CHECK(d && d->count == 3 && d->values[0] == 1.0f && d->values[2] == 3.0f && d->radii[2] == 0.7f && d->radius_note &&
+              strstr(d->radius_note, "SmoothingLength"),
+          "snap.hdf5, kernel = m4, value = rho: k = m / rho rho = m, H = SmoothingLength (%s)",
+          d && d->radius_note ? d->radius_note : "no note");
+    lci_loaded_free(&l);
+    must_fail("snap.hdf5", ": /PartType1: ", "no Density dataset", LC_ERROR_FORMAT,
+              &(lc_load_desc){.options = (lc_option[]){{"value", "mass"}, {"kernel", "m4"}, {"types", "1"}}, .noptions = 3});
+    h5_snapshot("swift_h.hdf5", 5);
+    d = read_with(&lci_format_hdf5, tpath("swift_h.hdf5"), 0, (lc_option[]){{"types", "0"}}, 1, &l);
+    CHECK(d && fabsf(d->radii[0] - 0.5f * 1.936492f) < 1e-6f && d->radius_note && strstr(d->radius_note, "wendland-c2"),
+          "SWIFT's h with a recorded Wendland C2: H = 1.936492 h (%s)", d && d->radius_note ? d->radius_note : "no note");
+    lci_loaded_free(&l);
+    d = read_with(&lci_format_hdf5, tpath("swift_h.hdf5"), 0, (lc_option[]){{"types", "0"}, {"kernel", "m4"}}, 2, &l);
+    CHECK(d && fabsf(d->radii[0] - 0.5f * 1.825742f) < 1e-6f, "SWIFT's h rendered with M4: H = 1.825742 h");
+    lci_loaded_free(&l);
+    d = read_with(&lci_format_hdf5, tpath("swift_h.hdf5"), 0, (lc_option[]){{"types", "0"}, {"hsml_is", "H"}}, 2, &l);
+    CHECK(d && d->radii[0] == 0.5f, "SWIFT's smoothing lengths with hsml_is = H: as read");
     lci_loaded_free(&l);
     h5_snapshot("mt20.hdf5", 4);
     must_fail("mt20.hdf5", ": /Header/MassTable: ", "20 values, expected 1 to 16", LC_ERROR_FORMAT, NULL);

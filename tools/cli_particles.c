@@ -63,7 +63,16 @@ static const char help[] =
     "  --spheres SCALE       also ray-trace opaque spheres of radius SCALE * r (paper §5.2)\n"
     "  --buffer K            coherent samples per ray per pass (default: adapted per ray group,\n"
     "                        up to 128, 128/M for M fields; the image does not depend on it)\n"
-    "  defaults: method coherent, dt a quarter of the smallest radius, range 0..kappa; molecules\n"
+    "  --kernel NAME         the radial kernel: gaussian (default), or an SPH kernel m4 (cubic\n"
+    "                        spline), m5, m6, wendland-c2, wendland-c4, wendland-c6 with support\n"
+    "                        radius H = the particle's radius (GADGET's HSML; no --sigma), normalised\n"
+    "                        in 3-D; with --value A on a GADGET/HDF5 snapshot the field is the SPH\n"
+    "                        interpolant sum m/rho A W (m and rho from the file; gas only)\n"
+    "  --hsml-is h|H         GADGET/HDF5: the file's smoothing lengths are h (H = gamma h, gamma the\n"
+    "                        kernel's) or H (default: GADGET HSML and AREPO SmoothingLength are H,\n"
+    "                        SWIFT SmoothingLengths are h); lanecast info says which was applied\n"
+    "  defaults: method coherent, dt a quarter of the smallest radius (SPH kernels: an eighth),\n"
+    "  range 0..kappa (SPH kernels: 0..the largest peak kappa k norm / H^3); molecules\n"
     "  (PDB, mmCIF, GRO, XYZ, DCD) with no --fields, --tf, --colormap or --opacity: --fields cpk\n"
     "  coloured by element (C grey, N blue, O red, S yellow, P orange, H white, others green) with\n"
     "  water and ions (by residue name) a faint blue haze; otherwise TF heat (demo for several\n"
@@ -88,7 +97,8 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     const char *a = argv[*i], *v;
     static const char *const flags[] = {"--raw-particles", "--radius", "--radius-scale", "--fields", "--drop-invalid",
                                         "--leaf",          "--sigma",  "--kappa",        "--spheres", "--buffer",
-                                        "--value",         "--knn",    "--types",        "--select",  "--field-by"};
+                                        "--value",         "--knn",    "--types",        "--select",  "--field-by",
+                                        "--kernel",        "--hsml-is"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -135,6 +145,22 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
         return cli_load_add(load, cmd, "select", v) ? -1 : 1;
     }
     if (!strcmp(a, "--value")) return cli_load_add(load, cmd, "value", v) ? -1 : 1;
+    if (!strcmp(a, "--kernel")) { /* the render kernel, and the loaders' h -> H and SPH weights (load option kernel) */
+        if (lc_kernel_from_name(v, &params.kernel) != LC_OK) {
+            fprintf(stderr, "%s: --kernel: '%s' is not gaussian, m4, m5, m6, wendland-c2, wendland-c4 or wendland-c6\n",
+                    cmd, v);
+            return -1;
+        }
+        return cli_load_add(load, cmd, "kernel", v) ? -1 : 1;
+    }
+    if (!strcmp(a, "--hsml-is")) {
+        if (strcmp(v, "h") && strcmp(v, "H")) {
+            fprintf(stderr, "%s: --hsml-is: '%s' is not h (the code's smoothing length) or H (the support radius)\n",
+                    cmd, v);
+            return -1;
+        }
+        return cli_load_add(load, cmd, "hsml_is", v) ? -1 : 1;
+    }
     if (!strcmp(a, "--types")) return cli_load_add(load, cmd, "types", v) ? -1 : 1;
     if (!strcmp(a, "--knn")) return arg_int(cmd, a, v, 1, 1024, &n) || cli_load_add(load, cmd, "knn", v) ? -1 : 1;
     if (!strcmp(a, "--leaf")) return arg_int(cmd, a, v, 1, 32, &n) || cli_load_add(load, cmd, "leaf_size", v) ? -1 : 1;
@@ -210,6 +236,10 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
     if (lc_particles_get_info(v, &pi) != LC_OK) return;
     fprintf(f, "particles     %zu (%zu dropped), %d fields, radius %.4g..%.4g\n", pi.count, pi.dropped, pi.nfields,
             (double)pi.min_radius, (double)pi.max_radius);
+    fprintf(f, "kernel        %s%s\n", lc_kernel_name(pi.params.kernel),
+            pi.params.kernel == LC_KERNEL_GAUSSIAN ? " (radius = standard deviation, cut at sigma radii)"
+                                                   : " (radius = support radius H)");
+    if (pi.radius_note[0]) fprintf(f, "radii         %s\n", pi.radius_note);
     fprintf(f, "load          %.3f s (reading and BVH build)\n", load_seconds);
     fprintf(f, "bvh           %d nodes, depth %d, %.2f MB, build %.3f s; particle data %.2f MB\n", pi.bvh_nodes,
             pi.bvh_depth, (double)pi.bvh_bytes / 1e6, pi.build_seconds, (double)pi.data_bytes / 1e6);

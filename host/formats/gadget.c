@@ -22,13 +22,19 @@
  * neighbour number); `radius = R` for all; `radius_scale` scales.
  * `value = none|mass|u|rho|hsml` picks k_i (gas quantities load the gas
  * only). A multi-file snapshot (num_files > 1) is read one file at a time.
- * Errors name the file and the byte. */
+ * SPH (host/sph/sph_load.h): HSML is the support radius H (GADGET's
+ * convention; `hsml_is = h` converts H = gamma h with the kernel's gamma);
+ * with `kernel = ` an SPH kernel and a value A, k_i = m_i / rho_i A_i from
+ * the gas masses (table or MASS) and RHO (gas only). Errors name the file
+ * and the byte. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/formats/binfile.h"
 #include "host/formats/plist.h"
+#include "host/sph/sph_kernel.h"
+#include "host/sph/sph_load.h"
 
 #define G_MAX_PARTICLES ((int64_t)INT32_MAX / 2)
 #define G_MAX_BLOCKS 64
@@ -202,6 +208,7 @@ typedef struct gopts {
     int types[6], types_given, by_type, value, knn;
     float radius, radius_scale;
     lci_psel sel;
+    lci_sph_opts sph;
 } gopts;
 
 static lc_status parse_opts(lc_device *dev, const lci_read_args *a, gopts *o)
@@ -252,6 +259,7 @@ static lc_status parse_opts(lc_device *dev, const lci_read_args *a, gopts *o)
     }
     if (!o->types_given)
         for (int t = 0; t < 6; t++) o->types[t] = 1;
+    if (s == LC_OK) s = lci_sph_opts_parse(dev, a, &o->sph);
     if (s == LC_OK) s = lci_psel_open(dev, a, &o->sel);
     return s;
 }
@@ -265,14 +273,19 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
     lci_plist p;
     memset(&p, 0, sizeof p);
     int nfields = 0;
+    const int weighted = lci_sph_weighted(&o.sph, o.value != V_NONE);
+    const char *gwhy = "";
+    lc_kernel gk = lci_sph_gamma_kernel(&o.sph, LC_KERNEL_GAUSSIAN, &gwhy);
+    const double gamma = o.sph.hsml_is == LCI_HSML_SMALL_H ? lci_sph_kernel_get(gk)->swift_gamma : 1.0;
     if ((s = scan(dev, a->path, &g)) != LC_OK) goto out;
-    if (o.value >= V_U) { /* gas quantities: the gas only */
+    if (o.value >= V_U || weighted) { /* gas quantities and SPH interpolation: the gas only */
         for (int t = 1; t < 6; t++)
             if (o.types_given && o.types[t] && g.npart[t] > 0) {
                 s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
-                              "%s: value = %s is a gas quantity, but types = includes type %d (%lld particles); use "
+                              "%s: value = %s is a gas quantity%s, but types = includes type %d (%lld particles); use "
                               "types = 0",
-                              a->path, vnames[o.value], t, (long long)g.npart[t]);
+                              a->path, vnames[o.value], weighted && o.value < V_U ? " (SPH interpolation)" : "", t,
+                              (long long)g.npart[t]);
                 goto out;
             }
         for (int t = 1; t < 6; t++) o.types[t] = 0;
@@ -286,6 +299,14 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
     if (o.value == V_MASS && g.nmass > 0 && !vb) {
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: value = mass, but the mass table leaves %lld particles without a mass "
                       "and there is no MASS block", a->path, (long long)g.nmass);
+        goto out;
+    }
+    const gblock *rhob = block(&g, "RHO "), *massb = block(&g, "MASS");
+    if (weighted && (!rhob || (g.mass[0] == 0.0 && g.npart[0] > 0 && !massb))) {
+        s = lci_error(dev, LC_ERROR_FORMAT,
+                      "%s: value = %s with kernel %s is SPH interpolation (k = m / rho * %s), but the snapshot has no %s",
+                      a->path, vnames[o.value], lc_kernel_name(o.sph.kernel), vnames[o.value],
+                      !rhob ? "RHO block (gas densities)" : "gas masses (mass table entry 0 and no MASS block)");
         goto out;
     }
     const gblock *pos = block(&g, "POS "), *hsml = block(&g, "HSML");
@@ -319,6 +340,7 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
             for (int64_t i = 0; i < n; i++) r[i] = o.radius;
         } else if (t == 0 && hsml) {
             if ((s = reals(&g, hsml, 0, n, r)) != LC_OK) goto out;
+            for (int64_t i = 0; gamma != 1.0 && i < n; i++) r[i] = (float)(gamma * (double)r[i]);
         } else {
             if (lci_knn_radii(x, (size_t)n, o.knn, r)) {
                 s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for the neighbour search", a->path);
@@ -341,6 +363,18 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
             if ((s = reals(&g, vb, 0, n, v)) != LC_OK) goto out;
         } else {
             for (int64_t i = 0; i < n; i++) v[i] = 1.0f;
+        }
+        if (weighted) { /* t == 0: k_i = m_i / rho_i A_i */
+            float *m = NULL, *rho = malloc(sizeof(float) * (size_t)n * 2);
+            if (!rho) {
+                s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld densities", a->path, (long long)n);
+                goto out;
+            }
+            if (g.mass[0] == 0.0) m = rho + n, s = reals(&g, massb, 0, n, m);
+            if (s == LC_OK) s = reals(&g, rhob, 0, n, rho);
+            if (s == LC_OK) s = lci_sph_weigh(dev, a->path, "block RHO", 0, n, m, g.mass[0], rho, v);
+            free(rho);
+            if (s != LC_OK) goto out;
         }
         for (int64_t i = 0; i < n; i++) p.f[base + (size_t)i] = (uint8_t)(o.by_type ? nfields : 0);
         if (o.sel.sel) { /* select: type = the particle type, index over the file's particles */
@@ -365,7 +399,22 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
 out:
     s = lci_psel_close(dev, a, &o.sel, p.n, s);
     lci_bin_close(&g.b);
-    return lci_plist_finish(dev, a->path, s, &p, o.by_type ? nfields : 1, o.value != V_NONE, out);
+    int had_hsml = s == LC_OK && o.radius <= 0.0f && o.types[0] && g.npart[0] > 0 && block(&g, "HSML");
+    s = lci_plist_finish(dev, a->path, s, &p, o.by_type ? nfields : 1, o.value != V_NONE, out);
+    if (s == LC_OK && had_hsml) {
+        if (o.sph.hsml_is == LCI_HSML_SMALL_H)
+            lci_sph_note(out, "gas H = %.6g HSML (hsml_is = h: H = gamma h with %s gamma, %s)", gamma,
+                         lc_kernel_name(gk), gwhy);
+        else
+            lci_sph_note(out, "gas H = HSML (GADGET's HSML is the support radius%s)",
+                         o.sph.hsml_is == LCI_HSML_BIG_H ? "; hsml_is = H" : "");
+    }
+    if (s == LC_OK && weighted)
+        lci_sph_note(out, "%s; k = m / rho * %s (SPH interpolation with %s)",
+                     ((lc_particles_desc *)out->desc)->radius_note ? ((lc_particles_desc *)out->desc)->radius_note
+                                                                   : "radii as read",
+                     vnames[o.value], lc_kernel_name(o.sph.kernel));
+    return s;
 }
 
 static int gadget_magic(const unsigned char *h, size_t n)
@@ -380,7 +429,7 @@ static int gadget_magic(const unsigned char *h, size_t n)
 
 const lci_format lci_format_gadget = {
     .name = "gadget", .kind = LC_KIND_PARTICLES, .extensions = ".gadget .g2",
-    .options = "radius radius_scale fields value types knn select",
+    .options = "radius radius_scale fields value types knn select kernel hsml_is",
     .description = "GADGET-1/2 snapshot, format 1 or 2, either byte order: types as fields, radius = HSML or the k-th "
                    "neighbour distance, value = none|mass|u|rho|hsml",
     .magic = gadget_magic, .read = gadget_read};

@@ -10,6 +10,13 @@
  * the knn-th neighbour). `select` (select.h): index over the file's
  * particles (PartType0 first) and type (the N of PartTypeN); a selected
  * particle keeps the radius found among all of its type's particles.
+ * SPH (host/sph/sph_load.h): radii are lanecast's support radius H. GADGET-3
+ * and AREPO's SmoothingLength is H; SWIFT's SmoothingLengths (its spelling,
+ * or a /HydroScheme group) are h, converted to H = gamma h with the gamma of
+ * the kernel rendered, else of the /HydroScheme "Kernel function" the file
+ * records, else the cubic spline's; `hsml_is = h|H` overrides. With an SPH
+ * kernel and a value A, k_i = m_i / rho_i A_i (Masses or MassTable,
+ * Density/Densities; groups without densities are skipped unless named).
  *
  * `dataset = PATH`: a 3-D dataset (C order, so its last dimension is x)
  * becomes a grid (uint8, int16, uint16 and float32 as they are, other
@@ -31,6 +38,8 @@
 #include "host/formats/plist.h"
 #include "host/formats/volume_data.h"
 #include "host/kinds/grid.h"
+#include "host/sph/sph_kernel.h"
+#include "host/sph/sph_load.h"
 
 #if LC_HAVE_HDF5
 #include <hdf5.h>
@@ -244,6 +253,7 @@ typedef struct hopts {
     float radius, radius_scale;
     const char *dataset;
     lci_psel sel; /* select: index over the file's particles (type order), type = the PartType number */
+    lci_sph_opts sph;
 } hopts;
 
 /* Keeps the particles [base, base + n) of p that the selection takes
@@ -303,7 +313,30 @@ static lc_status parse_opts(lc_device *dev, const lci_read_args *a, hopts *o)
     }
     if (!o->types_given)
         for (int t = 0; t < 6; t++) o->types[t] = 1;
+    if (s == LC_OK) s = lci_sph_opts_parse(dev, a, &o->sph);
     return s;
+}
+
+/* The SPH kernel a SWIFT snapshot records (/HydroScheme attribute "Kernel
+ * function", a fixed-length string such as "Wendland C2" or "Cubic spline
+ * (M4)"), or LC_KERNEL_GAUSSIAN when it records none this reader knows. */
+static lc_kernel file_kernel(hid_t f)
+{
+    static const char *const names[][2] = {{"(M4)", "m4"}, {"(M5)", "m5"}, {"(M6)", "m6"},
+                                           {"Wendland C2", "wendland-c2"}, {"Wendland C4", "wendland-c4"},
+                                           {"Wendland C6", "wendland-c6"}};
+    lc_kernel k = LC_KERNEL_GAUSSIAN;
+    if (!exists(f, "HydroScheme") || H5Aexists_by_name(f, "HydroScheme", "Kernel function", H5P_DEFAULT) <= 0) return k;
+    hid_t a = H5Aopen_by_name(f, "HydroScheme", "Kernel function", H5P_DEFAULT, H5P_DEFAULT);
+    hid_t ty = a >= 0 ? H5Aget_type(a) : -1;
+    char buf[256] = "";
+    if (ty >= 0 && H5Tget_class(ty) == H5T_STRING && !H5Tis_variable_str(ty) && H5Tget_size(ty) < sizeof buf &&
+        H5Aread(a, ty, buf) >= 0)
+        for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+            if (strstr(buf, names[i][0])) lc_kernel_from_name(names[i][1], &k);
+    if (ty >= 0) H5Tclose(ty);
+    if (a >= 0) H5Aclose(a);
+    return k;
 }
 
 /* Radii of n points: radius option, else k-NN, zeros replaced by the smallest. */
@@ -336,6 +369,12 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, hopts 
     int have_np = header_attr(f, "NumPart_ThisFile", npart, 16, why, sizeof why);
     if (have_np < 0) return lci_error(dev, LC_ERROR_FORMAT, "%s: /Header/NumPart_ThisFile: %s", path, why);
     int nfields = 0, any = 0;
+    /* smoothing lengths: h (SWIFT) or H, and the gamma that makes h into H */
+    const int weighted = lci_sph_weighted(&o->sph, o->value != V_NONE);
+    const int swift = exists(f, "HydroScheme");
+    const char *gwhy = "";
+    lc_kernel gk = lci_sph_gamma_kernel(&o->sph, file_kernel(f), &gwhy);
+    int any_h = 0, any_H = 0; /* groups whose smoothing lengths were read as h, as H */
     for (int t = 0; t < 6 && s == LC_OK; t++) {
         char gname[16], name[96];
         snprintf(gname, sizeof gname, "PartType%d", t);
@@ -369,6 +408,14 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, hopts 
             if (s == LC_OK) s = read_floats(dev, path, name, ds, &di, x, 3 * (size_t)n);
             int have = 0;
             if (s == LC_OK && !(o->radius > 0.0f)) s = per_particle(dev, path, g, t, hsml_names, n, r, &have);
+            if (s == LC_OK && have) { /* SWIFT's spelling (or its /HydroScheme) means h */
+                int small = o->sph.hsml_is == LCI_HSML_FILE
+                                ? (swift || !exists(g, hsml_names[0]))
+                                : o->sph.hsml_is == LCI_HSML_SMALL_H;
+                double gamma = small ? lci_sph_kernel_get(gk)->swift_gamma : 1.0;
+                for (int64_t i = 0; gamma != 1.0 && i < n; i++) r[i] = (float)(gamma * (double)r[i]);
+                any_h |= small, any_H |= !small;
+            }
             if (s == LC_OK) s = fill_radii(dev, path, o, x, n, r, have);
             int vfound = 1;
             if (s == LC_OK && o->value != V_NONE) s = per_particle(dev, path, g, t, vdatasets[o->value], n, v, &vfound);
@@ -387,6 +434,30 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, hopts 
                 else
                     lci_log(dev, LC_LOG_INFO, "%s: /%s skipped: no %s for value = %s", path, gname,
                             vdatasets[o->value][0], vnames[o->value]);
+            }
+            if (s == LC_OK && vfound && weighted) { /* k_i = m_i / rho_i A_i */
+                float *buf = malloc(sizeof(float) * (size_t)n * 2);
+                int rf = 0, mf = 0;
+                if (!buf) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+                if (s == LC_OK) s = per_particle(dev, path, g, t, rho_names, n, buf, &rf);
+                if (s == LC_OK && rf) s = per_particle(dev, path, g, t, mass_names, n, buf + n, &mf);
+                if (s == LC_OK && rf && !mf && !(have_mtab && mtab[t] > 0.0))
+                    s = lci_error(dev, LC_ERROR_FORMAT, "%s: /%s: value = %s with kernel %s is SPH interpolation (k = m / "
+                                  "rho * %s), but there is no Masses dataset and no /Header MassTable entry for type %d",
+                                  path, gname, vnames[o->value], lc_kernel_name(o->sph.kernel), vnames[o->value], t);
+                if (s == LC_OK && !rf) {
+                    vfound = 0;
+                    if (o->types_given)
+                        s = lci_error(dev, LC_ERROR_FORMAT, "%s: /%s: value = %s with kernel %s is SPH interpolation (k = "
+                                      "m / rho * %s), but the group has no Density dataset", path, gname,
+                                      vnames[o->value], lc_kernel_name(o->sph.kernel), vnames[o->value]);
+                    else
+                        lci_log(dev, LC_LOG_INFO, "%s: /%s skipped: no Density for SPH interpolation", path, gname);
+                }
+                snprintf(name, sizeof name, "/%s/Density", gname);
+                if (s == LC_OK && rf)
+                    s = lci_sph_weigh(dev, path, name, 0, n, mf ? buf + n : NULL, mtab[t], buf, v);
+                free(buf);
             }
             if (s == LC_OK && vfound) {
                 if (o->value == V_NONE)
@@ -411,7 +482,25 @@ static lc_status read_snapshot(lc_device *dev, const char *path, hid_t f, hopts 
     double nfiles = 0;
     if (s == LC_OK && header_attr(f, "NumFilesPerSnapshot", &nfiles, 1, why, sizeof why) > 0 && nfiles > 1)
         lci_log(dev, LC_LOG_INFO, "%s: one file of a %.0f-file snapshot (its own particles only)", path, nfiles);
-    return lci_plist_finish(dev, path, s, &p, o->by_type ? nfields : 1, o->value != V_NONE, out);
+    s = lci_plist_finish(dev, path, s, &p, o->by_type ? nfields : 1, o->value != V_NONE, out);
+    if (s == LC_OK && (any_h || any_H || weighted)) {
+        const char *how = o->sph.hsml_is != LCI_HSML_FILE ? "hsml_is" : swift ? "SWIFT's (/HydroScheme)"
+                          : any_h ? "SWIFT's spelling SmoothingLengths" : "GADGET-3/AREPO's SmoothingLength";
+        char conv[160];
+        if (any_h)
+            snprintf(conv, sizeof conv, "H = %.6g h (%s h: gamma of %s, %s)%s", lci_sph_kernel_get(gk)->swift_gamma,
+                     how, lc_kernel_name(gk), gwhy, any_H ? "; other groups H as read" : "");
+        else if (any_H)
+            snprintf(conv, sizeof conv, "H = the smoothing lengths as read (%s: the support radius)", how);
+        else
+            snprintf(conv, sizeof conv, "radii as read");
+        if (weighted)
+            lci_sph_note(out, "%s; k = m / rho * %s (SPH interpolation with %s)", conv, vnames[o->value],
+                         lc_kernel_name(o->sph.kernel));
+        else
+            lci_sph_note(out, "%s", conv);
+    }
+    return s;
 }
 
 static lc_status read_dataset(lc_device *dev, const lci_read_args *a, hid_t f, hopts *o, lci_loaded *out)
@@ -645,7 +734,7 @@ static int hdf5_magic(const unsigned char *h, size_t n)
 
 const lci_format lci_format_hdf5 = {
     .name = "hdf5", .kind = LC_KIND_NONE, .extensions = ".hdf5 .h5 .he5",
-    .options = "dataset types value knn radius radius_scale fields spacing origin type select",
+    .options = "dataset types value knn radius radius_scale fields spacing origin type select kernel hsml_is",
     .description = "HDF5: GADGET/AREPO/SWIFT PartTypeN snapshots (types as fields, value = none|mass|u|rho|hsml), "
                    "or dataset = PATH: 3-D as a grid, N x 3 as particles",
     .magic = hdf5_magic, .read = HDF5_READ, .package = "libhdf5-dev", .kind_of = HDF5_KIND};

@@ -9,6 +9,12 @@
 #include "bvh/particle_bvh.h"
 #include "host/kinds/particles_cstep.h"
 #include "host/kinds/particles_frame.h"
+#include "host/sph/sph_kernel.h"
+
+_Static_assert(LC_KSPH_M4 == (int)LC_KERNEL_M4 && LC_KSPH_M5 == (int)LC_KERNEL_M5 && LC_KSPH_M6 == (int)LC_KERNEL_M6 &&
+                   LC_KSPH_C2 == (int)LC_KERNEL_WENDLAND_C2 && LC_KSPH_C4 == (int)LC_KERNEL_WENDLAND_C4 &&
+                   LC_KSPH_C6 == (int)LC_KERNEL_WENDLAND_C6 && LC_KSPH_GAUSSIAN == (int)LC_KERNEL_GAUSSIAN,
+               "kernel ids: kparticles.h against lanecast.h");
 
 typedef struct particles {
     lc_volume base; /* first: the kind-neutral handle */
@@ -16,7 +22,11 @@ typedef struct particles {
     lci_pbvh bvh;
     float *node_ksum; /* per node: sum of |k_i| below it */
     float *node_fbound; /* per node and field: field bound (field_bounds); NULL = none */
-    float fbound_sigma; /* the sigma node_fbound was computed for */
+    float fbound_sigma; /* the support sigma node_fbound was computed for */
+    lc_kernel fbound_kernel; /* and the kernel */
+    float *node_ksph;   /* SPH kernels: per node the sum of the peaks |k_i| norm / H_i^3 below it */
+    lc_kernel ksph_kernel; /* the kernel node_ksph holds (LC_KERNEL_GAUSSIAN: none) */
+    double kh3min, kh3max; /* of the k_i / r_i^3 and 0: an SPH kernel's default range is kappa norm times them */
     float *px, *py, *pz, *r, *nir, *k; /* leaf order */
     float kmin, kmax; /* of the k_i and 0: the default value range is kappa times them */
     uint8_t *field;
@@ -27,6 +37,10 @@ typedef struct particles {
 /* A support radius grown so float round-off never leaves out a cell a sample
  * the kernels count as inside (they test d^2 < (sigma r)^2). */
 static float grow_support(float rs) { return rs * 1.001f + 1e-6f; }
+
+/* The support radius in units of r_i: sigma for the Gaussian; an SPH
+ * kernel's support is r_i = H_i itself (lanecast.h lc_kernel). */
+static float support_sigma(const lc_particle_params *q) { return q->kernel == LC_KERNEL_GAUSSIAN ? q->sigma : 1.0f; }
 
 static void field_bounds(particles *p);
 
@@ -39,6 +53,7 @@ static void destroy(lc_volume *v)
     pthread_mutex_destroy(&p->cs_mu);
     free(p->node_ksum);
     free(p->node_fbound);
+    free(p->node_ksph);
     free(p->px);
     free(p->py);
     free(p->pz);
@@ -95,8 +110,11 @@ static inline int cell_index(float x, int dim)
  * every particle whose support box overlaps a cell, |k_i| times its
  * Gaussian's largest value in the cell (padded against round-off); a leaf takes the largest
  * cell sum over the cells its grown box overlaps, an inner node the larger of
- * its children (its particles reach only their own leaves' grown boxes). It
- * depends on sigma, not on kappa: recomputed when sigma changes, not rebuilt.
+ * its children (its particles reach only their own leaves' grown boxes). An
+ * SPH kernel's largest value over a cell is its peak |k_i| norm / H^3 times
+ * f at the cell point nearest the centre (f decreases; not a product over
+ * the axes). It depends on sigma and the kernel, not on kappa: recomputed
+ * when either changes, not rebuilt.
  * Zero for fields a node holds no particle of. Out of memory: NULL, no
  * skipping. */
 
@@ -104,10 +122,12 @@ static void field_bounds(particles *p)
 {
     free(p->node_fbound);
     p->node_fbound = NULL;
-    p->fbound_sigma = p->info.params.sigma;
+    p->fbound_sigma = support_sigma(&p->info.params);
+    p->fbound_kernel = p->info.params.kernel;
+    const lci_sph_kernel *sk = lci_sph_kernel_get(p->info.params.kernel);
     int nn = p->bvh.nnodes, nf = p->info.nfields;
     if (nn <= 0) return;
-    float sig = p->info.params.sigma, R = sig * p->info.max_radius;
+    float sig = p->fbound_sigma, R = sig * p->info.max_radius;
     lc_box3 b = p->info.bounds;
     float lo[3] = {b.lo.x - R, b.lo.y - R, b.lo.z - R}, ext[3] = {b.hi.x - b.lo.x + 2 * R, b.hi.y - b.lo.y + 2 * R,
                                                                    b.hi.z - b.lo.z + 2 * R};
@@ -145,8 +165,21 @@ static void field_bounds(particles *p)
                 if (pc[a] < clo) dd = clo - pc[a];
                 else if (pc[a] > chi) dd = pc[a] - chi;
                 dd = fmaxf(0.0f, dd - 1e-3f * h); /* round-off: never below the true maximum */
-                e[a][q] = expf(-dd * dd * nir2) * 1.0001f; /* 1e-4 covers expf's and the argument's round-off */
+                /* 1e-4 covers expf's and the argument's round-off; SPH: the squared distance */
+                e[a][q] = sk ? dd * dd : expf(-dd * dd * nir2) * 1.0001f;
             }
+        if (sk) {
+            double H = p->r[j], amp = (double)ak * sk->norm / (H * H * H) * 1.0001;
+            for (int z = z0; z <= z1; z++)
+                for (int y = y0; y <= y1; y++) {
+                    float *row = g + (((size_t)z * (size_t)dim[1] + (size_t)y) * (size_t)dim[0]) * (size_t)nf + p->field[j];
+                    for (int x = x0; x <= x1; x++) {
+                        double u = sqrt((double)e[0][x - x0] + (double)e[1][y - y0] + (double)e[2][z - z0]) / H;
+                        row[(size_t)x * (size_t)nf] += (float)(amp * sk->f(u));
+                    }
+                }
+            continue;
+        }
         for (int z = z0; z <= z1; z++)
             for (int y = y0; y <= y1; y++) {
                 float eyz = ak * e[1][y - y0] * e[2][z - z0];
@@ -187,12 +220,39 @@ static void field_bounds(particles *p)
     p->node_fbound = nb;
 }
 
+/* node_ksph for the current kernel (an SPH kernel's peaks |k_i| norm / H_i^3
+ * summed per node, rounded up), computed when the kernel changes; kept for
+ * the Gaussian, which does not read it. */
+static lc_status sph_sums(particles *p)
+{
+    const lci_sph_kernel *sk = lci_sph_kernel_get(p->info.params.kernel);
+    if (!sk || p->ksph_kernel == p->info.params.kernel) return LC_OK;
+    size_t nn = (size_t)(p->bvh.nnodes > 0 ? p->bvh.nnodes : 1);
+    if (!p->node_ksph && !(p->node_ksph = malloc(sizeof(float) * nn)))
+        return lci_error(p->base.device, LC_ERROR_OUT_OF_MEMORY, "particles: out of memory for %zu node bounds", nn);
+    for (int32_t n = p->bvh.nnodes - 1; n >= 0; n--) {
+        const lc_kpnode *node = &p->bvh.nodes[n];
+        double sum = 0.0;
+        if (node->count == 0) sum = (double)p->node_ksph[node->first] + (double)p->node_ksph[node->first + 1];
+        else
+            for (int32_t i = node->first; i < node->first + node->count; i++) {
+                double H = p->r[i];
+                sum += fabs((double)p->k[i]) * sk->norm / (H * H * H);
+            }
+        p->node_ksph[n] = (float)sum * (1.0f + 1e-6f);
+    }
+    p->ksph_kernel = p->info.params.kernel;
+    return LC_OK;
+}
+
 lc_status lc_particles_set_params(lc_volume *v, const lc_particle_params *params)
 {
     particles *p = lci_volume_as(v, LC_KIND_PARTICLES, "lc_particles_set_params");
     if (!p) return LC_ERROR_INVALID_ARGUMENT;
     lc_status s = fill_params(v->device, "lc_particles_set_params", params, &p->info.params);
-    if (s == LC_OK && p->info.params.sigma != p->fbound_sigma) field_bounds(p);
+    if (s == LC_OK) s = sph_sums(p);
+    if (s == LC_OK && (support_sigma(&p->info.params) != p->fbound_sigma || p->info.params.kernel != p->fbound_kernel))
+        field_bounds(p);
     return s;
 }
 
@@ -347,6 +407,8 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
         p->nir[j] = -1.0f / (2.0f * ro * ro);
         p->k[j] = d->values ? d->values[i] : 1.0f;
         p->kmin = p->k[j] < p->kmin ? p->k[j] : p->kmin, p->kmax = p->k[j] > p->kmax ? p->k[j] : p->kmax;
+        double kh3 = (double)p->k[j] / ((double)ro * ro * ro);
+        p->kh3min = kh3 < p->kh3min ? kh3 : p->kh3min, p->kh3max = kh3 > p->kh3max ? kh3 : p->kh3max;
         p->field[j] = d->fields ? d->fields[i] : 0;
     }
     free(p->bvh.order);
@@ -382,6 +444,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         info->dropped = k.bad;
         info->nfields = nfields;
         info->leaf_size = d->leaf_size == 0 ? 4 : d->leaf_size;
+        if (d->radius_note) snprintf(info->radius_note, sizeof info->radius_note, "%s", d->radius_note);
         measure(&k, d->radius, info);
         double t0 = lci_now();
         if (k.n > 0) {
@@ -392,6 +455,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
                 s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
         }
         if (s == LC_OK) s = leaf_order(dev, d, &k, p);
+        if (s == LC_OK) s = sph_sums(p);
         if (s == LC_OK) field_bounds(p);
         info->build_seconds = lci_now() - t0;
         info->bvh_nodes = p->bvh.nnodes;
@@ -427,7 +491,7 @@ lc_status lc_particles_create(lc_device *dev, const lc_particles_desc *desc, lc_
 static lc_box3 grown_bounds(const particles *p)
 {
     const lc_particle_params *q = &p->info.params;
-    float g = fmaxf(q->sigma, q->sphere_scale) * p->info.max_radius;
+    float g = fmaxf(support_sigma(q), q->sphere_scale) * p->info.max_radius;
     lc_box3 b = p->info.bounds;
     b.lo.x -= g, b.lo.y -= g, b.lo.z -= g;
     b.hi.x += g, b.hi.y += g, b.hi.z += g;
@@ -439,12 +503,16 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
     (void)dev;
     const particles *p = (const particles *)v;
     out->bounds = grown_bounds(p);
-    /* a quarter of the smallest radius resolves every Gaussian */
-    out->default_dt = p->info.count ? 0.25f * p->info.min_radius : 1.0f;
-    /* a particle's own peak is kappa k_i: the range spans them and 0, so
-       values such as B-factors or charges (and a negative kappa) map onto
-       the TF rather than past it; unit values and kappa > 0 give [0, kappa] */
+    /* a quarter of the smallest radius resolves every Gaussian; an SPH
+       kernel's support is its radius, its core about half of it: an eighth */
+    const lci_sph_kernel *sk = lci_sph_kernel_get(p->info.params.kernel);
+    out->default_dt = p->info.count ? (sk ? 0.125f : 0.25f) * p->info.min_radius : 1.0f;
+    /* a particle's own peak is kappa k_i (SPH kernels: kappa k_i norm / H^3):
+       the range spans them and 0, so values such as B-factors or charges (and
+       a negative kappa) map onto the TF rather than past it; unit values and
+       kappa > 0 give [0, kappa] for the Gaussian */
     float kappa = p->info.params.kappa, a = kappa * p->kmin, b = kappa * p->kmax;
+    if (sk) a = (float)(kappa * sk->norm * p->kh3min), b = (float)(kappa * sk->norm * p->kh3max);
     float lo = a < b ? a : b, hi = a < b ? b : a; /* kmin <= 0 <= kmax: both hold 0 */
     out->default_range[0] = lo;
     out->default_range[1] = hi > lo ? hi : lo + 1.0f;
@@ -469,8 +537,12 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->nnodes = p->bvh.nnodes;
     k->depth = p->bvh.depth;
     k->nfields = p->info.nfields;
-    k->sigma = q->sigma;
+    k->sigma = support_sigma(q);
     k->kappa = q->kappa;
+    const lci_sph_kernel *sk = lci_sph_kernel_get(q->kernel);
+    k->kernel = (int32_t)q->kernel;
+    k->knorm = sk ? (float)sk->norm : 0.0f;
+    if (sk) k->node_ksum = p->node_ksph; /* sph_sums keeps it for the current kernel */
     k->max_radius = p->info.max_radius;
     lci_pcoherent_settings(k, p->info.nfields, q->buffer_samples);
     k->sphere_scale = q->sphere_scale;
@@ -528,9 +600,6 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %d does not apply to particles (coherent or direct)",
                          (int)d->method);
     const particles *p = (const particles *)v;
-    if (p->info.params.kernel != LC_KERNEL_GAUSSIAN)
-        return lci_error(dev, LC_ERROR_UNSUPPORTED, "lc_render: kernel %s: the ray-casting kernels evaluate the Gaussian only",
-                         lc_kernel_name(p->info.params.kernel));
     int skip = frame->mode == LC_KMODE_DVR && p->node_fbound && skip_enabled();
     size_t head = (sizeof(pframe) + 63) & ~(size_t)63;
     pframe *pf = lci_aligned_alloc(64, head + (skip ? (size_t)p->bvh.nnodes : 0));
@@ -538,7 +607,8 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     lc_kparticles *k = &pf->k;
     kscene(p, k);
     k->group_side = lci_pgroup_side(d, lc_target_lanes(dev->target));
-    if (m == LC_METHOD_COHERENT && frame->mode != LC_KMODE_SLICE && p->info.count > 0 && cstep_enabled()) {
+    if (m == LC_METHOD_COHERENT && frame->mode != LC_KMODE_SLICE && p->info.count > 0 &&
+        p->info.params.kernel == LC_KERNEL_GAUSSIAN && cstep_enabled()) {
         particles *pm = (particles *)v; /* the cache only: behind its mutex */
         pf->cs = lci_pcstep_get(&pm->cs_mu, &pm->cs, p->nir, p->info.count, frame->dt);
         if (!pf->cs) {
@@ -581,6 +651,11 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
     lc_particles_desc *d = desc;
     if (!strcmp(o->key, "leaf_size")) return lci_option_int(dev, file, o, 1, 32, &d->leaf_size);
     if (!strcmp(o->key, "drop_invalid")) return lci_option_int(dev, file, o, 0, 1, &d->drop_invalid);
+    if (!strcmp(o->key, "kernel") && lc_kernel_from_name(o->value, &d->params.kernel) != LC_OK)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "%s: option kernel = '%s', expected gaussian, m4, m5, m6, wendland-c2, wendland-c4 or wendland-c6",
+                         file, o->value);
+    if (!strcmp(o->key, "kernel")) return LC_OK;
     return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to particles", file, o->key);
 }
 
@@ -588,7 +663,7 @@ const lci_kind_ops lci_particles_ops = {
     .kind = LC_KIND_PARTICLES,
     .name = "particles",
     .krow = LC_KKIND_PARTICLES,
-    .option_keys = "leaf_size drop_invalid",
+    .option_keys = "leaf_size drop_invalid kernel",
     .create = create,
     .set_option = set_option,
     .destroy = destroy,

@@ -253,7 +253,7 @@ typedef struct lc_volume_info {
     int nfields;      /* fields (1..LC_MAX_FIELDS) */
     float range[2];   /* the value range a TF maps by default (grids: the voxel range;
                          particles: from min(0, kappa k_i) to max(0, kappa k_i), [0, kappa]
-                         for unit values; RBF sets: from the bias, their background,
+                         for unit values (SPH kernels: the peaks kappa k_i norm / H_i^3); RBF sets: from the bias, their background,
                          to the largest value at the centres; lc_rbf_info.range is a bound) */
 } lc_volume_info;
 
@@ -278,7 +278,13 @@ LC_API lc_status lc_volume_sample(lc_device *device, const lc_volume *volume, si
  * d < sigma r_i (r_i a standard deviation, k_i the peak). The SPH kernels are
  * compact with support radius H_i = r_i (GADGET's and yt's HSML; no sigma):
  * W(d, H) = norm / H^3 f(d / H), normalised in 3-D, and a particle contributes
- * kappa k_i W(d, H_i) (k_i is then an amount, e.g. m_i / rho_i * A_i). */
+ * kappa k_i W(d, H_i) (k_i is then an amount, e.g. m_i / rho_i * A_i). Every
+ * method and mode evaluates every kernel, with the analytic gradient for
+ * shading; sigma applies to the Gaussian only, and the default step of an
+ * SPH kernel is an eighth of the smallest H (the Gaussian's: a quarter of the
+ * smallest r). Changing the kernel through lc_particles_set_params rebuilds
+ * no BVH (node bounds scale with the support at render time; the per-node
+ * value bounds are recomputed, O(particles)). */
 typedef enum lc_kernel {
     LC_KERNEL_GAUSSIAN = 0,
     LC_KERNEL_M4 = 1,          /* cubic spline (Monaghan 1985): h = H / 2 */
@@ -318,6 +324,8 @@ typedef struct lc_particles_desc {
     int leaf_size;          /* particles per BVH leaf, 1..32; 0 = 4 */
     int drop_invalid;       /* 1: drop particles with non-finite or non-positive data (counted) instead of failing */
     lc_particle_params params; /* initial parameters (lc_particles_set_params changes them) */
+    const char *radius_note;   /* optional: how the radii were made (a loader's smoothing-length convention);
+                                  copied into lc_particles_info.radius_note */
 } lc_particles_desc;
 
 typedef struct lc_particles_info {
@@ -331,6 +339,7 @@ typedef struct lc_particles_info {
     size_t data_bytes;  /* the particle arrays lanecast keeps */
     int bvh_nodes, bvh_depth, leaf_size;
     lc_particle_params params; /* current, defaults filled in */
+    char radius_note[256]; /* the desc's radius_note (truncated), or "" */
 } lc_particles_info;
 
 /* Copies the particles (the caller's arrays may be freed afterwards) and
@@ -341,8 +350,8 @@ typedef struct lc_particles_info {
  * scene. */
 LC_API lc_status lc_particles_create(lc_device *device, const lc_particles_desc *desc, lc_volume **out);
 LC_API lc_status lc_particles_get_info(const lc_volume *particles, lc_particles_info *out);
-/* Sets sigma, kappa, buffer size and sphere scale (zero = default) without a
- * rebuild. Not while the volume is being rendered. */
+/* Sets sigma, kappa, buffer size, sphere scale (zero = default) and the
+ * kernel without a rebuild. Not while the volume is being rendered. */
 LC_API lc_status lc_particles_set_params(lc_volume *particles, const lc_particle_params *params);
 
 /* ---- grids (structured volumes, Knoll et al. 2011) */

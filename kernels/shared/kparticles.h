@@ -17,6 +17,19 @@
 #include <stdint.h>
 #include "kframe.h"
 
+/* The particles' radial kernels (lc_kparticles.kernel; the values of the
+ * public lc_kernel, asserted in host/kinds/particles.c); evaluated in
+ * kernels/particles_sph.h. */
+enum {
+    LC_KSPH_GAUSSIAN = 0,
+    LC_KSPH_M4 = 1,
+    LC_KSPH_M5 = 2,
+    LC_KSPH_M6 = 3,
+    LC_KSPH_C2 = 4,
+    LC_KSPH_C4 = 5,
+    LC_KSPH_C6 = 6
+};
+
 /* Inner node: count == 0, children at first and first + 1.
  * Leaf: count >= 1 particles starting at first. */
 typedef struct lc_kpnode {
@@ -30,8 +43,9 @@ _Static_assert(sizeof(lc_kpnode) == 32, "lc_kpnode layout");
 typedef struct lc_kparticles {
     const lc_kpnode *nodes; /* nodes[0] is the root; NULL when empty */
     const float *node_rmax; /* per node: largest radius below it */
-    const float *node_ksum; /* per node: sum of |k_i| below it, so |kappa| * node_ksum bounds the
-                               node's own contribution to any field (others add to it) */
+    const float *node_ksum; /* per node: sum of |k_i| below it (SPH kernels: of their peaks |k_i| knorm / H_i^3),
+                               so |kappa| * node_ksum bounds the node's own contribution to any field
+                               (others add to it) */
     const uint8_t *node_clear; /* dvr, this frame: 1 where no particle below the node can change a
                                   sample (host/kinds/particles.c clear_nodes); NULL = none */
     const float *px, *py, *pz;
@@ -75,8 +89,15 @@ typedef struct lc_kparticles {
                            default; particles_coherent.c group_dims), else the frame's packet */
     int32_t cone_off; /* coherent: 1 = no per-vector cone pre-test in list deposits (tests and A/B
                          runs: LANECAST_PARTICLE_CONE=0; the same image, bit for bit) */
+    /* The radial kernel (kernels/particles_sph.h LC_KSPH_*, lc_kernel's values): 0 the Gaussian
+       above; an SPH kernel has compact support r_i = H_i, so the host sets sigma = 1 (every
+       support test, chord and grown box then holds as for the Gaussian), knorm its 3-D
+       normalisation (a term is kappa k_i knorm / H^3 f(d / H)), node_ksum the node sums of
+       |k_i| knorm / H_i^3 (the peaks) and no recurrence ratios (cstep NULL). */
+    int32_t kernel;
+    float knorm;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32 + 8, "lc_kparticles layout");
 
 /* A perspective eye inside the particles' grown box (s->lo, s->hi): the
  * coherent kernel's first pass length (particles_coherent.c pass_first) and

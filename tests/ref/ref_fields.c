@@ -23,33 +23,101 @@ static double psigma(const ref_particle_set *ps) { return ps->sigma == 0.0 ? 2.0
 static double pkappa(const ref_particle_set *ps) { return ps->kappa == 0.0 ? 1.0 : ps->kappa; }
 static int pnfields(const ref_particle_set *ps) { return ps->nfields < 1 ? 1 : ps->nfields; }
 
-void ref_particles_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+/* Each bracketed power taken as 0 where its base is negative (SPEC.md). */
+static double ppow(double x, int n) { return x > 0.0 ? pow(x, n) : 0.0; }
+
+double ref_sph_w(ref_kernel kernel, double u)
 {
-    const ref_particle_set *ps = user;
-    const double sigma = psigma(ps), kappa = pkappa(ps);
+    if (!(u >= 0.0 && u < 1.0)) return 0.0;
+    const double pi = 3.14159265358979323846;
+    double q;
+    switch (kernel) {
+    case REF_KERNEL_M4:
+        return u <= 0.5 ? 8.0 / pi * (1.0 - 6.0 * u * u + 6.0 * u * u * u) : 8.0 / pi * 2.0 * pow(1.0 - u, 3);
+    case REF_KERNEL_M5:
+        q = 2.5 * u;
+        return pow(2.5, 3) / (20.0 * pi) * (ppow(2.5 - q, 4) - 5.0 * ppow(1.5 - q, 4) + 10.0 * ppow(0.5 - q, 4));
+    case REF_KERNEL_M6:
+        q = 3.0 * u;
+        return 27.0 / (120.0 * pi) * (ppow(3.0 - q, 5) - 6.0 * ppow(2.0 - q, 5) + 15.0 * ppow(1.0 - q, 5));
+    case REF_KERNEL_C2: return 21.0 / (2.0 * pi) * pow(1.0 - u, 4) * (1.0 + 4.0 * u);
+    case REF_KERNEL_C4: return 495.0 / (32.0 * pi) * pow(1.0 - u, 6) * (1.0 + 6.0 * u + 35.0 * u * u / 3.0);
+    case REF_KERNEL_C6:
+        return 1365.0 / (64.0 * pi) * pow(1.0 - u, 8) * (1.0 + 8.0 * u + 25.0 * u * u + 32.0 * u * u * u);
+    default: return 0.0;
+    }
+}
+
+/* w'(u) by a central difference of w(|u|) (step 1e-6: the kernels are at least
+ * C^2, so its error is ~1e-12 of the kernel's scale), not from a second copy
+ * of the derivatives. */
+static double sph_dw(ref_kernel kernel, double u)
+{
+    const double h = 1e-6;
+    return (ref_sph_w(kernel, fabs(u + h)) - ref_sph_w(kernel, fabs(u - h))) / (2.0 * h);
+}
+
+/* One particle's term (and gradient, when gr is not NULL) at offset e = x - x_i,
+ * d2 = |e|^2; 0 outside its support. */
+static double pterm(const ref_particle_set *ps, ref_kernel kernel, double norm_scale, size_t i, const double e[3],
+                    double d2, double gr[3])
+{
+    const double r = ps->radius[i], kk = pkappa(ps) * (ps->value ? ps->value[i] : 1.0);
+    if (kernel == REF_KERNEL_GAUSSIAN) {
+        const double sigma = psigma(ps);
+        if (!(d2 < sigma * r * sigma * r)) return 0.0;
+        double ph = kk * exp(-d2 / (2.0 * r * r));
+        /* grad phi_i = -(x - x_i) / r_i^2 phi_i */
+        if (gr)
+            for (int a = 0; a < 3; a++) gr[a] = -e[a] / (r * r) * ph;
+        return ph;
+    }
+    if (!(d2 < r * r)) return 0.0;
+    double d = sqrt(d2), u = d / r, sc = (norm_scale == 0.0 ? 1.0 : norm_scale) * kk / (r * r * r);
+    if (gr) {
+        double dw = d > 0.0 ? sc * sph_dw(kernel, u) / r / d : 0.0; /* dW/dd (x - x_i) / d */
+        for (int a = 0; a < 3; a++) gr[a] = dw * e[a];
+    }
+    return sc * ref_sph_w(kernel, u);
+}
+
+static void eval_kernel(const ref_particle_set *ps, ref_kernel kernel, double norm_scale, const double p[3],
+                        double *phi, double (*grad)[3])
+{
     const int nf = pnfields(ps);
     for (int f = 0; f < nf; f++) {
         phi[f] = 0.0;
         if (grad) grad[f][0] = grad[f][1] = grad[f][2] = 0.0;
     }
     for (size_t i = 0; i < ps->count; i++) {
-        const double *c = ps->pos + 3 * i, r = ps->radius[i];
+        const double *c = ps->pos + 3 * i;
         double e[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-        double d2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-        if (!(d2 < sigma * r * sigma * r)) continue;
+        double d2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2], gr[3] = {0.0, 0.0, 0.0};
+        double ph = pterm(ps, kernel, norm_scale, i, e, d2, grad ? gr : NULL);
+        if (ph == 0.0 && gr[0] == 0.0 && gr[1] == 0.0 && gr[2] == 0.0) continue; /* outside its support */
         int f = ps->field ? ps->field[i] : 0;
-        double ph = kappa * (ps->value ? ps->value[i] : 1.0) * exp(-d2 / (2.0 * r * r));
         phi[f] += ph;
-        /* grad phi_i = -(x - x_i) / r_i^2 phi_i */
         if (grad)
-            for (int a = 0; a < 3; a++) grad[f][a] -= e[a] / (r * r) * ph;
+            for (int a = 0; a < 3; a++) grad[f][a] += gr[a];
     }
 }
 
-int ref_particles_source(const ref_particle_set *ps, ref_source *src)
+void ref_particles_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+{
+    eval_kernel(user, REF_KERNEL_GAUSSIAN, 0.0, p, phi, grad);
+}
+
+void ref_sph_eval(const void *user, const double p[3], double *phi, double (*grad)[3])
+{
+    const ref_sph_set *s = user;
+    eval_kernel(&s->ps, s->kernel, s->norm_scale, p, phi, grad);
+}
+
+static int source_kernel(const ref_particle_set *ps, ref_kernel kernel, ref_source *src)
 {
     const int nf = pnfields(ps);
-    if (nf > REF_MAX_FIELDS || (ps->count && (!ps->pos || !ps->radius))) return -1;
+    if (nf > REF_MAX_FIELDS || (ps->count && (!ps->pos || !ps->radius)) || kernel < 0 || kernel >= REF_KERNEL_COUNT)
+        return -1;
     double rmax = 0.0;
     for (size_t i = 0; i < ps->count; i++) {
         if (!(ps->radius[i] > 0.0) || (ps->field && (ps->field[i] < 0 || ps->field[i] >= nf))) return -1;
@@ -58,9 +126,22 @@ int ref_particles_source(const ref_particle_set *ps, ref_source *src)
     src->eval = ref_particles_eval, src->user = ps, src->nfields = nf;
     box_empty(src);
     for (size_t i = 0; i < ps->count; i++) box_grow(src, ps->pos + 3 * i, 0.0);
+    double g = (kernel == REF_KERNEL_GAUSSIAN ? psigma(ps) : 1.0) * rmax; /* an SPH kernel's support is r */
     if (ps->count)
-        for (int a = 0; a < 3; a++) src->lo[a] -= psigma(ps) * rmax, src->hi[a] += psigma(ps) * rmax;
+        for (int a = 0; a < 3; a++) src->lo[a] -= g, src->hi[a] += g;
     return 0;
+}
+
+int ref_particles_source(const ref_particle_set *ps, ref_source *src)
+{
+    return source_kernel(ps, REF_KERNEL_GAUSSIAN, src);
+}
+
+int ref_sph_source(const ref_sph_set *s, ref_source *src)
+{
+    int rc = source_kernel(&s->ps, s->kernel, src);
+    src->eval = ref_sph_eval, src->user = s;
+    return rc;
 }
 
 void ref_particles_budget(const ref_particle_set *ps, const double x[3], double *abs_sum, double *gabs_sum,

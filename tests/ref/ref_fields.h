@@ -12,7 +12,20 @@
 #include "ref_core.h"
 
 /* Particles (Knoll 2014, eqs. 1-2): Phi_f(x) = sum over i with f_i = f and
- * |x - x_i| < sigma r_i of kappa k_i exp(-|x - x_i|^2 / (2 r_i^2)). */
+ * |x - x_i| < sigma r_i of kappa k_i exp(-|x - x_i|^2 / (2 r_i^2)); with an SPH
+ * kernel (SPEC.md "SPH kernels and projections"), the sum over |x - x_i| < H_i
+ * = r_i of kappa k_i w(|x - x_i| / H_i) / H_i^3 (sigma unused). */
+typedef enum ref_kernel {
+    REF_KERNEL_GAUSSIAN = 0,
+    REF_KERNEL_M4, /* cubic spline */
+    REF_KERNEL_M5, /* quartic */
+    REF_KERNEL_M6, /* quintic */
+    REF_KERNEL_C2, /* Wendland C2, C4, C6 */
+    REF_KERNEL_C4,
+    REF_KERNEL_C6,
+    REF_KERNEL_COUNT
+} ref_kernel;
+
 typedef struct ref_particle_set {
     size_t count;
     const double *pos;    /* 3 * count */
@@ -22,6 +35,22 @@ typedef struct ref_particle_set {
     int nfields;          /* 0: 1 */
     double sigma, kappa;  /* 0: 2 and 1 */
 } ref_particle_set;
+
+/* The same particles with another kernel (sigma unused for SPH kernels). */
+typedef struct ref_sph_set {
+    ref_particle_set ps;
+    ref_kernel kernel;
+    double norm_scale; /* 0: 1; tests scale SPEC.md's normalisation to show a wrong one is caught */
+} ref_sph_set;
+
+void ref_sph_eval(const void *user, const double p[3], double *phi, double (*grad)[3]);
+/* Box: centre bounds grown by the support (sigma r for the Gaussian, r = H for
+ * SPH kernels). Returns 0, or -1 on bad input. */
+int ref_sph_source(const ref_sph_set *s, ref_source *src);
+
+/* SPEC.md's w(u) of an SPH kernel, normalisation included (0 for u >= 1 and
+ * for the Gaussian). */
+double ref_sph_w(ref_kernel kernel, double u);
 
 void ref_particles_eval(const void *user, const double p[3], double *phi, double (*grad)[3]);
 
