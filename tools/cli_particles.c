@@ -58,6 +58,9 @@ static const char help[] =
     "  --leaf N              particles per BVH leaf, 1..32 (default 4)\n"
     "  --method coherent|direct   coherent packets with sample buffers (default) or the per-sample\n"
     "                        gather through the BVH (the paper's baseline)\n"
+    "  --kernel NAME         the radial kernel: gaussian (the default), or an SPH kernel with support\n"
+    "                        radius H = the particle radius: m4 (cubic spline), m5, m6, wendland-c2,\n"
+    "                        wendland-c4, wendland-c6\n"
     "  --sigma S             truncation radius in radii (default 2)\n"
     "  --kappa K             global density scale (default 1)\n"
     "  --spheres SCALE       also ray-trace opaque spheres of radius SCALE * r (paper §5.2)\n"
@@ -88,7 +91,8 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     const char *a = argv[*i], *v;
     static const char *const flags[] = {"--raw-particles", "--radius", "--radius-scale", "--fields", "--drop-invalid",
                                         "--leaf",          "--sigma",  "--kappa",        "--spheres", "--buffer",
-                                        "--value",         "--knn",    "--types",        "--select",  "--field-by"};
+                                        "--value",         "--knn",    "--types",        "--select",  "--field-by",
+                                        "--kernel"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -135,6 +139,14 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
         return cli_load_add(load, cmd, "select", v) ? -1 : 1;
     }
     if (!strcmp(a, "--value")) return cli_load_add(load, cmd, "value", v) ? -1 : 1;
+    if (!strcmp(a, "--kernel")) {
+        if (lc_kernel_from_name(v, &params.kernel) != LC_OK) {
+            fprintf(stderr, "%s: --kernel: '%s' is not a kernel (gaussian, m4, m5, m6, wendland-c2, wendland-c4, "
+                    "wendland-c6)\n", cmd, v);
+            return -1;
+        }
+        return 1;
+    }
     if (!strcmp(a, "--types")) return cli_load_add(load, cmd, "types", v) ? -1 : 1;
     if (!strcmp(a, "--knn")) return arg_int(cmd, a, v, 1, 1024, &n) || cli_load_add(load, cmd, "knn", v) ? -1 : 1;
     if (!strcmp(a, "--leaf")) return arg_int(cmd, a, v, 1, 32, &n) || cli_load_add(load, cmd, "leaf_size", v) ? -1 : 1;
