@@ -206,18 +206,19 @@ int cli_project_run(ropts *o, lc_device *dev, const cli_kind *kind)
         s = render_view_camera(o, vol, 0, &pd.camera);
         if (!o->camera_set) pd.camera.projection = LC_ORTHOGRAPHIC; /* --view: framed orthographically */
     }
+    int said = 0;
     if (s == LC_OK) {
         s = lc_particles_project(dev, vol, &pd, map, &pi);
         if (s == LC_ERROR_UNSUPPORTED && pd.camera.projection == LC_PERSPECTIVE)
-            fprintf(stderr, "%s: --mode project: give --ortho HEIGHT with --eye/--at (projections are orthographic)\n",
-                    o->cmd);
+            said = fprintf(stderr, "%s: --mode project: projections are orthographic: give --ortho HEIGHT with "
+                           "--eye/--at\n", o->cmd);
     }
     lc_particles_info inf;
     const char *kname = s == LC_OK && lc_particles_get_info(vol, &inf) == LC_OK ? lc_kernel_name(inf.params.kernel) : NULL;
     if (s == LC_OK) s = write_out(o, dev, map, &pi, kname);
     if (s == LC_OK && !o->quiet) printf("wrote %s (%dx%d map)\n", o->output, o->rd.width, o->rd.height);
     if (s == LC_OK && o->stats) print_stats(&pi, load_s, vol);
-    if (s != LC_OK) fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
+    if (s != LC_OK && !said) fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
     free(map);
     lc_volume_destroy(wv);
     lc_volume_destroy(vol);

@@ -182,6 +182,13 @@ lc_status lci_write_with(lc_device *device, const char *path, int (*write)(void 
     int fd = lci_temp_file(path, tmp, sizeof tmp, &slot);
     if (fd < 0) return lci_error(device, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
     lci_test_write_delay();
+    close(fd); /* the writer may replace the file (cfitsio's '!'): checked and flushed by name below */
     int r = write(user, tmp, err, sizeof err);
+    fd = open(tmp, O_RDONLY);
+    if (fd < 0) {
+        unlink(tmp);
+        lci_temp_release(slot);
+        return lci_error(device, LC_ERROR_IO, "%s: %s (nothing written)", path, r ? err : strerror(errno));
+    }
     return finish(device, path, tmp, fd, slot, r, 0, err, sizeof err);
 }

@@ -69,12 +69,12 @@ static void put_str(sbuf *b, const char *s)
 
 static const char *quantity_of(const lc_map_desc *d) { return d->quantity ? d->quantity : "value"; }
 
-static lc_status write_sidecar(lc_device *dev, const char *path, const lc_map_desc *d)
+static lc_status write_sidecar(lc_device *dev, const char *path, const char *data_path, const lc_map_desc *d)
 {
     sbuf b = {0};
     put(&b, "{\n  \"file\": ");
-    const char *slash = strrchr(path, '/');
-    put_str(&b, slash ? slash + 1 : path);
+    const char *slash = strrchr(data_path, '/');
+    put_str(&b, slash ? slash + 1 : data_path);
     put(&b, ",\n  \"shape\": [%d, %d],\n  \"dtype\": \"float32\",\n  \"rows\": \"top to bottom\",\n  \"quantity\": ",
         d->height, d->width);
     put_str(&b, quantity_of(d));
@@ -126,7 +126,7 @@ static lc_status write_npy(lc_device *dev, const char *path, const lc_map_desc *
         unlink(path);
         return lci_error(dev, LC_ERROR_IO, "%s: name too long for its .json sidecar", path);
     }
-    s = write_sidecar(dev, side, d);
+    s = write_sidecar(dev, side, path, d);
     if (s != LC_OK) unlink(path); /* both or neither */
     return s;
 }

@@ -234,21 +234,7 @@ static int build_separable(lci_column *c, const ftab *ft)
     return ok;
 }
 
-void lci_column_cumulative(const lci_column *c, double u, double *out)
-{
-    double sg = u < 0.0 ? -1.0 : 1.0, x = fabs(u);
-    x = x > 1.0 ? 1.0 : x;
-    x *= LCI_COL_NT;
-    int j = (int)x;
-    if (j >= LCI_COL_NT) j = LCI_COL_NT - 1;
-    double r = x - j, r2 = r * r, r3 = r2 * r;
-    double h00 = sg * (2 * r3 - 3 * r2 + 1), h10 = sg * (r3 - 2 * r2 + r), h01 = sg * (-2 * r3 + 3 * r2),
-           h11 = sg * (r3 - r2);
-    int K = c->rank;
-    const double *t0 = c->tab + (size_t)j * K * 2, *t1 = t0 + K * 2;
-    for (int k = 0; k < K; k++)
-        out[k] = h00 * t0[2 * k] + h10 * t0[2 * k + 1] + h01 * t1[2 * k] + h11 * t1[2 * k + 1];
-}
+void lci_column_cumulative(const lci_column *c, double u, double *out) { lci_column_cumulative_inline(c, u, out); }
 
 /* rho(t) = 2 pi norm int_|t|^1 f(u) u du: the kernel's mass per unit height
  * at height t, split at the kinks. */

@@ -74,7 +74,26 @@ static inline float lci_column_fq(const lci_column *c, float q)
     return c->fq[i] + t * (c->fq[i + 1] - c->fq[i]);
 }
 
-/* A_k(u) for every k (out[rank]), u clamped to [-1, 1]. */
+/* A_k(u) for every k (out[rank]), u clamped to [-1, 1]: cubic Hermite
+ * between the nodes (inline, so that project_dot.c compiles it per target). */
+static inline void lci_column_cumulative_inline(const lci_column *c, double u, double *out)
+{
+    int K = c->rank;
+    double sg = u < 0.0 ? -1.0 : 1.0, x = u < 0.0 ? -u : u;
+    if (!(x < 1.0)) { /* outside the support: +-A_k(1) */
+        const double *t = c->tab + (size_t)LCI_COL_NT * K * 2;
+        for (int k = 0; k < K; k++) out[k] = sg * t[2 * k];
+        return;
+    }
+    x *= LCI_COL_NT;
+    int j = (int)x;
+    double r = x - j, r2 = r * r, r3 = r2 * r;
+    double h00 = sg * (2 * r3 - 3 * r2 + 1), h10 = sg * (r3 - 2 * r2 + r), h01 = sg * (-2 * r3 + 3 * r2),
+           h11 = sg * (r3 - r2);
+    const double *t0 = c->tab + (size_t)j * K * 2, *t1 = t0 + K * 2;
+    for (int k = 0; k < K; k++)
+        out[k] = h00 * t0[2 * k] + h10 * t0[2 * k + 1] + h01 * t1[2 * k] + h11 * t1[2 * k + 1];
+}
 void lci_column_cumulative(const lci_column *c, double u, double *out);
 
 /* The mass fraction of the kernel between heights z0 < z1 (units of S). */

@@ -15,7 +15,7 @@
 #include "host/sph/column.h"
 #include "host/sph/project.h"
 
-#define BAND 16 /* rows per task */
+#define BAND 64 /* rows per task */
 
 typedef struct prep {
     size_t n;         /* particles that reach the image (and the slab) */
@@ -35,6 +35,7 @@ typedef struct ctx {
     const size_t *start;         /* band b: list[start[b] .. start[b + 1]) */
     float *map;
     lci_dot_fn dot;
+    lci_cum_fn cum;
     char *scratch;               /* per worker */
     size_t scratch_bytes;
     double *band_mass;
@@ -108,17 +109,17 @@ static uint64_t deposit_exact(const ctx *c, scratch *s, size_t p, int b0, int b1
     int K = c->K, nc = i1 - i0 + 1;
     size_t stride = (size_t)c->W + 8;
     const double *mu = c->col->mu;
-    lci_column_cumulative(c->col, (i0 - X) * inv, s->ap);
+    c->cum(c->col, (i0 - X) * inv, s->ap);
     for (int i = i0; i <= i1; i++) {
-        lci_column_cumulative(c->col, (i + 1 - X) * inv, s->ae);
+        c->cum(c->col, (i + 1 - X) * inv, s->ae);
         for (int k = 0; k < K; k++) {
             s->colc[(size_t)k * stride + (size_t)(i - i0)] = (float)(s->ae[k] - s->ap[k]);
             s->ap[k] = s->ae[k];
         }
     }
-    lci_column_cumulative(c->col, (j0 - Y) * inv, s->ap);
+    c->cum(c->col, (j0 - Y) * inv, s->ap);
     for (int j = j0; j <= j1; j++) {
-        lci_column_cumulative(c->col, (j + 1 - Y) * inv, s->ae);
+        c->cum(c->col, (j + 1 - Y) * inv, s->ae);
         for (int k = 0; k < K; k++) {
             s->rowc[(j - j0) * K + k] = (float)(mu[k] * (s->ae[k] - s->ap[k]));
             s->ap[k] = s->ae[k];
@@ -442,7 +443,7 @@ lc_status lc_particles_project(lc_device *dev, const lc_volume *particles, const
     int nb = (d->height + BAND - 1) / BAND, threads = lci_pool_threads(dev->pool);
     ctx c = {.col = col, .square = pv.params.kernel == LC_KERNEL_GAUSSIAN, .W = d->width, .H = d->height,
              .K = col->rank, .weighted = d->weight != NULL, .centre = d->sample == LC_PROJECT_CENTRE, .map = map,
-             .dot = lci_project_dot(dev->target), .cancel = d->cancel, .cancel_user = d->cancel_user,
+             .dot = lci_project_dot(dev->target), .cum = lci_project_cum(dev->target), .cancel = d->cancel, .cancel_user = d->cancel_user,
              .progress = d->progress, .progress_user = d->progress_user, .nbands = nb};
     s = prepare(dev, d, &pv, wk, &v, col, &pp);
     if (s == LC_OK) s = bin(dev, &pp, d->height, nb, &list, &start);
