@@ -110,7 +110,9 @@ def splash(snap, size, work):
     pix = sorted(glob.glob(os.path.join(work, "*.pix")))
     if p.returncode or not pix:
         return {"error": (p.stdout + p.stderr)[-400:]}
-    a = np.loadtxt(pix[0], comments="#")
+    a = np.atleast_2d(np.loadtxt(pix[0], comments="#"))
+    if a.size < 4:  # SPLASH could not frame the data (its limits came out empty)
+        return {"error": "SPLASH wrote a %dx%d pixel map (%s)" % (a.shape[0], a.shape[1], os.path.basename(pix[0]))}
     return {"wall": wall, "map": a[::-1], "file": os.path.basename(pix[0])}
 
 
