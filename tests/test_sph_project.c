@@ -494,6 +494,15 @@ static void test_slab_weight_errors(void)
     d.depth = -1;
     CHECK(lc_particles_project(dev, a, &d, map, NULL) == LC_ERROR_INVALID_ARGUMENT && strstr(lc_last_error(), "depth"),
           "depth -1 refused: %s", lc_last_error());
+    /* a particle 2e6 pixels across, cut by a slab: no endless loop over its footprint, a uniform map */
+    float big = 1e5f, one = 1.0f, at0[3] = {0, 0, 0.5f};
+    lc_volume *huge = make_set(1, at0, &big, &one, LC_KERNEL_M4);
+    d = view(N, 1.5, LC_PROJECT_EXACT);
+    d.depth = 1.0f;
+    s = lc_particles_project(dev, huge, &d, map, NULL);
+    CHECK(s == LC_OK && map[0] > 0 && fabs(map[0] / map[N * N / 2 + N / 2] - 1) < 1e-3,
+          "a particle of H / pixel = 2e6 cut by a slab: %g at the corner, %g at the centre", map[0], map[N * N / 2 + N / 2]);
+    lc_volume_destroy(huge);
     free(map);
     lc_volume_destroy(a), lc_volume_destroy(wv), lc_volume_destroy(other);
 }

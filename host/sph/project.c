@@ -78,7 +78,11 @@ static size_t scratch_size(int W, int K)
     return (b + 63) & ~(size_t)63;
 }
 
-static inline int ifloor(double x) { return (int)floor(x); }
+/* floor and ceil as ints, clamped first: a particle far larger than the
+ * image has edges far outside int (callers clip to the image). */
+static inline int clampi(double x) { return x < -1e9 ? -1000000000 : x > 1e9 ? 1000000000 : (int)x; }
+static inline int ifloor(double x) { return clampi(floor(x)); }
+static inline int iceil(double x) { return clampi(ceil(x)); }
 
 /* Adds t[0 .. n) times the amounts at row r, columns i0 .. into the accumulators. */
 static void add_row(const ctx *c, scratch *s, int r, int i0, int n, const float *t, double a, double w)
@@ -155,7 +159,7 @@ static uint64_t deposit_centre(const ctx *c, scratch *s, size_t p, int b0, int b
     int cut = pp->z0[p] <= pp->z1[p];
     double a = pp->a[p] / (sp * sp), w = c->weighted ? pp->w[p] / (sp * sp) : 0.0;
     if (cut) a *= pp->scale[p], w *= pp->scale[p];
-    int i0 = (int)ceil(X - sp - 0.5), i1 = ifloor(X + sp - 0.5), j0 = (int)ceil(Y - sp - 0.5), j1 = ifloor(Y + sp - 0.5);
+    int i0 = iceil(X - sp - 0.5), i1 = ifloor(X + sp - 0.5), j0 = iceil(Y - sp - 0.5), j1 = ifloor(Y + sp - 0.5);
     i0 = i0 < 0 ? 0 : i0, i1 = i1 >= c->W ? c->W - 1 : i1;
     j0 = j0 < b0 ? b0 : j0, j1 = j1 >= b1 ? b1 - 1 : j1;
     if (i0 > i1 || j0 > j1) return 0;
@@ -233,12 +237,12 @@ static void cut_scale(const lci_column *col, prep *pp, size_t q, int centre)
         pp->scale[q] = 1.0f;
         return;
     }
-    if (sp < 2.0) {
+    if (sp < 2.0 || sp > 2048.0) { /* beyond 2048 pixels the shape is its full kernel's too (cost) */
         pp->scale[q] = -(float)frac;
         return;
     }
     double X = pp->X[q], Y = pp->Y[q], sum = 0.0;
-    int i0 = (int)ceil(X - sp - 0.5), i1 = ifloor(X + sp - 0.5), j0 = (int)ceil(Y - sp - 0.5), j1 = ifloor(Y + sp - 0.5);
+    int i0 = iceil(X - sp - 0.5), i1 = ifloor(X + sp - 0.5), j0 = iceil(Y - sp - 0.5), j1 = ifloor(Y + sp - 0.5);
     for (int j = j0; j <= j1; j++)
         for (int i = i0; i <= i1; i++) {
             double dx = i + 0.5 - X, dy = j + 0.5 - Y, b = sqrt(dx * dx + dy * dy) / sp;
