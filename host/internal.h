@@ -93,7 +93,7 @@ long lci_env_long(const char *name, long lo, long hi, long unset);
 
 /* Optional features (host/api/features.c), indexed like lc_feature_get. */
 enum { LCI_FEATURE_ZLIB = 0, LCI_FEATURE_JSON = 1, LCI_FEATURE_LAPACKE = 2, LCI_FEATURE_NIFTI = 3, LCI_FEATURE_HDF5 = 4,
-       LCI_FEATURE_MPI = 5, LCI_FEATURE_NETCDF = 6 };
+       LCI_FEATURE_MPI = 5, LCI_FEATURE_NETCDF = 6, LCI_FEATURE_FITS = 7 };
 /* The error for something this build lacks: "WHERE: WHAT needs LIB, which this
  * build of lanecast lacks (install PKG and rebuild)", LC_ERROR_UNSUPPORTED. */
 lc_status lci_missing(lc_device *dev, const char *where, const char *what, int feature);
@@ -112,5 +112,15 @@ void lci_test_write_delay(void); /* LANECAST_TEST_WRITE_DELAY_MS (tests only) */
 /* The extension of path's last component ("" if none), e.g. ".png". */
 const char *lci_path_extension(const char *path);
 void lci_temp_release(int slot);
+/* host/api/image.c: files that appear complete or not at all (a temporary
+ * name next to path, checked writes, fsync, rename). Pixels (ch channels,
+ * float or 8-bit) encoded as path's format by OpenImageIO; plain bytes; or a
+ * writer that fills the (created, empty) temporary file tmp itself, returning
+ * 0 or -1 with a message in err. */
+lc_status lci_image_encode_write(lc_device *device, const char *path, int width, int height, int channels,
+                                 int is_float, const void *pixels);
+lc_status lci_write_bytes(lc_device *device, const char *path, const void *bytes, size_t n);
+lc_status lci_write_with(lc_device *device, const char *path,
+                         int (*write)(void *user, const char *tmp, char *err, size_t errlen), void *user);
 
 #endif

@@ -3,6 +3,8 @@
 # Idempotent: when everything is present it only runs dpkg-query and exits.
 set -eu
 PKGS="meson ninja-build pkg-config cmake gcc g++ libembree-dev libopenimageio-dev libcglm-dev libjson-c-dev zlib1g-dev liblapacke-dev libnifti2-dev libhdf5-dev openmpi-bin libopenmpi-dev libnetcdf-dev"
+# FITS float maps of projections (the fits feature)
+PKGS="$PKGS libcfitsio-dev"
 # Python bindings (python/) and their tests and adapters
 PKGS="$PKGS python3-dev python3-numpy python3-pytest python3-yt python3-mdanalysis"
 # lanecast view (the viewer feature) and its tests under Xvfb

@@ -82,7 +82,7 @@ static void rows(void)
     }
     CHECK(l.name && l.available == LC_HAVE_LAPACKE && !strcmp(l.package, "liblapacke-dev"),
           "feature lapacke %d (this build: LC_HAVE_LAPACKE %d)", l.available, LC_HAVE_LAPACKE);
-    CHECK(nf == 7 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
+    CHECK(nf == 8 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
               !strcmp(z.package, "zlib1g-dev") && !strcmp(j.package, "libjson-c-dev") &&
               lc_feature_get(nf, &z) == LC_ERROR_INVALID_ARGUMENT,
           "features: zlib %d, json %d (this build: LC_HAVE_ZLIB %d, LC_HAVE_JSON %d)", z.available, j.available,

@@ -257,8 +257,8 @@ static int run(ropts *o, int demo)
     snprintf(out, sizeof out, "%s", o->output);
     if (o->seq) render_frame_name(o->output, o->first, out, sizeof out);
     if (o->orbit) render_frame_name(o->output, 0, out, sizeof out);
-    /* fail on an unwritable output before any long work */
-    if (lc_image_check(NULL, out) != LC_OK) {
+    /* fail on an unwritable output before any long work (float maps: when written) */
+    if (!(o->pj.on && lc_map_format(out)) && lc_image_check(NULL, out) != LC_OK) {
         fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
         return CLI_EXIT_FAIL;
     }
@@ -282,6 +282,11 @@ static int run(ropts *o, int demo)
     if (!kind) {
         lc_device_destroy(dev);
         return usage ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
+    }
+    if (o->pj.on) { /* column maps: their own run (cli_project.c) */
+        rc = cli_project_run(o, dev, kind);
+        lc_device_destroy(dev);
+        return rc;
     }
     /* the frames to render: one, or first, first + step, ... before end */
     int64_t first = o->seq ? o->first : o->frame, end = o->seq ? o->end : o->frame + 1, step = o->seq ? o->step : 1;

@@ -68,7 +68,8 @@ static const char render_help[] =
     "                        crosses --iso: the first crossing between lattice samples, bisected to\n"
     "                        1e-4 dt, opaque in the TF's colour at that value, lit as --shade says)\n"
     "                        or slice (the field through the TF's colours on the --plane planes:\n"
-    "                        each ray shows the nearest one in front inside the data's box)\n"
+    "                        each ray shows the nearest one in front inside the data's box);\n"
+    "                        project: column maps of particles (section \"projections\" below)\n"
     "  --iso V               iso: the iso value, in the data's units (as --range)\n"
     "  --plane px,py,pz,nx,ny,nz   slice: the plane through point p with normal n; repeat for up\n"
     "                        to 4 planes\n"
@@ -267,8 +268,9 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
         else if (!strcmp(v, "mip")) o->rd.mode = LC_MODE_MIP;
         else if (!strcmp(v, "iso")) o->rd.mode = LC_MODE_ISO;
         else if (!strcmp(v, "slice")) o->rd.mode = LC_MODE_SLICE;
+        else if (!strcmp(v, "project")) o->pj.on = 1; /* not a ray-casting mode: cli_project.c */
         else {
-            fprintf(stderr, "%s: --mode: '%s' is not a render mode (dvr, mip, iso, slice)\n", o->cmd, v);
+            fprintf(stderr, "%s: --mode: '%s' is not a render mode (dvr, mip, iso, slice, project)\n", o->cmd, v);
             return -1;
         }
         return 1;
@@ -391,6 +393,7 @@ static void print_help(void)
 {
     fputs(render_help, stdout);
     for (int k = 0; k < NKINDS; k++) fputs(cli_kinds[k]->help, stdout);
+    fputs(cli_project_help, stdout);
 }
 
 int render_parse(ropts *o, int argc, char **argv, int want_input)
@@ -411,6 +414,7 @@ int render_parse(ropts *o, int argc, char **argv, int want_input)
         else if (!strcmp(a, "--progress")) o->progress = 1;
         else if (!strcmp(a, "--quiet")) o->quiet = 1;
         else if ((r = parse_view(o, argc, argv, &i, &camera_set)) || (r = parse_render(o, argc, argv, &i)) ||
+                 (want_input && (r = cli_project_flag(o, argc, argv, &i))) ||
                  (want_input && (r = parse_input(o, argc, argv, &i)))) {
             if (r < 0) return -1;
         } else {
@@ -429,7 +433,7 @@ int render_parse(ropts *o, int argc, char **argv, int want_input)
             }
         }
     }
-    if (check_mode(o)) return -1;
+    if (check_mode(o) || cli_project_check(o)) return -1;
     if (camera_set && camera_set != 3) {
         fprintf(stderr, "%s: give both --eye and --at (or neither, to frame the data)\n", o->cmd);
         return -1;

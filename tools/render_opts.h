@@ -33,7 +33,22 @@ typedef struct ropts {
     int seq;
     const char *topology;
     int iso_set, field_set; /* --iso, --field given */
+    struct {                /* --mode project (cli_project.c) */
+        int on, linear, colorbar;
+        lc_project_sample sample;
+        const char *weight;
+        float depth;
+        const char *first; /* the first projection flag given */
+    } pj;
 } ropts;
+
+/* --mode project (cli_project.c): its help section, flags (1 consumed, 0 not
+ * one, -1 bad), their check after parsing (0 ok, -1 message printed), and
+ * the run once the input's kind is known (an exit status). */
+extern const char cli_project_help[];
+int cli_project_flag(ropts *o, int argc, char **argv, int *i);
+int cli_project_check(const ropts *o);
+int cli_project_run(ropts *o, lc_device *dev, const cli_kind *kind);
 
 /* Returns 0 ok, 1 help printed, -1 usage error (message printed). */
 int render_parse(ropts *o, int argc, char **argv, int want_input);

@@ -115,28 +115,21 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
         else
             for (int c = 0; c < ch; c++) ((unsigned char *)buf)[i * (size_t)ch + (size_t)c] = quantise(o[c]);
     }
-    char tmp[LCI_TEMP_NAME], err[512] = "";
-    int slot;
-    int fd = lci_temp_file(path, tmp, sizeof tmp, &slot);
-    if (fd < 0) {
-        free(buf);
-        return lci_error(device, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
-    }
-    lci_test_write_delay();
-    void *bytes = NULL;
-    size_t nbytes = 0;
-    int r = lci_oiio_encode(tmp, path, d->width, d->height, ch, fl, buf, &bytes, &nbytes, err, sizeof err);
+    lc_status st = lci_image_encode_write(device, path, d->width, d->height, ch, fl, buf);
     free(buf);
-    if (r == 0 && bytes && write_all(fd, bytes, nbytes) != 0)
-        r = -1, snprintf(err, sizeof err, "writing %zu bytes failed: %s", nbytes, strerror(errno));
-    free(bytes);
+    return st;
+}
+
+/* Checks the written file, renames it into place; on error removes it. */
+static lc_status finish(lc_device *device, const char *path, const char *tmp, int fd, int slot, int r, size_t nbytes,
+                        char *err, size_t errlen)
+{
     struct stat st;
     if (r == 0 && (fsync(fd) != 0 || fstat(fd, &st) != 0))
-        r = -1, snprintf(err, sizeof err, "flushing the image to disk failed: %s", strerror(errno));
+        r = -1, snprintf(err, errlen, "flushing the file to disk failed: %s", strerror(errno));
     if (r == 0 && (st.st_size == 0 || (nbytes && (size_t)st.st_size != nbytes)))
-        r = -1, snprintf(err, sizeof err, "the written file holds %lld bytes, expected %zu", (long long)st.st_size,
-                         nbytes);
-    if (close(fd) != 0 && r == 0) r = -1, snprintf(err, sizeof err, "closing the image failed: %s", strerror(errno));
+        r = -1, snprintf(err, errlen, "the written file holds %lld bytes, expected %zu", (long long)st.st_size, nbytes);
+    if (close(fd) != 0 && r == 0) r = -1, snprintf(err, errlen, "closing the file failed: %s", strerror(errno));
     if (r != 0) {
         unlink(tmp);
         lci_temp_release(slot);
@@ -146,8 +139,56 @@ lc_status lc_image_write(lc_device *device, const char *path, const lc_image_des
         int e = errno;
         remove(tmp);
         lci_temp_release(slot);
-        return lci_error(device, LC_ERROR_IO, "%s: cannot rename the finished image into place: %s", path, strerror(e));
+        return lci_error(device, LC_ERROR_IO, "%s: cannot rename the finished file into place: %s", path, strerror(e));
     }
     lci_temp_release(slot);
     return LC_OK;
+}
+
+lc_status lci_image_encode_write(lc_device *device, const char *path, int width, int height, int ch, int fl,
+                                 const void *buf)
+{
+    char tmp[LCI_TEMP_NAME], err[512] = "";
+    int slot;
+    int fd = lci_temp_file(path, tmp, sizeof tmp, &slot);
+    if (fd < 0) return lci_error(device, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
+    lci_test_write_delay();
+    void *bytes = NULL;
+    size_t nbytes = 0;
+    int r = lci_oiio_encode(tmp, path, width, height, ch, fl, buf, &bytes, &nbytes, err, sizeof err);
+    if (r == 0 && bytes && write_all(fd, bytes, nbytes) != 0)
+        r = -1, snprintf(err, sizeof err, "writing %zu bytes failed: %s", nbytes, strerror(errno));
+    free(bytes);
+    return finish(device, path, tmp, fd, slot, r, nbytes, err, sizeof err);
+}
+
+lc_status lci_write_bytes(lc_device *device, const char *path, const void *bytes, size_t n)
+{
+    char tmp[LCI_TEMP_NAME], err[512] = "";
+    int slot;
+    int fd = lci_temp_file(path, tmp, sizeof tmp, &slot);
+    if (fd < 0) return lci_error(device, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
+    lci_test_write_delay();
+    int r = 0;
+    if (write_all(fd, bytes, n) != 0) r = -1, snprintf(err, sizeof err, "writing %zu bytes failed: %s", n, strerror(errno));
+    return finish(device, path, tmp, fd, slot, r, n, err, sizeof err);
+}
+
+lc_status lci_write_with(lc_device *device, const char *path, int (*write)(void *user, const char *tmp, char *err,
+                                                                          size_t errlen), void *user)
+{
+    char tmp[LCI_TEMP_NAME], err[512] = "";
+    int slot;
+    int fd = lci_temp_file(path, tmp, sizeof tmp, &slot);
+    if (fd < 0) return lci_error(device, LC_ERROR_IO, "%s: cannot create a temporary file next to it: %s", path, strerror(errno));
+    lci_test_write_delay();
+    close(fd); /* the writer may replace the file (cfitsio's '!'): checked and flushed by name below */
+    int r = write(user, tmp, err, sizeof err);
+    fd = open(tmp, O_RDONLY);
+    if (fd < 0) {
+        unlink(tmp);
+        lci_temp_release(slot);
+        return lci_error(device, LC_ERROR_IO, "%s: %s (nothing written)", path, r ? err : strerror(errno));
+    }
+    return finish(device, path, tmp, fd, slot, r, 0, err, sizeof err);
 }

@@ -65,6 +65,18 @@ void *lci_volume_as(const lc_volume *v, lc_kind k, const char *fn);
 /* The centres of a particle set or an RBF set (the kind's arrays, leaf
  * order), for balancing a data-parallel partition (host/mpi/). */
 lc_status lci_particles_centres(const lc_volume *v, size_t *n, const float **x, const float **y, const float **z);
+/* A particle set's arrays in leaf order (projections, host/sph/project.c):
+ * src[j] is particle j's index in the lc_particles_desc it was created from
+ * (total = kept + dropped indices). Errors name fn. */
+typedef struct lci_particle_view {
+    size_t n, total;
+    const float *x, *y, *z, *r, *k;
+    const uint32_t *src;
+    lc_particle_params params;
+    lc_box3 bounds; /* of the centres */
+    float max_radius;
+} lci_particle_view;
+lc_status lci_particles_view(const lc_volume *v, const char *fn, lci_particle_view *out);
 lc_status lci_rbf_centres(const lc_volume *v, size_t *n, const float **x, const float **y, const float **z);
 
 /* host/api/camera.c: the kernel camera for the desc (default framing of bounds). */

@@ -30,6 +30,7 @@ typedef struct particles {
     float *px, *py, *pz, *r, *nir, *k; /* leaf order */
     float kmin, kmax; /* of the k_i and 0: the default value range is kappa times them */
     uint8_t *field;
+    uint32_t *src; /* leaf order -> index in the lc_particles_desc (projections pair sets by it) */
     pthread_mutex_t cs_mu; /* guards cs */
     lci_vcache_entry *cs;  /* an lci_pcstep: the recurrence ratios for the last step (particles_cstep.c) */
 } particles;
@@ -61,6 +62,7 @@ static void destroy(lc_volume *v)
     free(p->nir);
     free(p->k);
     free(p->field);
+    free(p->src);
     free(p);
 }
 
@@ -395,8 +397,9 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
     p->px = malloc(sizeof(float) * m), p->py = malloc(sizeof(float) * m), p->pz = malloc(sizeof(float) * m);
     p->r = malloc(sizeof(float) * m), p->nir = malloc(sizeof(float) * m), p->k = malloc(sizeof(float) * m);
     p->field = malloc(m);
+    p->src = malloc(sizeof(uint32_t) * m);
     p->node_ksum = malloc(sizeof(float) * (size_t)(p->bvh.nnodes > 0 ? p->bvh.nnodes : 1));
-    if (!p->px || !p->py || !p->pz || !p->r || !p->nir || !p->k || !p->field || !p->node_ksum)
+    if (!p->px || !p->py || !p->pz || !p->r || !p->nir || !p->k || !p->field || !p->src || !p->node_ksum)
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
     for (size_t j = 0; j < n; j++) {
         uint32_t o = p->bvh.order[j];
@@ -410,6 +413,7 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
         double kh3 = (double)p->k[j] / ((double)ro * ro * ro);
         p->kh3min = kh3 < p->kh3min ? kh3 : p->kh3min, p->kh3max = kh3 > p->kh3max ? kh3 : p->kh3max;
         p->field[j] = d->fields ? d->fields[i] : 0;
+        p->src[j] = (uint32_t)i;
     }
     free(p->bvh.order);
     p->bvh.order = NULL;
@@ -461,7 +465,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         info->bvh_nodes = p->bvh.nnodes;
         info->bvh_depth = p->bvh.depth;
         info->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + (2 + (size_t)nfields) * sizeof(float));
-        info->data_bytes = k.n * (6 * sizeof(float) + 1);
+        info->data_bytes = k.n * (6 * sizeof(float) + sizeof(uint32_t) + 1);
         if (s == LC_OK)
             lci_log(dev, LC_LOG_INFO, "particles: %zu (%zu dropped), %d fields, BVH %d nodes depth %d, %.1f MB, %.3f s",
                     k.n, k.bad, nfields, p->bvh.nnodes, p->bvh.depth, (double)info->bvh_bytes / 1e6,
@@ -671,6 +675,16 @@ const lci_kind_ops lci_particles_ops = {
     .prepare = prepare,
     .sample_scene = sample_scene,
 };
+
+lc_status lci_particles_view(const lc_volume *v, const char *fn, lci_particle_view *out)
+{
+    const particles *p = lci_volume_as(v, LC_KIND_PARTICLES, fn);
+    if (!p) return LC_ERROR_INVALID_ARGUMENT;
+    *out = (lci_particle_view){.n = p->info.count, .total = p->info.count + p->info.dropped, .x = p->px, .y = p->py,
+                               .z = p->pz, .r = p->r, .k = p->k, .src = p->src, .params = p->info.params,
+                               .bounds = p->info.bounds, .max_radius = p->info.max_radius};
+    return LC_OK;
+}
 
 lc_status lci_particles_centres(const lc_volume *v, size_t *n, const float **x, const float **y, const float **z)
 {

@@ -959,6 +959,123 @@ LC_API lc_status lc_job_get_progress(const lc_job *job, lc_job_progress *out);
  * rgba (a tile's time), and frees it. NULL is ignored. */
 LC_API void lc_job_destroy(lc_job *job);
 
+/* ---------------------------------------------------------------- projections (column maps, issue 27) */
+
+/* How a projection samples each pixel (SPEC.md "SPH kernels and projections"). */
+typedef enum lc_project_sample {
+    LC_PROJECT_EXACT = 0, /* the average of the column over the pixel's area: exact for any
+                             particle size (cumulative tables of the column kernel), so a
+                             particle inside the image puts exactly its amount into the map */
+    LC_PROJECT_CENTRE = 1 /* the column at the pixel's centre (SPLASH's and yt's convention,
+                             without their smoothing-length floor: particles between pixel
+                             centres are missed) */
+} lc_project_sample;
+
+typedef struct lc_project_desc {
+    int width, height;        /* pixels, 1..LC_MAX_IMAGE_SIDE each */
+    /* Orthographic: eye, at, up and height as for lc_render (square pixels of
+     * height / height_px world units), the line of sight along at - eye.
+     * eye == at (e.g. all zero): looking down -z at the centre of the
+     * particles' centres, framing their x, y extent. A perspective camera is
+     * refused (LC_ERROR_UNSUPPORTED): a column along diverging rays has no
+     * pixel area to average over. */
+    lc_camera camera;
+    lc_project_sample sample;
+    /* NULL: the column map sum_i kappa k_i W_i (amount per unit area). Else
+     * a weighted projection, sum_i w_i A_i W_i / sum_i w_i W_i per pixel, with
+     * A_i = kappa k_i of `particles` and w_i = kappa' k'_i of this particle set,
+     * which must hold the same particles (created from descriptors of the
+     * same count and the same positions and radii, e.g. the same file loaded
+     * with another value); 0 where no particle reaches. */
+    const lc_volume *weight;
+    /* > 0: only the slab of this thickness (world units) centred on
+     * camera.at across the line of sight; particles cut by a face contribute
+     * their kernel's exact mass inside the slab, spread as their partial
+     * column (at pixel centres, normalised to that mass; LC_PROJECT_CENTRE:
+     * the partial column itself). 0 = the whole line of sight. */
+    float depth;
+    /* As lc_render_desc: progress on the calling thread, cancel asked by the
+     * worker threads before each band of rows (LC_CANCELLED, map incomplete). */
+    void (*progress)(void *user, float fraction);
+    void *progress_user;
+    int (*cancel)(void *user);
+    void *cancel_user;
+} lc_project_desc;
+
+typedef struct lc_project_info {
+    double seconds;          /* wall time */
+    uint64_t particles;      /* particles that reach the image */
+    uint64_t evaluations;    /* kernel-pixel evaluations (pixel contributions computed) */
+    double mass;             /* sum of map x pixel area (of the numerator for weighted maps), in double */
+    double pixel;            /* pixel side in world units */
+    lc_vec3 centre;          /* the image centre on the image plane (world) */
+    lc_vec3 right, up, view; /* unit axes: image x (left to right), image y (bottom to top), line of sight */
+    double extent[4];        /* the image's [left, right, bottom, top] edges as world coordinates along
+                                `right` and `up` (dot products with those axes); for a view down -z
+                                with +y up these are x_min, x_max, y_min, y_max */
+    int rank;                /* terms of the separable cumulative table of the kernel */
+    int threads;
+} lc_project_info;
+
+/* Projects a particle set along the camera's line of sight into map
+ * (width * height floats, row 0 at the top), with the set's kernel
+ * (lc_particle_params.kernel; the Gaussian as the 3-D Gaussian of standard
+ * deviation r_i cut at 5 r_i per axis, unit mass; the SPH kernels with
+ * support H_i = r_i) and amounts kappa k_i: a column-density map when k_i are
+ * masses. Every field's particles count. info may be NULL. Threads: the
+ * device's pool. Errors (LC_ERROR_INVALID_ARGUMENT naming the member: sizes,
+ * camera, sample, depth, a weight set that is not a particle set or holds
+ * other particles; LC_ERROR_UNSUPPORTED: a perspective camera;
+ * LC_CANCELLED) leave map incomplete. */
+LC_API lc_status lc_particles_project(lc_device *device, const lc_volume *particles, const lc_project_desc *desc,
+                                      float *map, lc_project_info *info);
+
+/* ---------------------------------------------------------------- float maps (projections as data) */
+
+/* A float map and what it means, for lc_map_write. */
+typedef struct lc_map_desc {
+    int width, height;
+    const float *values;           /* width * height, row 0 at the top */
+    const char *quantity;          /* what a pixel holds, e.g. "column density"; NULL = "value" */
+    const char *units;             /* its units as text, e.g. "mass length^-2"; NULL = "" */
+    const char *kernel;            /* the kernel's name (lc_kernel_name); NULL = not recorded */
+    const char *sample;            /* "exact" or "centre"; NULL = not recorded */
+    double depth;                  /* the slab's thickness, 0 = the whole line of sight */
+    const lc_project_info *view;   /* the view (extent, axes, pixel size); NULL = not recorded */
+} lc_map_desc;
+
+/* 1 if path names a float-map format of lc_map_write (.npy, .fits/.fit/.fts,
+ * .exr), else 0. */
+LC_API int lc_map_format(const char *path);
+/* Writes the map itself (not colours), the format by extension: .npy (NumPy
+ * 1.0, little-endian float32, shape (height, width), rows top to bottom)
+ * with a JSON sidecar PATH.json (quantity, units, kernel, sample, depth,
+ * extent, axes, pixel size); .fits (cfitsio: one float32 image, first row at
+ * the bottom as FITS has it, with BUNIT, BTYPE, KERNEL, SAMPLE, a linear WCS
+ * (CRPIX, CRVAL, CDELT: the world coordinates along the image axes) and
+ * XMIN/XMAX/YMIN/YMAX); .exr (one float channel "Y" through OpenImageIO,
+ * rows top to bottom). Files appear complete or not at all.
+ * LC_ERROR_UNSUPPORTED for .fits without cfitsio (lc_feature_get "fits") or
+ * another extension. */
+LC_API lc_status lc_map_write(lc_device *device, const char *path, const lc_map_desc *desc);
+
+/* Colours a float map through a TF's colours (field 0; opacity unused) into
+ * rgba (premultiplied, opaque: A = 1), as lc_image_write takes it. */
+typedef struct lc_map_color_desc {
+    int width, height;
+    const float *values;
+    const lc_tf *tf;     /* NULL = the "viridis" colour map */
+    float range[2];      /* [lo, hi] in data units; both 0 = from the data (log: the 0.5th
+                            percentile of the positive values to the largest; linear: min to max) */
+    int linear;          /* 0 = log10 scale (values <= lo, zero and negative ones too, take the lowest colour) */
+    int colorbar;        /* 1: rgba is (width + lc_map_colorbar_width(width)) x height, a colour
+                            bar from lo (bottom) to hi (top) at its right */
+} lc_map_color_desc;
+
+LC_API int lc_map_colorbar_width(int width);
+/* used (may be NULL) receives the range applied. */
+LC_API lc_status lc_map_colorize(lc_device *device, const lc_map_color_desc *desc, float *rgba, float used[2]);
+
 /* ---------------------------------------------------------------- images */
 
 typedef struct lc_image_desc {
