@@ -485,11 +485,10 @@ def main():
     rel = os.path.relpath(a.out, os.path.dirname(os.path.abspath(page)) or ".")
     docs = os.path.relpath(os.path.join(a.out), os.path.dirname(os.path.abspath(page)))
     doc.append("\n## Why the kernels are as they are\n\nEach design choice of the kernels with the figure that "
-               "decided it (machine, commit and raw file in `bench/results/`), and a ledger of what was tried and "
-               "not kept, measured with the per-kind harnesses (`build/bench/bench_particles`, `bench_grid`, "
-               "`bench_rbf`): [particles](%s/particles.md), [grids](%s/grid.md), "
-               "[RBF sets and the encoder](%s/rbf.md); what those harnesses still cover that `lanecast bench` "
-               "does not: [bench/README.md](%s/README.md).\n\nData-parallel rendering over MPI (compositing time "
+               "decided it (machine, commit and raw file, `git show COMMIT:bench/results/FILE`), and a ledger of "
+               "what was tried and not kept: [particles](%s/particles.md), [grids](%s/grid.md), "
+               "[RBF sets and the encoder](%s/rbf.md); the benchmark's modes and how the older harnesses' "
+               "cases map onto them: [bench/README.md](%s/README.md).\n\nData-parallel rendering over MPI (compositing time "
                "and bytes per rank at P = 2, 1024²): [mpi.md](mpi.md).\n" % (docs, docs, docs, docs))
     text = "\n".join(doc)
     if rel != ".":  # plots and composites live in OUT

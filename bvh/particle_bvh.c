@@ -287,7 +287,7 @@ static int build_chunked(RTCDevice dev, flat_ctx *c, size_t n, int leaf_size, si
 }
 
 /* LANECAST_PBVH_BUILDER (embree, embree-low, chunked, sah) overrides the
- * default for A/B runs (bench/pbuild_ab.sh). */
+ * default for A/B runs (lanecast bench --builders). */
 static lci_pbvh_builder env_builder(lci_pbvh_builder b)
 {
     const char *e = getenv("LANECAST_PBVH_BUILDER");
