@@ -18,6 +18,7 @@ typedef struct bench_scene {
     double build_seconds, gen_seconds;
     size_t bvh_bytes, data_bytes;
     long build_peak_kb;  /* the create or load call's peak memory above what was resident before; -1 unknown */
+    double build_cpu_s;  /* CPU seconds of the process (every thread) during that call */
     lc_volume_info info;
     float max_radius;    /* particles and RBF sets: largest radius or width */
     int absent;          /* set with a failure: a real data set's file is missing (a skip, not an error) */

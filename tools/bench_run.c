@@ -124,6 +124,7 @@ static void print_record(const bench_group *g, int i, const target_result *res, 
     fprintf(f, ", \"warmup\": %d, \"rounds\": %d", g->warmup, r->n);
     jnum(f, "build_s", sc->build_seconds);
     jnum(f, "gen_s", sc->gen_seconds);
+    jnum(f, "build_cpu_s", sc->build_cpu_s);
     fprintf(f, ", \"bvh_bytes\": %zu, \"data_bytes\": %zu, \"build_peak_kb\": %ld", sc->bvh_bytes, sc->data_bytes,
             sc->build_peak_kb);
     if (r->n > 0) {

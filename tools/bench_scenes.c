@@ -151,8 +151,11 @@ static long status_kb(const char *key)
     return v;
 }
 
+static double cpu_at_begin; /* CPU seconds of the process when the create call began */
+
 static long peak_begin(void)
 {
+    cpu_at_begin = bench_cpu_now();
     FILE *f = fopen("/proc/self/clear_refs", "w");
     int ok = f && fputs("5", f) >= 0;
     if (f && fclose(f)) ok = 0;
@@ -162,6 +165,7 @@ static long peak_begin(void)
 static void peak_end(bench_scene *sc, long before)
 {
     long hwm = status_kb("VmHWM:");
+    sc->build_cpu_s = bench_cpu_now() - cpu_at_begin;
     sc->build_peak_kb = before >= 0 && hwm >= before ? hwm - before : -1;
 }
 
@@ -406,7 +410,9 @@ static lc_status make_base(lc_device *dev, const char *name, const scene_opts *o
     } else if (p == P_RBF || p == P_RBFC) s = make_rbf(dev, p == P_RBFC, (size_t)n, o, sc);
     else if (!strcmp(name, "demo")) {
         lc_tf *tf = NULL;
+        long before = peak_begin();
         s = cli_demo_scene(dev, &sc->vol, &tf);
+        peak_end(sc, before);
         lc_tf_destroy(tf);
         snprintf(sc->source, sizeof sc->source, "lanecast demo (tools/cli_particles.c)");
     } else if (rs || !strncmp(name, "file:", 5)) {
