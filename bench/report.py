@@ -317,6 +317,40 @@ def large_section(cases):
                   "peak RSS MB (process)", "check"], rows)
 
 
+def builders_section(cases):
+    """`--builders` records: per scene and builder the build (wall and CPU s, BVH MB, the build's peak memory)
+    and the CPU s per frame of each view, with the ratio to Embree MEDIUM's (below 1: faster)."""
+    rows, recs = [], []
+    per = collections.OrderedDict()
+    for r in cases:
+        if "/builder:" in r["scene"] and "cpu_median_s" in r:
+            base, b = r["scene"].split("/builder:")
+            base = "%s (%dx%d)" % (base, r["width"], r["height"])
+            per.setdefault(base, collections.OrderedDict()).setdefault(b, {})[r["view"]] = r
+            recs.append(r)
+    if not per:
+        return None
+    views = sorted({v for bs in per.values() for vs in bs.values() for v in vs}, key=["far", "medium", "close"].index)
+    for base, bs in per.items():
+        ref = bs.get("embree", {})
+        for b, vs in bs.items():
+            r0 = next(iter(vs.values()))
+            cells = []
+            for v in views:
+                if v not in vs:
+                    cells.append("-")
+                    continue
+                c = vs[v]["cpu_median_s"]
+                x = " (%s)" % fmt(c / ref[v]["cpu_median_s"], 3) if v in ref and b != "embree" else ""
+                cells.append(fmt(c) + x)
+            rows.append([base, b, fmt(r0["build_s"]), fmt(r0.get("build_cpu_s")), fmt(r0["bvh_bytes"] / 1e6),
+                         fmt(r0["build_peak_kb"] / 1024) if r0.get("build_peak_kb", -1) >= 0 and
+                         r0.get("build_peak_trimmed") else "-"] + cells +
+                        [fmt(r0.get("loadavg"), 2)])
+    return table(["scene", "builder", "build s", "build CPU s", "BVH MB", "build peak MB"] +
+                 ["%s CPU s/frame (x embree)" % v for v in views] + ["load"], rows) + "\n" + sources(recs)
+
+
 def roof_section(roofs):
     """One table per machine (the last record per target)."""
     per = collections.OrderedDict()
@@ -535,6 +569,14 @@ def main():
     t = sweep([r for r in cases if r["kind"] == "particles"], "sigma", P("sigma_sweep.png"), "Truncation radius sweep")
     if t:
         doc.append("\n## Sigma sweep (particle truncation radius)\n\n![sigma sweep](sigma_sweep.png)\n\n" + t)
+    t = builders_section(cases)
+    if t:
+        doc.append("\n## Particle BVH builders (`--builders`)\n\nEach scene built once per builder "
+                   "(`scene/builder:NAME`), then its frames timed; CPU seconds of the process per frame "
+                   "(every thread), which a shared machine's load moves far less than wall time. The build peak "
+                   "is the create call's VmHWM rise above the resident memory before it, after malloc_trim (records "
+                   "without `build_peak_trimmed` show none: later builds reused heap freed by earlier ones); a "
+                   "scene measured twice shows its last records.\n\n" + t)
     t = threads_section(cases, P("threads.png"))
     if t:
         doc.append("\n## Thread scaling\n\n![thread scaling](threads.png)\n\n" + t)

@@ -4,8 +4,9 @@
 # shared 2-core machine: 256x256 images, few rounds, interleaved targets;
 # thread scaling at 1024^2 on scenes of 0.1 s or more a frame. "--targets
 # avx2,avx512" picks the widest of the two this CPU runs (the other is skipped
-# with a note). bench_width_avx512.jsonl and bench_roofline_avx512.jsonl are
-# kept from a machine with AVX-512 (the width study needs it).
+# with a note). The bench_*_avx512.jsonl files are kept from a machine with
+# AVX-512 (commit 98c1067: the width study needs it; views and large sets not
+# rerun since).
 # usage: bench/run_matrix.sh BUILD_DIR   (from the source root)
 set -u
 exe=${1:-build}/tools/lanecast

@@ -3,6 +3,9 @@
  * API; a scene is built once and rendered by every target's device. */
 #include <math.h>
 #include <stdint.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 #include "bench_common.h"
@@ -64,7 +67,7 @@ typedef struct scene_opts {
     const char *builder; /* a name of bench_builders, or NULL */
 } scene_opts;
 
-const char *const bench_builders[] = {"embree", "embree-low", "chunked", "sah", NULL};
+const char *const bench_builders[] = {"embree", "sah", NULL};
 
 /* Splits name into its base and options; -1 with a message in note for an
  * unknown or malformed option. */
@@ -138,7 +141,7 @@ int bench_scene_known(const char *full)
 /* Memory of a build: VmHWM is reset (/proc/self/clear_refs "5") just before
  * the create or load call, so afterwards it is the process's peak during
  * the call; the build's peak is that minus VmRSS before (the caller's arrays,
- * the device). */
+ * the device), after malloc_trim has returned the free heap to the system. */
 static long status_kb(const char *key)
 {
     char line[256];
@@ -155,6 +158,9 @@ static double cpu_at_begin; /* CPU seconds of the process when the create call b
 
 static long peak_begin(void)
 {
+#ifdef __GLIBC__
+    malloc_trim(0); /* freed memory of earlier scenes back to the system, so a build cannot reuse it unseen */
+#endif
     cpu_at_begin = bench_cpu_now();
     FILE *f = fopen("/proc/self/clear_refs", "w");
     int ok = f && fputs("5", f) >= 0;
