@@ -501,8 +501,11 @@ def main():
            "fps, ns per ray, samples/s, Gaussians/s, build time and bytes, peak RSS, CPU, commit, compiler). "
            "`--quick` runs as a test, `--roofline` measures this machine's ceilings, `--width-study` separates "
            "instruction set from width, `--jobs N` times what an interactive user waits for (navigation frames, "
-           "a render job's passes, cancel latency), and `--baseline EXE` compares this build with another build "
-           "of lanecast in interleaved rounds (ratios of wall and CPU time per case). "
+           "a render job's passes, cancel latency), `--baseline EXE` compares this build with another build "
+           "of lanecast in interleaved rounds (ratios of wall and CPU time per case), `--profile` splits a grid "
+           "frame's CPU time into its stages, `--builders` compares particle BVH builders and `--read` times "
+           "trajectory reading. Records from another machine (the `_avx512` files) are marked by their CPU "
+           "flags in the tables that use them. "
            "`bench/report.py` made this page from the records in `bench/results/`; "
            "`bench/peers.sh` measures VTK and SPLASH on the same data.\n"]
     if a.command:
