@@ -34,6 +34,12 @@ static volatile float roof_m = 0.9999f, roof_c = 1e-4f; /* not constants: nothin
 #define ROOF_KERNELS(SUF, N, TGT)                                                                         \
     typedef float vf_##SUF __attribute__((vector_size(4 * (N))));                                        \
     typedef int32_t vi_##SUF __attribute__((vector_size(4 * (N))));                                      \
+    __attribute__((target(TGT))) static inline float hsum_##SUF(vf_##SUF v)                               \
+    {                                                                                                     \
+        float r = 0;                                                                                      \
+        for (int i = 0; i < N; i++) r += v[i];                                                            \
+        return r;                                                                                         \
+    }                                                                                                     \
     __attribute__((target(TGT))) NOVEC static float fma_##SUF(long iters)                                 \
     {                                                                                                     \
         vf_##SUF a[12], m, c;                                                                             \
@@ -72,9 +78,7 @@ static volatile float roof_m = 0.9999f, roof_c = 1e-4f; /* not constants: nothin
             }                                                                                             \
             total += acc;                                                                                 \
         }                                                                                                 \
-        float r = 0;                                                                                      \
-        for (int i = 0; i < N; i++) r += total[i];                                                        \
-        return r;                                                                                         \
+        return hsum_##SUF(total);                                                                         \
     }
 
 /* scalar: plain floats (1-lane vector types go through memory) */
@@ -163,9 +167,7 @@ ROOF_KERNELS(avx512, 16, "avx512f,avx512vl,avx2,fma")
             }                                                                                                  \
             total += acc;                                                                                      \
         }                                                                                                      \
-        float r = 0;                                                                                           \
-        for (int i = 0; i < N; i++) r += total[i];                                                             \
-        return r;                                                                                              \
+        return hsum_##SUF(total);                                                                              \
     }
 
 #define GATHER_LANES(out, q, e) \
