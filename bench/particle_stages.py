@@ -4,11 +4,11 @@ shares of perf samples by stage, from the inline chain of each sampled address
 (addr2line -i) in a release build with debug info (meson setup BUILD
 --buildtype=release -Ddebug=true: the same code, with line tables).
 
-  perf record -o p.data BUILD/bench/bench_particles --sets dense1e6 --targets avx512 \\
-      --threads 2 --methods coherent --views far --repeats 2
+  perf record -o p.data BUILD/tools/lanecast bench --scenes cluster:1e6 --targets avx512 \\
+      --threads 2 --methods coherent --views far --repeats 2 --no-check
   perf script -i p.data -F ip,sym,symoff | awk '{print $2}' | grep + | sort | uniq -c > p.sym
-  nm BUILD/bench/bench_particles | grep -E ' (traverse_pass|collect_group|deposit_list|coherent_dvr.isra.0)$'
-  python3 bench/particle_stages.py BUILD/bench/bench_particles p.sym traverse_pass=ADDR ...
+  nm BUILD/tools/lanecast | grep -E ' (traverse_pass|collect_group|deposit_list|coherent_dvr.isra.0)$'
+  python3 bench/particle_stages.py BUILD/tools/lanecast p.sym traverse_pass=ADDR ...
 
 --deposit-loop-from LINE (first): for sources before deposit_samples existed
 (main at 4046397: the `for (int k0 = kal` line of deposit), deposit's lines

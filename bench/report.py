@@ -51,6 +51,37 @@ def load(paths):
     return cases, roofs, skips, peers, jobs
 
 
+def machine(r):
+    """The machine a record was made on: CPU model and SIMD flags (one model name can hide CPUs with and
+    without AVX-512)."""
+    return (r.get("cpu"), r.get("cpu_flags"))
+
+
+def fma_ratios(roofs):
+    """avx512 / avx2 FMA peak per machine, from the roofline records (the CPU's FMA-pipe width ratio:
+    2 = full-width 512-bit FMA pipes, 1 = a 512-bit FMA issues as two 256-bit halves)."""
+    peak = collections.defaultdict(dict)
+    for r in roofs:
+        peak[machine(r)][r["target"]] = r["fma_gflops"]
+    return {m: p["avx512"] / p["avx2"] for m, p in peak.items() if p.get("avx2") and p.get("avx512")}
+
+
+def sources(records):
+    """The record files a table was made from."""
+    return "*Records: %s.*\n" % ", ".join("`bench/results/%s`" % f for f in sorted({r["file"] for r in records}))
+
+
+GRID_PEAK = "trilinear samples streamed along rays"
+
+
+def fraction(r):
+    """A case's fraction of this machine's ceiling; grids only against the grid-stream ceiling (older
+    records' random-load ceiling was not an upper bound of a ray caster)."""
+    if r["kind"] == "grid" and r.get("peak") != GRID_PEAK:
+        return None
+    return r.get("fraction_of_peak")
+
+
 def groups(cases):
     g = collections.OrderedDict()
     for r in cases:
@@ -195,47 +226,64 @@ def sweep(cases, param, path, title):
 
 
 def threads_section(cases, path):
+    """Thread scaling of the bench_threads records: fps per thread count, the 1-thread frame time (the
+    scenes are sized to 0.1 s or more, so thread start-up and tile imbalance do not hide the scaling),
+    and the load average the records carry (1-minute, lanecast's own threads included): a load above
+    the CPUs online means other work shared the cores, and the scaling then says as much about that as
+    about lanecast."""
     series = collections.defaultdict(dict)
     for r in cases:
         if "median_s" in r and is_default(r) and r["file"].startswith("bench_threads"):
-            series[(r["scene"], r["target"])][r["threads"]] = r
+            series[(r["scene"], r["target"], r["width"], r["height"])][r["threads"]] = r
     series = {k: v for k, v in series.items() if len(v) >= 2}
     if not series:
         return None
     fig, ax = plt.subplots(figsize=(6, 4))
     rows = []
-    for (scene, t), v in series.items():
+    nth = sorted({n for v in series.values() for n in v})
+    for (scene, t, w, h), v in series.items():
         ths = sorted(v)
         ax.plot(ths, [v[n]["fps"] / v[ths[0]]["fps"] for n in ths], marker="o", label="%s %s" % (scene, t))
-        rows.append([scene, t] + ["%s" % fmt(v[n]["fps"]) for n in ths] +
-                    [fmt(v[ths[-1]]["fps"] / v[ths[0]]["fps"], 3)])
-    ax.plot([1, max(max(v) for v in series.values())], [1, max(max(v) for v in series.values())], "k--", lw=0.8,
-            label="linear")
+        top = v[ths[-1]]
+        loads = [v[n].get("loadavg", -1) for n in ths]
+        # the load average counts lanecast's own threads: more runnable work than CPUs is another's
+        loaded = any(l > v[n]["cpus_online"] + 0.5 for n, l in zip(ths, loads))
+        rows.append([scene, t, "%dx%d" % (w, h), fmt(v[ths[0]]["median_s"])] +
+                    [fmt(v[n]["fps"]) if n in v else "-" for n in nth] +
+                    [fmt(top["fps"] / v[ths[0]]["fps"], 3), fmt(top["cpu_median_s"] / v[ths[0]]["cpu_median_s"], 3)
+                     if top.get("cpu_median_s") and v[ths[0]].get("cpu_median_s") else "-",
+                     " / ".join(fmt(l, 2) for l in loads), "**loaded**" if loaded else "quiet"])
+    top = max(nth)
+    ax.plot([1, top], [1, top], "k--", lw=0.8, label="linear")
     ax.set_xlabel("threads")
     ax.set_ylabel("speedup over 1 thread")
-    ax.set_title("Thread scaling (2 shared cores)")
+    ax.set_title("Thread scaling (%d CPUs)" % next(iter(series.values()))[nth[0]]["cpus_online"])
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
-    nth = sorted({n for v in series.values() for n in v})
-    return table(["scene", "target"] + ["fps %d thr" % n for n in nth] + ["scaling"], rows)
+    recs = [r for v in series.values() for r in v.values()]
+    return table(["scene", "target", "image", "1-thread s"] + ["fps %d thr" % n for n in nth] +
+                 ["scaling (wall)", "CPU s ratio", "load avg per run", "machine"], rows) + "\n" + sources(recs)
 
 
-def width_section(cases):
-    rows = []
+def width_section(cases, roofs):
+    ratios = fma_ratios(roofs)
+    rows, recs = [], []
     for key, g in groups(cases).items():
         r0 = next(iter(g.values()))
         if r0.get("study") != "width" or not all(t in g and "fps" in g[t] for t in ("avx2", "avx512_8", "avx512")):
             continue
         a, b, c = (g[t]["median_s"] for t in ("avx2", "avx512_8", "avx512"))
         rows.append([r0["scene"], r0["kind"], fmt(g["avx2"]["fps"]), fmt(g["avx512_8"]["fps"]), fmt(g["avx512"]["fps"]),
-                     fmt(a / b, 3), fmt(b / c, 3), fmt(a / c, 3)])
+                     fmt(a / b, 3), fmt(b / c, 3), fmt(a / c, 3), fmt(ratios.get(machine(r0)), 3)])
+        recs += list(g.values())
     if not rows:
         return None
     return table(["scene", "kind", "avx2 fps", "avx512_8 fps", "avx512 fps", "ISA (avx512_8 / avx2)",
-                  "width (avx512 / avx512_8)", "both (avx512 / avx2)"], rows)
+                  "width (avx512 / avx512_8)", "both (avx512 / avx2)", "FMA peak avx512 / avx2 (roofline)"], rows) + \
+        "\n" + sources(recs + [r for r in roofs if machine(r) in {machine(x) for x in recs}])
 
 
 def views_section(cases):
@@ -269,16 +317,62 @@ def large_section(cases):
                   "peak RSS MB (process)", "check"], rows)
 
 
+def builders_section(cases):
+    """`--builders` records: per scene and builder the build (wall and CPU s, BVH MB, the build's peak memory)
+    and the CPU s per frame of each view, with the ratio to Embree MEDIUM's (below 1: faster)."""
+    rows, recs = [], []
+    per = collections.OrderedDict()
+    for r in cases:
+        if "/builder:" in r["scene"] and "cpu_median_s" in r:
+            base, b = r["scene"].split("/builder:")
+            base = "%s (%dx%d)" % (base, r["width"], r["height"])
+            per.setdefault(base, collections.OrderedDict()).setdefault(b, {})[r["view"]] = r
+            recs.append(r)
+    if not per:
+        return None
+    views = sorted({v for bs in per.values() for vs in bs.values() for v in vs}, key=["far", "medium", "close"].index)
+    for base, bs in per.items():
+        ref = bs.get("embree", {})
+        for b, vs in bs.items():
+            r0 = next(iter(vs.values()))
+            cells = []
+            for v in views:
+                if v not in vs:
+                    cells.append("-")
+                    continue
+                c = vs[v]["cpu_median_s"]
+                x = " (%s)" % fmt(c / ref[v]["cpu_median_s"], 3) if v in ref and b != "embree" else ""
+                cells.append(fmt(c) + x)
+            rows.append([base, b, fmt(r0["build_s"]), fmt(r0.get("build_cpu_s")), fmt(r0["bvh_bytes"] / 1e6),
+                         fmt(r0["build_peak_kb"] / 1024) if r0.get("build_peak_kb", -1) >= 0 and
+                         r0.get("build_peak_trimmed") else "-"] + cells +
+                        [fmt(r0.get("loadavg"), 2)])
+    return table(["scene", "builder", "build s", "build CPU s", "BVH MB", "build peak MB"] +
+                 ["%s CPU s/frame (x embree)" % v for v in views] + ["load"], rows) + "\n" + sources(recs)
+
+
 def roof_section(roofs):
-    last = {}
+    """One table per machine (the last record per target)."""
+    per = collections.OrderedDict()
     for r in roofs:
-        last[r["target"]] = r
-    rows = [[t, last[t]["lanes"], fmt(last[t]["fma_gflops"]), fmt(last[t]["gauss_per_s"] / 1e9),
-             fmt(last[t]["gather_l1_per_s"] / 1e9), fmt(last[t]["gather_mem_per_s"] / 1e9),
-             fmt(last[t]["gather_over_scalar_l1"]), fmt(last[t]["gather_over_scalar_mem"])]
-            for t in TARGETS if t in last]
-    return table(["target", "lanes", "FMA GFLOP/s", "Gaussians G/s", "gather L1 G floats/s",
-                  "gather 16 MiB G floats/s", "gather/scalar L1", "gather/scalar 16 MiB"], rows)
+        per.setdefault(machine(r), {})[r["target"]] = r
+    ratios = fma_ratios(roofs)
+    out = []
+    for m, last in per.items():
+        g = lambda t, k, sc=1.0: fmt(last[t][k] / sc) if last[t].get(k) else "-"
+        rows = [[t, last[t]["lanes"], g(t, "fma_gflops"), g(t, "gauss_per_s", 1e9), g(t, "gather_l1_per_s", 1e9),
+                 g(t, "gather_mem_per_s", 1e9), g(t, "gather_over_scalar_l1"), g(t, "gather_over_scalar_mem"),
+                 g(t, "grid_cache_samples_per_s", 1e6), g(t, "grid_mem_samples_per_s", 1e6)]
+                for t in TARGETS if t in last]
+        r0 = next(iter(last.values()))
+        out.append("%s (%s), commit %s%s; FMA-pipe width ratio (avx512 / avx2 FMA peak): %s\n\n" %
+                   (m[0], m[1], r0["commit"], ", " + r0["date"] if r0.get("date") else "",
+                    fmt(ratios.get(m), 3) if m in ratios else "not measured (no AVX-512 here)") +
+                   table(["target", "lanes", "FMA GFLOP/s", "Gaussians G/s", "gather L1 G floats/s",
+                          "gather 16 MiB G floats/s", "gather/scalar L1", "gather/scalar 16 MiB",
+                          "grid stream M samples/s (40^3)", "grid stream M samples/s (320^3)"], rows) + "\n" +
+                   sources(list(last.values())))
+    return "\n".join(out)
 
 
 def plot_fraction(best, path):
@@ -286,9 +380,9 @@ def plot_fraction(best, path):
     cmap = {t: c for t, c in zip(TARGETS, ["C0", "C1", "C2", "C3", "C4"])}
     for scene, g in best.items():
         for t in TARGETS:
-            if t in g and g[t].get("fraction_of_peak") is not None:
+            if t in g and fraction(g[t]) is not None:
                 labels.append("%s %s" % (scene, t))
-                vals.append(100 * g[t]["fraction_of_peak"])
+                vals.append(100 * fraction(g[t]))
                 colors.append(cmap[t])
     if not vals:
         return
@@ -407,8 +501,11 @@ def main():
            "fps, ns per ray, samples/s, Gaussians/s, build time and bytes, peak RSS, CPU, commit, compiler). "
            "`--quick` runs as a test, `--roofline` measures this machine's ceilings, `--width-study` separates "
            "instruction set from width, `--jobs N` times what an interactive user waits for (navigation frames, "
-           "a render job's passes, cancel latency), and `--baseline EXE` compares this build with another build "
-           "of lanecast in interleaved rounds (ratios of wall and CPU time per case). "
+           "a render job's passes, cancel latency), `--baseline EXE` compares this build with another build "
+           "of lanecast in interleaved rounds (ratios of wall and CPU time per case), `--profile` splits a grid "
+           "frame's CPU time into its stages, `--builders` compares particle BVH builders and `--read` times "
+           "trajectory reading. Records from another machine (the `_avx512` files) are marked by their CPU "
+           "flags in the tables that use them. "
            "`bench/report.py` made this page from the records in `bench/results/`; "
            "`bench/peers.sh` measures VTK and SPLASH on the same data.\n"]
     if a.command:
@@ -448,10 +545,13 @@ def main():
     if allbest:
         plot_fraction(allbest, P("fraction_of_peak.png"))
         doc.append("\n## Fraction of peak\n\nAchieved Gaussians/s (particles, RBF sets) over the Gaussian micro-kernel's "
-                   "rate, or samples/s over a random-load ceiling (grids: the faster of gathers and scalar loads from a "
-                   "16 MiB table, 8 voxels per trilinear sample), per core used.\n\n"
+                   "rate, or samples/s over the grid ceiling (grids: the grid-stream kernel of `--roofline`, trilinear "
+                   "samples streamed along rays through the kernels' uint8 quad copy with no traversal, "
+                   "classification or blending, the faster of its two volume sizes), per core used. A frame does "
+                   "all of the ceiling's work per sample and more, so each fraction is at most 1; what is left is "
+                   "traversal, classification, shading and compositing.\n\n"
                    "![fraction of peak](fraction_of_peak.png)\n")
-    w = width_section(cases)
+    w = width_section(cases, roofs)
     if w:
         doc.append("\n## Width study: instruction set vs lane width (`--width-study`)\n\n"
                    "Ratios of median frame times within one interleaved case: avx512_8 / avx2 isolates the AVX-512 "
@@ -472,6 +572,14 @@ def main():
     t = sweep([r for r in cases if r["kind"] == "particles"], "sigma", P("sigma_sweep.png"), "Truncation radius sweep")
     if t:
         doc.append("\n## Sigma sweep (particle truncation radius)\n\n![sigma sweep](sigma_sweep.png)\n\n" + t)
+    t = builders_section(cases)
+    if t:
+        doc.append("\n## Particle BVH builders (`--builders`)\n\nEach scene built once per builder "
+                   "(`scene/builder:NAME`), then its frames timed; CPU seconds of the process per frame "
+                   "(every thread), which a shared machine's load moves far less than wall time. The build peak "
+                   "is the create call's VmHWM rise above the resident memory before it, after malloc_trim (records "
+                   "without `build_peak_trimmed` show none: later builds reused heap freed by earlier ones); a "
+                   "scene measured twice shows its last records.\n\n" + t)
     t = threads_section(cases, P("threads.png"))
     if t:
         doc.append("\n## Thread scaling\n\n![thread scaling](threads.png)\n\n" + t)
@@ -485,11 +593,10 @@ def main():
     rel = os.path.relpath(a.out, os.path.dirname(os.path.abspath(page)) or ".")
     docs = os.path.relpath(os.path.join(a.out), os.path.dirname(os.path.abspath(page)))
     doc.append("\n## Why the kernels are as they are\n\nEach design choice of the kernels with the figure that "
-               "decided it (machine, commit and raw file in `bench/results/`), and a ledger of what was tried and "
-               "not kept, measured with the per-kind harnesses (`build/bench/bench_particles`, `bench_grid`, "
-               "`bench_rbf`): [particles](%s/particles.md), [grids](%s/grid.md), "
-               "[RBF sets and the encoder](%s/rbf.md); what those harnesses still cover that `lanecast bench` "
-               "does not: [bench/README.md](%s/README.md).\n\nData-parallel rendering over MPI (compositing time "
+               "decided it (machine, commit and raw file, `git show COMMIT:bench/results/FILE`), and a ledger of "
+               "what was tried and not kept: [particles](%s/particles.md), [grids](%s/grid.md), "
+               "[RBF sets and the encoder](%s/rbf.md); the benchmark's modes and how the older harnesses' "
+               "cases map onto them: [bench/README.md](%s/README.md).\n\nData-parallel rendering over MPI (compositing time "
                "and bytes per rank at P = 2, 1024²): [mpi.md](mpi.md).\n" % (docs, docs, docs, docs))
     text = "\n".join(doc)
     if rel != ".":  # plots and composites live in OUT

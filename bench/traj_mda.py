@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""MDAnalysis's reading rate of the same trajectory bench_traj reads
+"""MDAnalysis's reading rate of the same trajectory `lanecast bench --read` reads
 (docs/bench/traj.md): every frame in order, in atoms per second, and one
 frame in the middle by random access (its offsets index built first, as
 MDAnalysis does on opening). usage: traj_mda.py FILE [REPEATS]"""

@@ -1,10 +1,10 @@
 /* Particle BVH builds. The default is Embree's rtcBuildBVH with
  * RTC_BUILD_QUALITY_MEDIUM (binned SAH, binary, leaves of at most leaf_size
  * particles): the project's stated builder, and within the build-peak budget
- * of issue 8. The measured alternatives stay for A/B runs
- * (LANECAST_PBVH_BUILDER, docs/bench/particles.md "Build peak"): Embree LOW
- * (Morton), Embree MEDIUM in k-d chunks under a top tree, and the own binned
- * SAH builder (bvh/particle_bvh_sah.c). Each is flattened depth-first with
+ * of issue 8. The own binned SAH builder (bvh/particle_bvh_sah.c) stays for
+ * A/B runs (LANECAST_PBVH_BUILDER, lanecast bench --builders); Embree LOW and
+ * chunked Embree builds were measured and removed (docs/bench/particles.md
+ * "Build peak" and its ledger). Embree's tree is flattened depth-first with
  * siblings adjacent. Embree runs the callbacks on several TBB threads: nodes
  * come from rtcThreadLocalAlloc and the callbacks only write their own node.
  * Node boxes and rmax are recomputed from the centres after the build (the
@@ -14,9 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 #include <embree3/rtcore.h>
 #include <embree3/rtcore_builder.h>
 #include "particle_bvh.h"
@@ -123,10 +120,11 @@ void lci_pbvh_free(lci_pbvh *b)
     memset(b, 0, sizeof *b);
 }
 
-/* Embree's build over the particles ids[0..m) (NULL: 0..m-1), flattened
- * into c's arrays with its root at `slot` and depth counted from `depth`. */
-static int build_part(RTCDevice dev, flat_ctx *c, const uint32_t *ids, size_t m, int leaf_size,
-                      enum RTCBuildQuality quality, int32_t slot, int32_t depth, char *err, size_t errlen)
+/* Embree's build (MEDIUM) over the particles ids[0..m) (NULL: 0..m-1),
+ * flattened into c's arrays with its root at `slot` and depth counted from
+ * `depth`. */
+static int build_part(RTCDevice dev, flat_ctx *c, const uint32_t *ids, size_t m, int leaf_size, int32_t slot,
+                      int32_t depth, char *err, size_t errlen)
 {
     struct RTCBuildPrimitive *prims = NULL;
     if (posix_memalign((void **)&prims, 32, m * sizeof *prims) != 0) {
@@ -155,12 +153,11 @@ static int build_part(RTCDevice dev, flat_ctx *c, const uint32_t *ids, size_t m,
     struct RTCBuildArguments a = rtcDefaultBuildArguments();
     a.byteSize = sizeof a;
     a.buildFlags = RTC_BUILD_FLAG_NONE;
-    a.buildQuality = quality;
+    a.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
     a.maxBranchingFactor = 2;
     a.maxDepth = 1024; /* clustered data needs more than the default 32 (NOTES.md) */
     a.sahBlockSize = 1;
-    /* the Morton (LOW) builder makes leaves of minLeafSize: 1 would give n leaves */
-    a.minLeafSize = quality == RTC_BUILD_QUALITY_LOW ? (unsigned)leaf_size : 1;
+    a.minLeafSize = 1;
     a.maxLeafSize = (unsigned)leaf_size;
     a.traversalCost = 1.0f;
     a.intersectionCost = 0.5f; /* fuller leaves: half the nodes of 1.0 (1M particles: 0.73M vs 1.41M) */
@@ -191,113 +188,17 @@ static int build_part(RTCDevice dev, flat_ctx *c, const uint32_t *ids, size_t m,
     return rc;
 }
 
-/* Puts the id whose centre is k-th smallest along axis a at ids[k], smaller
- * ones before it (Hoare partitions: equal keys split evenly). */
-static void select_ids(const float *xyz, uint32_t *ids, int64_t lo, int64_t hi, int64_t k, int a)
-{
-#define KEY(j) xyz[3 * (size_t)ids[j] + (size_t)a]
-    while (hi > lo) {
-        float x = KEY(lo), y = KEY(lo + (hi - lo) / 2), z = KEY(hi);
-        float piv = x < y ? (y < z ? y : (x < z ? z : x)) : (x < z ? x : (y < z ? z : y));
-        int64_t i = lo, j = hi;
-        while (i <= j) {
-            while (KEY(i) < piv) i++;
-            while (KEY(j) > piv) j--;
-            if (i <= j) {
-                uint32_t t = ids[i];
-                ids[i++] = ids[j], ids[j--] = t;
-            }
-        }
-        if (k <= j) hi = j;
-        else if (k >= i) lo = i;
-        else return;
-    }
-#undef KEY
-}
-
-/* The top tree of a chunked build: node `node` (heap numbering: children
- * 2 node + 1 and 2 node + 2, so siblings are adjacent and children follow
- * their parent) over ids[lo, hi), split at the median of the centres' longest
- * axis down to `levels`; chunk c's range is [start[c], start[c + 1]). */
-static void kd_chunks(const float *xyz, uint32_t *ids, size_t lo, size_t hi, int level, int levels, size_t node,
-                      size_t nchunks, size_t *start)
-{
-    if (level == levels) {
-        start[node - (nchunks - 1)] = lo;
-        return;
-    }
-    float mn[3] = {1e30f, 1e30f, 1e30f}, mx[3] = {-1e30f, -1e30f, -1e30f};
-    for (size_t j = lo; j < hi; j++)
-        for (int a = 0; a < 3; a++) {
-            float v = xyz[3 * (size_t)ids[j] + (size_t)a];
-            mn[a] = v < mn[a] ? v : mn[a];
-            mx[a] = v > mx[a] ? v : mx[a];
-        }
-    int a = 0;
-    for (int q = 1; q < 3; q++)
-        if (mx[q] - mn[q] > mx[a] - mn[a]) a = q;
-    size_t mid = lo + (hi - lo) / 2;
-    select_ids(xyz, ids, (int64_t)lo, (int64_t)hi - 1, (int64_t)mid, a);
-    kd_chunks(xyz, ids, lo, mid, level + 1, levels, 2 * node + 1, nchunks, start);
-    kd_chunks(xyz, ids, mid, hi, level + 1, levels, 2 * node + 2, nchunks, start);
-}
-
-/* Chunked Embree build: a k-d split of the particles into 2^L chunks of at
- * most `chunk` particles, each built by Embree on its own (so its 32-byte
- * build primitives exist for one chunk at a time) under a complete binary top
- * tree in slots 0 .. 2^(L+1) - 2. */
-static int build_chunked(RTCDevice dev, flat_ctx *c, size_t n, int leaf_size, size_t chunk, char *err, size_t errlen)
-{
-    int levels = 0;
-    while ((n >> levels) > chunk && levels < 20) levels++;
-    size_t nchunks = (size_t)1 << levels, top = nchunks - 1;
-    size_t *start = malloc((nchunks + 1) * sizeof *start);
-    if (!start) {
-        snprintf(err, errlen, "out of memory for %zu chunks", nchunks);
-        return -1;
-    }
-    uint32_t *ids = c->b->order; /* the chunk lists; each is overwritten by its leaf order after its build */
-    for (size_t i = 0; i < n; i++) ids[i] = (uint32_t)i;
-    kd_chunks(c->xyz, ids, 0, n, 0, levels, 0, nchunks, start);
-    start[nchunks] = n;
-    c->next_node = (int32_t)(top + nchunks);
-    int rc = 0;
-    for (size_t k = 0; k < nchunks && rc == 0; k++) {
-        c->next_prim = (int32_t)start[k];
-        rc = build_part(dev, c, ids + start[k], start[k + 1] - start[k], leaf_size, RTC_BUILD_QUALITY_MEDIUM,
-                        (int32_t)(top + k), levels, err, errlen);
-    }
-    free(start);
-#ifdef __GLIBC__
-    malloc_trim(0); /* the chunks' freed blocks (below the mmap threshold) would stay resident: 25 MB at 10M */
-#endif
-    c->next_prim = (int32_t)n;
-    for (size_t i = top; rc == 0 && i-- > 0;) { /* the top tree, bottom up */
-        lc_kpnode *o = &c->b->nodes[i], *a = &c->b->nodes[2 * i + 1], *b = a + 1;
-        o->first = (int32_t)(2 * i + 1);
-        o->count = 0;
-        for (int q = 0; q < 3; q++) {
-            o->lo[q] = a->lo[q] < b->lo[q] ? a->lo[q] : b->lo[q];
-            o->hi[q] = a->hi[q] > b->hi[q] ? a->hi[q] : b->hi[q];
-        }
-        float ra = c->b->rmax[2 * i + 1], rb = c->b->rmax[2 * i + 2];
-        c->b->rmax[i] = ra > rb ? ra : rb;
-    }
-    return rc;
-}
-
-/* LANECAST_PBVH_BUILDER (embree, embree-low, chunked, sah) overrides the
- * default for A/B runs (bench/pbuild_ab.sh). */
+/* LANECAST_PBVH_BUILDER (embree, sah) overrides the default for A/B runs
+ * (lanecast bench --builders). */
 static lci_pbvh_builder env_builder(lci_pbvh_builder b)
 {
     const char *e = getenv("LANECAST_PBVH_BUILDER");
     if (!e) return b;
-    return !strcmp(e, "embree") ? LCI_PBVH_EMBREE : !strcmp(e, "embree-low") ? LCI_PBVH_EMBREE_LOW
-         : !strcmp(e, "chunked") ? LCI_PBVH_CHUNKED : !strcmp(e, "sah") ? LCI_PBVH_SAH : b;
+    return !strcmp(e, "embree") ? LCI_PBVH_EMBREE : !strcmp(e, "sah") ? LCI_PBVH_SAH : b;
 }
 
 int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
-                      lci_pbvh_builder builder, size_t chunk, lci_pbvh *out, char *err, size_t errlen)
+                      lci_pbvh_builder builder, lci_pbvh *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
     if (n == 0) return 0;
@@ -320,8 +221,8 @@ int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, flo
         snprintf(err, errlen, "no Embree device");
         return -1;
     }
-    /* a binary tree over n >= 1 primitives has at most 2n - 1 nodes (the
-       chunked build's top tree included); pages never written stay unmapped */
+    /* a binary tree over n >= 1 primitives has at most 2n - 1 nodes; pages
+       never written stay unmapped */
     size_t cap = 2 * n - 1;
     out->nodes = malloc(cap * sizeof *out->nodes);
     out->rmax = malloc(cap * sizeof *out->rmax);
@@ -332,12 +233,7 @@ int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, flo
         return -1;
     }
     flat_ctx c = {out, xyz, r, r_all, 1, 0, 0};
-    int rc;
-    if (builder == LCI_PBVH_CHUNKED) rc = build_chunked(dev, &c, n, leaf_size, chunk ? chunk : 1u << 20, err, errlen);
-    else
-        rc = build_part(dev, &c, NULL, n, leaf_size,
-                        builder == LCI_PBVH_EMBREE_LOW ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM, 0, 0, err,
-                        errlen);
+    int rc = build_part(dev, &c, NULL, n, leaf_size, 0, 0, err, errlen);
     if (rc != 0) {
         lci_pbvh_free(out);
         return rc;
@@ -350,5 +246,5 @@ int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, flo
 int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
                    lci_pbvh *out, char *err, size_t errlen)
 {
-    return lci_pbvh_build_ex(embree_device, xyz, r, r_all, n, leaf_size, LCI_PBVH_DEFAULT, 0, out, err, errlen);
+    return lci_pbvh_build_ex(embree_device, xyz, r, r_all, n, leaf_size, LCI_PBVH_DEFAULT, out, err, errlen);
 }

@@ -1,6 +1,6 @@
 /* The particle BVH as flat lc_kpnode arrays: Embree's rtcBuildBVH (MEDIUM)
- * by default; Embree LOW, chunked Embree and the own binned SAH builder
- * (bvh/particle_bvh_sah.c) for A/B runs (bvh/particle_bvh.c). */
+ * by default; the own binned SAH builder (bvh/particle_bvh_sah.c) for A/B
+ * runs (bvh/particle_bvh.c). */
 #ifndef LC_PARTICLE_BVH_H
 #define LC_PARTICLE_BVH_H
 
@@ -19,8 +19,6 @@ typedef struct lci_pbvh {
 typedef enum lci_pbvh_builder {
     LCI_PBVH_DEFAULT,    /* LCI_PBVH_EMBREE, or LANECAST_PBVH_BUILDER's choice (A/B runs) */
     LCI_PBVH_EMBREE,     /* Embree's binned SAH (RTC_BUILD_QUALITY_MEDIUM) over all particles at once */
-    LCI_PBVH_EMBREE_LOW, /* Embree's Morton builder (RTC_BUILD_QUALITY_LOW) */
-    LCI_PBVH_CHUNKED,    /* Embree MEDIUM per k-d chunk of at most `chunk` particles, under a top tree */
     LCI_PBVH_SAH,        /* the own binned SAH builder (bvh/particle_bvh_sah.c) */
 } lci_pbvh_builder;
 
@@ -35,10 +33,9 @@ int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float 
  * checks the arguments and handles n = 0. */
 int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, int leaf_size, int threads,
                        lci_pbvh *out, char *err, size_t errlen);
-/* As lci_pbvh_build with a builder; chunk: particles per chunk of
- * LCI_PBVH_CHUNKED (0 = 2^20). embree_device may be NULL for LCI_PBVH_SAH. */
+/* As lci_pbvh_build with a builder. embree_device may be NULL for LCI_PBVH_SAH. */
 int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
-                      lci_pbvh_builder builder, size_t chunk, lci_pbvh *out, char *err, size_t errlen);
+                      lci_pbvh_builder builder, lci_pbvh *out, char *err, size_t errlen);
 void lci_pbvh_free(lci_pbvh *b);
 
 #endif

@@ -24,7 +24,7 @@ static inline __attribute__((always_inline)) void brute_tile(const lc_kgrid *g, 
 /* One function per mode, each with its sample loop and packlet setup
  * inlined as the brute-force dvr tile had them before iso (called out of
  * line, or with iso's loop in the same function, avx2 dvr frames were 1-3%
- * slower; bench/ab_compare.sh). */
+ * slower: A/B of CPU time per frame, now lanecast bench --baseline). */
 static __attribute__((noinline)) void brute_mip(const lc_kgrid *g, const lc_kframe *f, const lc_ktile *t, lc_kstats *st)
 {
     brute_tile(g, f, LC_KMODE_MIP, t, st);

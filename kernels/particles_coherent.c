@@ -436,8 +436,8 @@ static inline int pass_adapt(const lc_kparticles *s, int K, int P, float waste, 
 /* One tile in mode `mode` (a constant); only iso uses the probe. Each mode
  * gets its own function below: with iso's integration, probe and finishing
  * inlined into the same function as the dvr loops, GCC compiled those loops
- * differently and avx512 dvr frames were 2-3% slower (measured with
- * bench/ab_compare.sh; the iso code was never run). */
+ * differently and avx512 dvr frames were 2-3% slower (an A/B of CPU time
+ * per frame, now lanecast bench --baseline; the iso code was never run). */
 static inline __attribute__((always_inline)) void coherent_tile(const lc_kparticles *s, const lc_kframe *f, int mode,
                                                                 const lc_ktile *t, lc_kscratch *scratch, lc_kstats *st)
 {

@@ -36,6 +36,10 @@ for line in open(sys.argv[1]):
     if not r["check"]["pass"]: sys.exit("record %d: check failed: %s" % (n, r["check"]))
     if not (r["min_s"] <= r["median_s"] <= r["max_s"]): sys.exit("record %d: min <= median <= max broken" % n)
     if r["fps"] <= 0 or r["samples_per_s"] <= 0: sys.exit("record %d: no work measured" % n)
+    if r["kind"] == "grid" and not r["fraction_of_peak"] <= 1:
+        sys.exit("record %d: a grid frame above its ceiling: fraction %s" % (n, r["fraction_of_peak"]))
+    for k in ("date", "cpu", "compiler", "commit", "build_peak_kb", "loadavg"):
+        if k not in r: sys.exit("record %d lacks %s" % (n, k))
     kinds.add(r["kind"]); targets.add(r["target"])
 if kinds != {"particles", "grid", "rbf"}: sys.exit("kinds covered: %s" % sorted(kinds))
 if "scalar" not in targets: sys.exit("no scalar records")
@@ -92,4 +96,50 @@ check "--baseline itself: CPU ratios within 0.5 .. 2" awk -F'"cpu_ratio_median":
 check "--baseline of no program: exit 1 naming it" sh -c "[ $rc -eq 1 ] && grep -q 'not an executable' '$tmp/err'"
 "$exe" bench --quick --scenes grid:24 --baseline /bin/false --ab-rounds 1 2>"$tmp/err"; rc=$?
 check "--baseline that fails: exit 1 with its status" sh -c "[ $rc -eq 1 ] && grep -q 'exited with status 1' '$tmp/err'"
+# every other mode of the tool, tiny
+"$exe" bench --roofline --roof-seconds 0.01 -o "$tmp/r.jsonl" 2>"$tmp/err"; rc=$?
+check "--roofline: exit 0, grid-stream ceilings and the FMA width ratio in every record" sh -c "[ $rc -eq 0 ] &&
+    [ \$(grep -c '\"record\": \"roofline\"' '$tmp/r.jsonl') -ge 1 ] &&
+    ! grep '\"record\": \"roofline\"' '$tmp/r.jsonl' | grep -q -v '\"fma_width_ratio\"' &&
+    ! grep -q '\"grid_cache_samples_per_s\": 0,' '$tmp/r.jsonl' && ! grep -q '\"grid_mem_samples_per_s\": 0,' '$tmp/r.jsonl'"
+"$exe" bench --quick --width-study --scenes uniform:1000 --data "$data" -o "$tmp/w.jsonl" 2>"$tmp/err"; rc=$?
+check "--width-study: exit 0, records marked study width" sh -c "[ $rc -eq 0 ] && grep -q '\"study\": \"width\"' '$tmp/w.jsonl' ||
+    grep -q 'none of the targets asked for runs here' '$tmp/err'"
+ptarget=$("$exe" bench --help | sed -n 's/.*(built for \([a-z0-9_]*\).*/\1/p')
+if "$exe" targets | awk -v t="$ptarget" '$1 == t && $3 == "yes" && $4 == "yes" {f = 1} END {exit !f}'; then
+    "$exe" bench --quick --profile --scenes grid:24,uniform:500 --targets "$ptarget" --repeats 2 -o "$tmp/p.jsonl" 2>"$tmp/err"; rc=$?
+    check "--profile: exit 0, one profile record (grids only), the same samples in every variant" sh -c "[ $rc -eq 0 ] &&
+        [ \$(grep -c '\"record\": \"profile\"' '$tmp/p.jsonl') -eq 1 ] && grep -q '\"same_samples\": true' '$tmp/p.jsonl' &&
+        grep -q '\"fetch\": ' '$tmp/p.jsonl' && grep -q 'not a grid' '$tmp/err'"
+    [ $rc -eq 0 ] || cat "$tmp/err"
+else
+    echo "note: --profile's variants are built for $ptarget, which this CPU does not run: skipped"
+fi
+"$exe" bench --quick --builders embree,sah --scenes uniform:2000 --targets scalar -o "$tmp/bl.jsonl" 2>"$tmp/err"; rc=$?
+check "--builders: exit 0, a case record per builder with its build peak" sh -c "[ $rc -eq 0 ] &&
+    grep -q '\"scene\": \"uniform:2000/builder:embree\"' '$tmp/bl.jsonl' && grep -q '\"scene\": \"uniform:2000/builder:sah\"' '$tmp/bl.jsonl' &&
+    ! grep -q '\"build_peak_kb\": -1' '$tmp/bl.jsonl'"
+"$exe" bench --quick --jobs 3 --scenes grid:24,uniform:500 --targets scalar -o "$tmp/j.jsonl" 2>"$tmp/err"; rc=$?
+check "--jobs: exit 0, a job record per scene" sh -c "[ $rc -eq 0 ] && [ \$(grep -c '\"record\": \"job\"' '$tmp/j.jsonl') -eq 2 ]"
+[ $rc -eq 0 ] || cat "$tmp/err"
+"$exe" bench --builders nosuch 2>"$tmp/err"; rc=$?
+check "unknown builder: exit 2 naming it" sh -c "[ $rc -eq 2 ] && grep -q \"unknown builder 'nosuch'\" '$tmp/err'"
+"$exe" bench --quick --scenes grid:24/bricked/brick:2/no-heuristics,grid:24/u16,grid:24/f32,blob:24,rbf:200/octree:8 \
+    --targets scalar -o "$tmp/o.jsonl" 2>"$tmp/err"; rc=$?
+check "scene options (layout, leaf side, heuristics, value type, blobs, octree): exit 0, one record each" sh -c "[ $rc -eq 0 ] &&
+    [ \$(grep -c '\"record\": \"case\"' '$tmp/o.jsonl') -eq 5 ] && grep -q 'octree cell_max 8' '$tmp/o.jsonl'"
+[ $rc -eq 0 ] || cat "$tmp/err"
+"$exe" bench --scenes grid:24/sideways 2>"$tmp/err"; rc=$?
+check "unknown scene option: exit 2" sh -c "[ $rc -eq 2 ] && grep -q \"unknown scene 'grid:24/sideways'\" '$tmp/err'"
+"$exe" bench --quick --scenes uniform:500/octree --targets scalar -o "$tmp/x2.jsonl" 2>"$tmp/err"; rc=$?
+check "an RBF option on particles: exit 1 naming it" sh -c "[ $rc -eq 1 ] && grep -q 'an option of a RBF set on a particles scene' '$tmp/err'"
+if [ -f "$data/particles/adk.dcd" ]; then
+    "$exe" bench --quick --read "$data/particles/adk.dcd" -o "$tmp/rd.jsonl" 2>"$tmp/err"; rc=$?
+    check "--read adk.dcd: exit 0, 98 frames of 3341 atoms" sh -c "[ $rc -eq 0 ] && grep -q '\"frames\": 98, \"atoms\": 3341' '$tmp/rd.jsonl'"
+    [ $rc -eq 0 ] || cat "$tmp/err"
+else
+    echo "note: $data/particles/adk.dcd absent: --read skipped"
+fi
+"$exe" bench --read "$tmp/none.pdb" 2>"$tmp/err"; rc=$?
+check "--read of a non-trajectory: exit 2" [ $rc -eq 2 ]
 exit $fail

@@ -157,7 +157,7 @@ static void check_volume(const vol *v, const gview *views, int nviews, int show)
                 CHECK_QUIET(in.copy_voxel_bytes == (int)per, "%s layout %d: %s reports a copy of %d bytes a voxel", tn,
                             lay, var->label[c], in.copy_voxel_bytes);
                 /* the pair copy's rows and planes padded to an odd number of 64-byte
-                   lines from 1 KiB and 4 KiB (host/kinds/grid.c padded_strides); the quad copy unpadded */
+                   lines from 1 KiB and 4 KiB (host/kinds/grid_layout.c lci_grid_padded_strides); the quad copy unpadded */
                 uint64_t elems = count;
                 if (per == 2 && gs.g[c][lay]) {
                     const lc_kgrid *kg = &((const grid *)gs.g[c][lay])->kg;

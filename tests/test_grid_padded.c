@@ -1,6 +1,6 @@
 /* Owned linear voxels (uint16, int16, float32) pad rows of 1 KiB
  * and more and planes of 4 KiB and more to an odd number of 64-byte lines
- * (host/kinds/grid.c padded_strides, the pair copy's rule), and every reader
+ * (host/kinds/grid_layout.c lci_grid_padded_strides, the pair copy's rule), and every reader
  * honours the strides: the kernels (dvr, BVH and brute force, mip, iso,
  * lc_volume_sample) and lc_grid_histogram. Per value type, a 601 x 23 x 19
  * volume (rows of 1202 or 2404 bytes: padded) owned and linear, against the

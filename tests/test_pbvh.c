@@ -7,9 +7,9 @@
  * reported depth at least the real one, at most 2n - 1 nodes. Inputs:
  * uniform and clustered sets with mixed radii, all particles at one point,
  * one particle, particles on a plane, on a line, coordinates and radii up to
- * the 1e18 particles.c admits, centres a few subnormals apart, 2^20 + 3 particles (past
- * one chunk of the chunked build), and chunked builds forced into many small
- * chunks (the joins). check() is shown to fail on corrupted trees first. */
+ * the 1e18 particles.c admits, centres a few subnormals apart, 2^20 + 3
+ * particles (32-bit sized loops). check() is shown to fail on corrupted
+ * trees first. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -122,18 +122,18 @@ static set make(const char *name, size_t n, int kind, int radii)
     return s;
 }
 
-static const char *const bnames[] = {"default", "embree", "embree-low", "chunked", "sah"};
+static const char *const bnames[] = {"default", "embree", "sah"};
 
-static void run(void *dev, const set *s, lci_pbvh_builder bld, size_t chunk, int leaf)
+static void run(void *dev, const set *s, lci_pbvh_builder bld, int leaf)
 {
     lci_pbvh b;
     char err[256], why[256];
-    if (lci_pbvh_build_ex(dev, s->xyz, s->r, s->r_all, s->n, leaf, bld, chunk, &b, err, sizeof err) != 0) {
+    if (lci_pbvh_build_ex(dev, s->xyz, s->r, s->r_all, s->n, leaf, bld, &b, err, sizeof err) != 0) {
         FAIL("%s, %s, leaf %d: build failed: %s", s->name, bnames[bld], leaf, err);
         return;
     }
     const char *bad = check(&b, s, leaf, why, sizeof why);
-    if (bad) FAIL("%s, %s (chunk %zu), leaf %d: %s", s->name, bnames[bld], chunk, leaf, bad);
+    if (bad) FAIL("%s, %s, leaf %d: %s", s->name, bnames[bld], leaf, bad);
     lci_pbvh_free(&b);
 }
 
@@ -146,7 +146,7 @@ static void check_can_fail(void *dev)
     for (int w = 0; w < 6; w++) {
         lci_pbvh b;
         char err[256], why[256];
-        if (lci_pbvh_build_ex(dev, s.xyz, s.r, 0, s.n, 4, LCI_PBVH_SAH, 0, &b, err, sizeof err) != 0) {
+        if (lci_pbvh_build_ex(dev, s.xyz, s.r, 0, s.n, 4, LCI_PBVH_SAH, &b, err, sizeof err) != 0) {
             FAIL("corruption base build: %s", err);
             break;
         }
@@ -184,27 +184,19 @@ int main(void)
     for (int i = 0; i < nsets; i++)
         for (int bld = LCI_PBVH_EMBREE; bld <= LCI_PBVH_SAH; bld++)
             for (int l = 0; l < 4; l++)
-                run(dev, &sets[i], (lci_pbvh_builder)bld, bld == LCI_PBVH_CHUNKED ? 1000 : 0, (int[]){1, 4, 16, 32}[l]);
-    /* the joins of a chunked build: many chunks, chunk sizes from 1 up, n not a power of two */
-    size_t chunks[] = {1, 2, 3, 7, 64, 4999};
-    for (size_t c = 0; c < sizeof chunks / sizeof chunks[0]; c++) {
-        run(dev, &sets[0], LCI_PBVH_CHUNKED, chunks[c], 4);
-        run(dev, &sets[1], LCI_PBVH_CHUNKED, chunks[c], 4);
-        run(dev, &sets[3], LCI_PBVH_CHUNKED, chunks[c], 4);
-    }
-    /* past 2^20: the default chunk of the chunked build, 32-bit sized loops */
+                run(dev, &sets[i], (lci_pbvh_builder)bld, (int[]){1, 4, 16, 32}[l]);
+    /* past 2^20: 32-bit sized loops */
     set big = make("2^20 + 3 uniform", (1u << 20) + 3, 0, 1), same = make("2^20 + 3 at one point", (1u << 20) + 3, 2, 0);
     for (int bld = LCI_PBVH_EMBREE; bld <= LCI_PBVH_SAH; bld++) {
-        if (bld == LCI_PBVH_EMBREE_LOW) continue; /* its quality is not on offer; small sets cover its structure */
-        run(dev, &big, (lci_pbvh_builder)bld, 0, 4);
-        run(dev, &same, (lci_pbvh_builder)bld, 0, 4);
+        run(dev, &big, (lci_pbvh_builder)bld, 4);
+        run(dev, &same, (lci_pbvh_builder)bld, 4);
     }
     for (int i = 0; i < nsets; i++) free(sets[i].xyz), free(sets[i].r);
     free(big.xyz), free(big.r), free(same.xyz);
     /* bad arguments are refused with a message, not a crash */
     lci_pbvh b;
     err[0] = 0;
-    if (lci_pbvh_build_ex(dev, (float[3]){0, 0, 0}, NULL, 1.0f, 1, 33, LCI_PBVH_SAH, 0, &b, err, sizeof err) == 0 ||
+    if (lci_pbvh_build_ex(dev, (float[3]){0, 0, 0}, NULL, 1.0f, 1, 33, LCI_PBVH_SAH, &b, err, sizeof err) == 0 ||
         !err[0])
         FAIL("leaf size 33 accepted");
     lci_embree_free(dev);

@@ -17,6 +17,8 @@ typedef struct bench_scene {
     size_t count;        /* particles, RBFs or voxels */
     double build_seconds, gen_seconds;
     size_t bvh_bytes, data_bytes;
+    long build_peak_kb;  /* the create or load call's peak memory above what was resident before; -1 unknown */
+    double build_cpu_s;  /* CPU seconds of the process (every thread) during that call */
     lc_volume_info info;
     float max_radius;    /* particles and RBF sets: largest radius or width */
     int absent;          /* set with a failure: a real data set's file is missing (a skip, not an error) */
@@ -32,6 +34,8 @@ void bench_scene_free(bench_scene *sc);
 int bench_scene_known(const char *name);
 /* The help text's list of scene names. */
 extern const char bench_scene_help[];
+/* The particle BVH builders a scene's /builder:NAME picks (NULL-terminated). */
+extern const char *const bench_builders[];
 
 /* far: the whole data framed (lc_camera_frame); medium: 0.55 of that
  * distance; close: 0.3 of it (inside dense particle sets). */
@@ -45,10 +49,18 @@ typedef struct bench_roof {
     double gather_l1[LC_TARGET_COUNT];    /* floats per second: gathers (or scalar loads for scalar/sse4), 16 KiB table */
     double gather_mem[LC_TARGET_COUNT];   /* the same from a 16 MiB table */
     double scalar_l1, scalar_mem;         /* scalar loads at random indices, floats per second */
+    /* the grids' ceiling: trilinear samples per second streamed along rays
+       through the uint8 z-paired quad copy (the grid kernels' layout, kgrid.h
+       pair_quads), no traversal, classification or blending; a volume that
+       stays in cache (64^3) and one that does not (320^3) */
+    double grid_cache[LC_TARGET_COUNT], grid_mem[LC_TARGET_COUNT];
 } bench_roof;
 
 /* Measures every supported target for about `seconds` per kernel. */
 void bench_roof_measure(bench_roof *r, double seconds);
+/* FMA peak of avx512 over avx2 (1: 512-bit FMAs issue at half rate or
+ * split; 2: full-width FMA pipes); 0 when either is not measured. */
+double bench_fma_width_ratio(const bench_roof *r);
 /* Writes one JSON record per target to f (kind "roofline"). */
 void bench_roof_print(FILE *f, const bench_roof *r, const char *machine_json);
 

@@ -114,10 +114,14 @@ const char *bench_machine_json(void)
             size_t l = strlen(targets);
             snprintf(targets + l, sizeof targets - l, "%s%s", l ? " " : "", lc_target_name((lc_target)t));
         }
+    char date[32] = "unknown";
+    time_t now = time(NULL);
+    struct tm tm;
+    if (gmtime_r(&now, &tm)) strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", &tm);
     snprintf(buf, sizeof buf,
-             "\"cpu\": \"%s\", \"cpu_flags\": \"%s\", \"cpus_online\": %ld, \"host\": \"%s\", \"kernel\": \"%s\", "
+             "\"date\": \"%s\", \"cpu\": \"%s\", \"cpu_flags\": \"%s\", \"cpus_online\": %ld, \"host\": \"%s\", \"kernel\": \"%s\", "
              "\"lanecast\": \"%s\", \"commit\": \"%s\", \"compiler\": \"%s\", \"targets_here\": \"%s\"",
-             model, flags, sysconf(_SC_NPROCESSORS_ONLN), host, kernel, lc_version_string(), LC_BENCH_COMMIT,
+             date, model, flags, sysconf(_SC_NPROCESSORS_ONLN), host, kernel, lc_version_string(), LC_BENCH_COMMIT,
 #if defined(__clang__)
              "clang " __clang_version__,
 #elif defined(__GNUC__)

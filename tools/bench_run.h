@@ -34,5 +34,14 @@ int bench_job_group(const bench_group *g, const lc_render_desc *d, int trials);
  * (args) in `rounds` interleaved rounds; one "ab" record per case to out
  * (bench_ab.c). 0 ok, 1 when a run failed or no case was paired. */
 int bench_ab(const char *baseline, int rounds, char **args, int nargs, FILE *out);
+/* --profile: the grid stage profile of the group on the targets whose
+ * variants are built (bench_profile.c), one "profile" record each. Returns
+ * the number that failed. */
+int bench_profile_group(const bench_group *g, const lc_render_desc *d);
+/* the targets --profile's variants are built for, space-separated */
+const char *bench_profile_targets(void);
+/* --read FILE: a trajectory's reading rates (bench_read.c), one "read"
+ * record; 0 ok, 1 a read failed, 2 not a trajectory it times. */
+int bench_read(const char *path, int rounds, FILE *out);
 
 #endif

@@ -58,6 +58,13 @@ static const char help[] =
     "  --jobs N          interactive timings instead (records \"job\"): full frame, navigation frame\n"
     "                    (pixel_scale 2), a render job's preview and refined image, and the latency of\n"
     "                    N cancels at random points of a frame (median, p95, worst)\n"
+    "  --profile         grid stage profile instead (records \"profile\"): CPU time of fetch,\n"
+    "                    interpolation, classification, shading, blending and the sample loop, from\n"
+    "                    kernel variants with one more stage replaced each (built for %s)\n"
+    "  --builders LIST   every scene (particle sets) once per BVH builder: %s\n"
+    "                    (scene/builder:NAME; records carry build_s and build_peak_kb)\n"
+    "  --read FILE       trajectory reading rates instead (record \"read\"; .xtc, .trr, .dcd):\n"
+    "                    frames counted, every frame in order, the middle one, frame 0; best of --repeats\n"
     "\n"
     "examples:\n"
     "  lanecast bench --quick\n"
@@ -67,6 +74,10 @@ static const char help[] =
     "  lanecast bench --width-study --scenes uniform:1e5,grid:256\n"
     "  lanecast bench --baseline ../before/build/tools/lanecast --scenes 1tw7,engine --threads 1\n"
     "  lanecast bench --jobs 200 --scenes engine,1tw7,uniform:1e6 --sizes 1024 --threads 2 --targets avx2\n"
+    "  lanecast bench --profile --scenes engine,grid:512 --sizes 1024 --shading none,phong --targets avx2\n"
+    "  lanecast bench --builders embree,sah --scenes uniform:1e6,1tw7 --views far,close --targets avx2\n"
+    "  lanecast bench --scenes engine,engine/bricked,engine/no-heuristics,rbf:1e4,rbf:1e4/octree:16\n"
+    "  lanecast bench --read adk1000.xtc --repeats 2\n"
     "\n"
     "exit status: 0 ok, 1 a check or render failed (the records say which), 2 bad usage\n";
 
@@ -76,10 +87,10 @@ typedef struct list {
 } list;
 
 typedef struct opts {
-    list scenes, views, sizes, targets, threads, methods, modes, packets, shadings, alphas, sigmas;
-    int warmup, repeats, min_repeats, check_size, quick, roofline, width_study, jobs, ab_rounds;
+    list scenes, views, sizes, targets, threads, methods, modes, packets, shadings, alphas, sigmas, builders;
+    int warmup, repeats, min_repeats, check_size, quick, roofline, width_study, jobs, ab_rounds, profile;
     double seconds, roof_seconds;
-    const char *out, *data, *baseline;
+    const char *out, *data, *baseline, *read;
     char *pass[256]; /* the flags a --baseline run passes on (all but -o, --baseline, --ab-rounds) */
     int npass;
 } opts;
@@ -114,6 +125,14 @@ static int name_index(const char *const *names, int n, const char *s)
 /* Every list value checked before any work. */
 static int validate(const opts *o)
 {
+    for (int i = 0; i < o->builders.n; i++) {
+        int k = 0;
+        while (bench_builders[k] && strcmp(bench_builders[k], o->builders.v[i])) k++;
+        if (!bench_builders[k]) {
+            fprintf(stderr, CMD ": --builders: unknown builder '%s' (see lanecast bench --help)\n", o->builders.v[i]);
+            return -1;
+        }
+    }
     for (int i = 0; i < o->scenes.n; i++)
         if (!bench_scene_known(o->scenes.v[i])) {
             fprintf(stderr, CMD ": --scenes: unknown scene '%s' (see lanecast bench --help)\n", o->scenes.v[i]);
@@ -196,7 +215,7 @@ static int parse_opts(int argc, char **argv, opts *o)
         } lists[] = {{"--scenes", &o->scenes},   {"--views", &o->views},     {"--sizes", &o->sizes},
                      {"--targets", &o->targets}, {"--threads", &o->threads}, {"--methods", &o->methods},
                      {"--modes", &o->modes},     {"--packet", &o->packets},  {"--shading", &o->shadings},
-                     {"--alpha-stop", &o->alphas}, {"--sigma", &o->sigmas}};
+                     {"--alpha-stop", &o->alphas}, {"--sigma", &o->sigmas}, {"--builders", &o->builders}};
         int done = 0;
         for (size_t k = 0; k < sizeof lists / sizeof lists[0] && !done; k++)
             if (!strcmp(a, lists[k].flag)) {
@@ -217,6 +236,10 @@ static int parse_opts(int argc, char **argv, opts *o)
         if (!strcmp(a, "--quick")) o->quick = 1;
         else if (!strcmp(a, "--roofline")) o->roofline = 1;
         else if (!strcmp(a, "--width-study")) o->width_study = 1;
+        else if (!strcmp(a, "--profile")) o->profile = 1;
+        else if (!strcmp(a, "--read")) {
+            if (!(o->read = arg_value(CMD, argc, argv, &i))) return -1;
+        }
         else if (!strcmp(a, "--no-check")) o->check_size = 0;
         else if (!strcmp(a, "--jobs")) {
             if (!(v = arg_value(CMD, argc, argv, &i)) || arg_int(CMD, a, v, 1, 100000, &o->jobs)) return -1;
@@ -333,7 +356,9 @@ static void run_view(run *R, bench_scene *sc, const char *view)
                                     fprintf(stderr, CMD ": %s %s %dx%d %s %s packet %d %s threads %d ...\n", sc->name, view,
                                             g.width, g.height, g.mode_name, g.method_name, g.packet, g.shading_name,
                                             g.threads);
-                                    R->bad += o->jobs ? bench_job_group(&g, &d, o->jobs) : bench_run_group(&g, &d);
+                                    R->bad += o->jobs      ? bench_job_group(&g, &d, o->jobs)
+                                              : o->profile ? bench_profile_group(&g, &d)
+                                                           : bench_run_group(&g, &d);
                                     R->cases++;
                                 }
             }
@@ -392,7 +417,12 @@ int cli_bench(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++)
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            printf(help, bench_scene_help, LC_BENCH_DATA_DIR);
+            char builders[256] = "";
+            for (int k = 0; bench_builders[k]; k++) {
+                size_t l = strlen(builders);
+                snprintf(builders + l, sizeof builders - l, "%s%s", k ? ", " : "", bench_builders[k]);
+            }
+            printf(help, bench_scene_help, LC_BENCH_DATA_DIR, bench_profile_targets(), builders);
             return 0;
         }
     static opts o = {.warmup = 1, .repeats = 9, .min_repeats = 3, .check_size = 128, .seconds = 10, .roof_seconds = 0.3,
@@ -415,6 +445,11 @@ int cli_bench(int argc, char **argv)
         if (out != stdout && fclose(out)) rc = 1;
         return rc ? CLI_EXIT_FAIL : 0;
     }
+    if (o.read) {
+        int rc = bench_read(o.read, o.quick ? 1 : o.repeats, out);
+        if (out != stdout && fclose(out)) rc = 1;
+        return rc == 2 ? CLI_EXIT_USAGE : rc ? CLI_EXIT_FAIL : 0;
+    }
     bench_roof roof;
     fprintf(stderr, CMD ": measuring this machine's ceilings (%g s per kernel) ...\n", o.roof_seconds);
     bench_roof_measure(&roof, o.roof_seconds);
@@ -435,7 +470,14 @@ int cli_bench(int argc, char **argv)
         if (out != stdout) fclose(out);
         return CLI_EXIT_FAIL;
     }
-    for (int i = 0; i < o.scenes.n; i++) run_scene(&R, build_dev, o.scenes.v[i]);
+    for (int i = 0; i < o.scenes.n; i++) {
+        if (!o.builders.n) run_scene(&R, build_dev, o.scenes.v[i]);
+        for (int b = 0; b < o.builders.n; b++) {
+            char name[128];
+            snprintf(name, sizeof name, "%s/builder:%s", o.scenes.v[i], o.builders.v[b]);
+            run_scene(&R, build_dev, name);
+        }
+    }
     lc_device_destroy(build_dev);
     for (int t = 0; t < LC_TARGET_COUNT; t++)
         for (int k = 0; k < MAXL; k++) lc_device_destroy(dc.dev[t][k]);

@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "args.h"
 #include "cli.h"
+#include "render_opts.h"
 
 static const char encode_help[] =
     "usage: lanecast encode INPUT -o OUT.rbf [options]\n"
@@ -33,6 +34,9 @@ static const char encode_help[] =
     "                         and its first one-component point data array\n"
     "  --format NAME          read INPUT as this format (csv, vtk or a volume format)\n"
     "  --opt KEY=VALUE        a load option of the volume format (repeatable; e.g. size=64,64,64)\n"
+    "  every input flag of lanecast render, as render takes it: raw volumes (--dims X,Y,Z, --type,\n"
+    "                         --spacing, --big-endian) and the particle and RBF set flags\n"
+    "                         (see lanecast render --help)\n"
     "\n"
     "fitting:\n"
     "  --max-error E          target RMS error relative to the value range, in (0, 1) (default 0.02)\n"
@@ -75,6 +79,8 @@ typedef struct eopts {
     const char *input, *output, *format;
     lc_option opt[MAX_OPTS];
     int nopt;
+    cli_load load; /* the input flags render takes (cli_input_flag) */
+    const char *first[NKINDS];
     lc_rbf_encode_desc d;
     int text, quiet, progress, tty, threads;
 } eopts;
@@ -152,7 +158,7 @@ static int parse(eopts *o, int argc, char **argv)
         if (!strcmp(a, "--text")) o->text = 1;
         else if (!strcmp(a, "--quiet")) o->quiet = 1;
         else if (!strcmp(a, "--progress")) o->progress = 1;
-        else if ((r = parse_valued(o, argc, argv, &i))) {
+        else if ((r = parse_valued(o, argc, argv, &i)) || (r = cli_input_flag(cmd, argc, argv, &i, &o->load, o->first))) {
             if (r < 0) return -1;
         } else if (a[0] == '-' && a[1]) {
             fprintf(stderr, "%s: unknown option '%s' (see %s --help)\n", cmd, a, cmd);
@@ -241,7 +247,13 @@ int cli_encode(int argc, char **argv)
     lc_status s = lc_device_create(&dd, &dev);
     double t0 = now();
     if (s == LC_OK) {
-        lc_load_desc ld = {.format = o.format, .options = o.opt, .noptions = o.nopt};
+        lc_option all[CLI_MAX_OPTIONS + MAX_OPTS];
+        int nall = cli_input_merge(cmd, &o.load, o.opt, o.nopt, all, CLI_MAX_OPTIONS + MAX_OPTS);
+        if (nall < 0) {
+            lc_device_destroy(dev);
+            return CLI_EXIT_USAGE;
+        }
+        lc_load_desc ld = {.format = o.format ? o.format : o.load.format, .options = all, .noptions = nall};
         s = lc_samples_load(dev, o.input, &ld, &sm);
     }
     double load_s = now() - t0;

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <time.h>
 #include "cli.h"
-#include "cli_kind.h"
+#include "render_opts.h"
 
 static const char info_help[] =
     "usage: lanecast info FILE [--frame N] [--topology FILE] [--format NAME] [--option KEY=VALUE ...]\n"
@@ -21,8 +21,12 @@ static const char info_help[] =
     "  --format NAME         the format, when it cannot be detected (see lanecast formats)\n"
     "  --option KEY=VALUE    a load option of the format or kind (lanecast formats lists them),\n"
     "                        e.g. --option fields=element; may be repeated\n"
+    "  and every input flag of lanecast render, as render takes it: raw volumes (--dims, --type,\n"
+    "  --spacing, --big-endian), particles (--raw-particles, --radius, --select, --value, --fields, ...)\n"
+    "  and RBF sets (see lanecast render --help)\n"
     "\n"
     "example: lanecast info adk.dcd --topology adk.psf --frame 50\n"
+    "         lanecast info ct.raw --dims 512,512,300 --type uint16 --spacing 0.5,0.5,1\n"
     "\n"
     "exit status: 0 ok, 1 the file cannot be read (one message on stderr), 2 bad usage\n";
 
@@ -39,8 +43,13 @@ int cli_info(int argc, char **argv)
     lc_option opts[CLI_MAX_OPTIONS];
     char keys[CLI_MAX_OPTIONS][96];
     int nopt = 0;
+    static cli_load load; /* the input flags (cli_input_flag); static: the values outlive the loop */
+    const char *first[NKINDS] = {0};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
+        int r = cli_input_flag(cmd, argc, argv, &i, &load, first);
+        if (r < 0) return CLI_EXIT_USAGE;
+        if (r) continue;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) return fputs(info_help, stdout), 0;
         int takes = !strcmp(a, "--frame") || !strcmp(a, "--topology") || !strcmp(a, "--format") || !strcmp(a, "--option");
         if (takes && i + 1 >= argc) {
@@ -83,8 +92,12 @@ int cli_info(int argc, char **argv)
         fprintf(stderr, "%s: no input file (see %s --help)\n", cmd, cmd);
         return CLI_EXIT_USAGE;
     }
-    ld.options = opts;
-    ld.noptions = nopt;
+    lc_option all[2 * CLI_MAX_OPTIONS];
+    int nall = cli_input_merge(cmd, &load, opts, nopt, all, 2 * CLI_MAX_OPTIONS);
+    if (nall < 0) return CLI_EXIT_USAGE;
+    if (!ld.format) ld.format = load.format;
+    ld.options = all;
+    ld.noptions = nall;
     lc_device *dev = NULL;
     lc_device_desc dd = {.threads = 1, .log = log_warning};
     if (lc_device_create(&dd, &dev) != LC_OK) {

@@ -418,8 +418,7 @@ int render_parse(ropts *o, int argc, char **argv, int want_input)
                  (want_input && (r = parse_input(o, argc, argv, &i)))) {
             if (r < 0) return -1;
         } else {
-            for (int k = 0; k < NKINDS && !r; k++)
-                r = cli_kinds[k]->parse_flag(o->cmd, argc, argv, &i, &o->load, &o->first_flag[k]);
+            r = cli_input_flag(o->cmd, argc, argv, &i, &o->load, o->first_flag);
             if (r < 0) return -1;
             if (r) continue;
             if (a[0] == '-' && a[1]) {

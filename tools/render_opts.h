@@ -9,6 +9,12 @@
 /* The kinds the command line knows, one row each (cli_kind.h). */
 #define NKINDS 3
 extern const cli_kind *const cli_kinds[NKINDS];
+/* The input flags of every command that reads a file (tools/cli_input.c): argv[*i] parsed by the kind
+ * rows into load (first[NKINDS]: each kind's first flag seen); 1 consumed, 0 none of them, -1 bad. */
+int cli_input_flag(const char *cmd, int argc, char **argv, int *i, cli_load *load, const char **first);
+/* load's options then extra[0..nextra) into out (cap entries); their count, or -1 (message printed). */
+int cli_input_merge(const char *cmd, const cli_load *load, const lc_option *extra, int nextra, lc_option *out,
+                    int cap);
 
 typedef struct ropts {
     const char *cmd;

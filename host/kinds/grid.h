@@ -25,6 +25,21 @@ typedef struct grid {
     lci_vcache_entry *tables; /* an lci_grid_tables (host/api/vcache.h) */
 } grid;
 
+/* kernels index voxels with int32 element offsets */
+#define LCI_GRID_MAX_ELEMENTS ((int64_t)INT32_MAX - 64)
+
+/* Voxel storage (host/kinds/grid_layout.c): the offset tables of n[0] x
+ * n[1] x n[2] voxels in 4^3 bricks (elements: the array's length) or linear
+ * with strides ys, zs; zeroed storage freed with lci_aligned_free; the uint8
+ * copies of src (y-paired uint16, or y- and z-paired uint32 quads) at
+ * strides ys, zs; the padded strides of a linear array of es-byte elements. */
+void lci_grid_brick_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t *zo, int64_t *elements);
+void lci_grid_linear_tables(const int32_t n[3], int64_t ys, int64_t zs, int32_t *xo, int32_t *yo, int32_t *zo);
+void *lci_grid_voxel_alloc(size_t bytes);
+void lci_grid_build_pairs(const uint8_t *src, const int32_t n[3], int64_t ys, int64_t zs, uint16_t *pairs);
+void lci_grid_build_quads(const uint8_t *src, const int32_t n[3], int64_t ys, int64_t zs, uint32_t *quads);
+void lci_grid_padded_strides(const int32_t n[3], int es, int64_t *ys, int64_t *zs);
+
 /* The pre-integrated table, its one-step opacity and (with_nodes) the
  * per-node TF bits for frame f under k's parameters (host/kinds/grid_tables.c):
  * the volume's cached entry when its key matches, else a new one that

@@ -68,7 +68,7 @@ typedef struct lc_kgrid {
      * lci_grid_pairs_max): pairs[i + j pair_ystride + k pair_zstride]
      * = v(i, j, k) | v(i, min(j + 1, ny - 1), k) << 8 (the 2-byte copy pads rows
      * of 1 KiB or more and planes of 4 KiB or more to an odd number of 64-byte
-     * lines, grid.c padded_strides; the 4-byte one is unpadded: pair_ystride = nx,
+     * lines, grid_layout.c lci_grid_padded_strides; the 4-byte one is unpadded: pair_ystride = nx,
      * pair_zstride = nx ny), so one 32-bit load at
      * element e (byte 2e) holds v(i, j), v(i, j+1), v(i+1, j), v(i+1, j+1)
      * of plane k: two loads per trilinear sample instead of eight.
