@@ -13,6 +13,7 @@ extern const cli_kind *const cli_kinds[NKINDS];
 typedef struct ropts {
     const char *cmd;
     const char *input, *output;
+    char *files; /* several inputs (a DICOM series' files): them all, one per line (load option files) */
     cli_load load;
     const char *first_flag[NKINDS]; /* first flag of each kind given */
     lc_render_desc rd;

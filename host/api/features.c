@@ -19,6 +19,8 @@ static const lc_feature_info features[] = {
                          "data-parallel rendering: lc_mpi_render (lanecast_mpi.h), mpirun -np N lanecast render"},
     [LCI_FEATURE_NETCDF] = {"netcdf", "libnetcdf", LC_HAVE_NETCDF, "libnetcdf-dev",
                             "AMBER NetCDF trajectories and restarts: .nc, .ncdf, .ncrst"},
+    [LCI_FEATURE_GDCM] = {"dicom", "GDCM", LC_HAVE_GDCM, "libgdcm-dev",
+                          "DICOM series: a folder, files or one file of a CT, MR, ... series"},
 };
 #define NFEATURES ((int)(sizeof features / sizeof features[0]))
 
