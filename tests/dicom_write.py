@@ -294,10 +294,16 @@ d.save_as(p)
 fail("nopos", "nopos", "-", "nopos/" + files[7], "Image Position (Patient)")
 
 files = variant("gap")  # a missing slice: one spacing of 5 mm among 2.5
+around = []
 for f in files:
-    if list(pydicom.dcmread(os.path.join(out, "gap", f)).ImagePositionPatient) == ct[5][0]:
+    ipp = list(pydicom.dcmread(os.path.join(out, "gap", f)).ImagePositionPatient)
+    if ipp == ct[5][0]:
         os.remove(os.path.join(out, "gap", f))
-fail("gap", "gap", "-", "gap", "uneven slice spacing", "2.5 mm x 9", "5 mm x 1")
+    if ipp in (ct[4][0], ct[6][0]):
+        around.append((ipp[2], f))
+around.sort()
+fail("gap", "gap", "-", "gap", "uneven slice spacing", "5 mm between %s/gap/%s and %s/gap/%s" % (
+    out, around[0][1], out, around[1][1]), "2.5 mm x 9", "5 mm x 1")
 
 files = variant("dup")
 for f in files:

@@ -374,28 +374,44 @@ static lc_status frame_positions(lc_device *dev, const lci_dcm_file *f, int file
     return LC_OK;
 }
 
+/* "FILE" or "FILE (frame F)" for slices of multi-frame files. */
+static const char *slice_name(const lci_dcm_input *in, const lci_dcm_slice *sl, char *buf, size_t n)
+{
+    const lci_dcm_file *f = &in->files[sl->file];
+    if (f->m.frames > 1) snprintf(buf, n, "%s (frame %d)", f->path, sl->frame);
+    else snprintf(buf, n, "%s", f->path);
+    return buf;
+}
+
 /* Uneven spacing: the message gives each distinct spacing with its count
- * and the first pair of files that breaks the rule. */
-static lc_status uneven(lc_device *dev, const lci_dcm_input *in, const lci_dcm_volume *v, int bad)
+ * and the first pair of slices whose spacing is not the most common one. */
+static lc_status uneven(lc_device *dev, const lci_dcm_input *in, const lci_dcm_volume *v)
 {
     double seen[6];
-    int count[6], ns = 0, more = 0;
+    int count[6], ns = 0, more = 0, mode = 0;
     for (int i = 0; i + 1 < v->nslices; i++) {
         double d = v->slices[i + 1].key - v->slices[i].key;
         int j = 0;
-        while (j < ns && fabs(seen[j] - d) > SPACING_TOLERANCE * v->step) j++;
+        while (j < ns && fabs(seen[j] - d) > SPACING_TOLERANCE * seen[j]) j++;
         if (j < ns) count[j]++;
         else if (ns < 6) seen[ns] = d, count[ns++] = 1;
         else more = 1;
     }
     char list[400] = "";
-    for (int j = 0; j < ns; j++)
+    for (int j = 0; j < ns; j++) {
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s%g mm x %d", j ? ", " : "", seen[j], count[j]);
-    const lci_dcm_slice *a = &v->slices[bad], *b = &v->slices[bad + 1];
+        if (count[j] > count[mode]) mode = j;
+    }
+    int bad = 0;
+    while (bad + 2 < v->nslices &&
+           fabs(v->slices[bad + 1].key - v->slices[bad].key - seen[mode]) <= SPACING_TOLERANCE * seen[mode])
+        bad++;
+    char an[1100], bn[1100];
     return lci_error(dev, LC_ERROR_FORMAT,
-                     "%s: uneven slice spacing along the slice normal: %g mm between %s (frame %d) and %s (frame %d), "
-                     "spacings %s%s; lanecast grids are evenly spaced (missing slices, or two stacks in one series?)",
-                     in->where, b->key - a->key, in->files[a->file].path, a->frame, in->files[b->file].path, b->frame,
+                     "%s: uneven slice spacing along the slice normal: %g mm between %s and %s, spacings %s%s; "
+                     "lanecast grids are evenly spaced (missing slices, or two stacks in one series?)",
+                     in->where, v->slices[bad + 1].key - v->slices[bad].key,
+                     slice_name(in, &v->slices[bad], an, sizeof an), slice_name(in, &v->slices[bad + 1], bn, sizeof bn),
                      list, more ? ", ..." : "");
 }
 
@@ -459,16 +475,16 @@ lc_status lci_dcm_volume_of(lc_device *dev, const lci_dcm_input *in, int si, lci
     for (int i = 0; i + 1 < v->nslices; i++) {
         const lci_dcm_slice *a = &v->slices[i], *b = &v->slices[i + 1];
         if (b->key - a->key <= 1e-6 * (fabs(a->key) + 1.0)) {
+            char an[1100], bn[1100];
             s = lci_error(dev, LC_ERROR_FORMAT,
-                          "%s (frame %d) and %s (frame %d) lie at the same position along the slice normal (%g mm): "
-                          "two stacks in one series?", in->files[a->file].path, a->frame, in->files[b->file].path,
-                          b->frame, a->key);
+                          "%s and %s lie at the same position along the slice normal (%g mm): two stacks in one series?",
+                          slice_name(in, a, an, sizeof an), slice_name(in, b, bn, sizeof bn), a->key);
             return lci_dcm_volume_free(v), s;
         }
     }
     for (int i = 0; i + 1 < v->nslices; i++)
         if (fabs(v->slices[i + 1].key - v->slices[i].key - v->step) > SPACING_TOLERANCE * v->step) {
-            s = uneven(dev, in, v, i);
+            s = uneven(dev, in, v);
             return lci_dcm_volume_free(v), s;
         }
     /* how far the line of slice positions leans off the normal */
