@@ -7,7 +7,7 @@
  * variants' messages (the file and what was wrong), the series listing, and
  * in a build without GDCM the one line naming libgdcm-dev.
  *
- * usage: test_dicom BUILD_DIR SOURCE_DIR */
+ * usage: test_dicom BUILD_DIR SOURCE_DIR [LANECAST] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -209,6 +209,32 @@ int main(int argc, char **argv)
               strstr(about, "CT") && strstr(about, "dims 9 x 10 x 7") && strstr(about, "dims 11 x 8 x 5") &&
               strstr(about, "intercept -10"),
           "lc_file_describe lists both series:\n%s", about);
+    /* the command line: --series, several files as inputs, the listing */
+    if (argc > 3) {
+        char out[8192];
+        struct {
+            const char *args, *says;
+            int rc;
+        } cli[] = {
+            {"info %s/two --series 2", "volume        11x8x5 float32", 0},
+            {"info %s/two", "series 2  ", 1},
+            {"info %s/ct/im011.dcm %s/ct/im009.dcm %s/ct/im008.dcm %s/ct/im006.dcm %s/ct/im005.dcm %s/ct/im000.dcm",
+             "volume        24x20x6 int16", 0},
+            {"render %s/two --series 9 -o %s/never.png --size 8x8", "series 9: the input holds series 1 to 2", 1},
+            {"render %s/mf.dcm --series 1 -o %s/mf.png --size 16x16", "wrote", 0},
+        };
+        for (size_t c = 0; c < sizeof cli / sizeof cli[0]; c++) {
+            char args[4096];
+            snprintf(args, sizeof args, cli[c].args, dir, dir, dir, dir, dir, dir);
+            snprintf(cmd, sizeof cmd, "%s %s 2>&1", argv[3], args);
+            FILE *p = popen(cmd, "r");
+            size_t n = p ? fread(out, 1, sizeof out - 1, p) : 0;
+            out[n] = 0;
+            int st = p ? pclose(p) : -1;
+            CHECK(st != -1 && WIFEXITED(st) && WEXITSTATUS(st) == cli[c].rc && strstr(out, cli[c].says),
+                  "lanecast %s: exit %d, says '%s'", args, cli[c].rc, cli[c].says);
+        }
+    }
     /* a whole load through the grid kind */
     char ct[1100];
     snprintf(ct, sizeof ct, "%s/ct", dir);
