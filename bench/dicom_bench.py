@@ -13,6 +13,7 @@ gdcmconv exists, then prints one line per reader and input: the median and
 range of REPEATS (default 5) runs, after one warm-up run (page cache warm)."""
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -69,15 +70,19 @@ def pydicom_load(folder):
 
 
 def lanecast_load(folder):
+    """(wall, CPU of the process, lanecast's own load line)"""
+    c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     r = subprocess.run([lanecast, "info", folder], capture_output=True, text=True, check=True)
     wall = time.perf_counter() - t0
+    c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
     m = re.search(r"load\s+([0-9.]+) s", r.stdout)
-    return wall, float(m.group(1)) if m else float("nan")
+    return wall, cpu, float(m.group(1)) if m else float("nan")
 
 
 def report(name, times):
-    print("%-34s median %.3f s  (%.3f .. %.3f, %d runs)" % (name, statistics.median(times), min(times), max(times),
+    print("%-44s median %.3f s  (%.3f .. %.3f, %d runs)" % (name, statistics.median(times), min(times), max(times),
                                                          len(times)))
 
 
@@ -91,19 +96,24 @@ if shutil.which("gdcmconv"):
         for f in os.listdir(ct):
             subprocess.run(["gdcmconv", "--rle", os.path.join(ct, f), os.path.join(rle, f)], check=True)
     inputs.append(("ct512_rle", rle))
+print("load average at the start: %.1f %.1f %.1f (2 cores)" % os.getloadavg())
 for name, folder in inputs:
     lanecast_load(folder)
     runs = [lanecast_load(folder) for _ in range(repeats)]
-    report("lanecast info %s (process)" % name, [w for w, _ in runs])
-    report("lanecast info %s (lc_volume_load)" % name, [l for _, l in runs])
+    report("lanecast info %s (process, wall)" % name, [r[0] for r in runs])
+    report("lanecast info %s (process, CPU)" % name, [r[1] for r in runs])
+    report("lanecast info %s (load line, wall)" % name, [r[2] for r in runs])
     try:
         pydicom_load(folder)
     except Exception as e:  # pydicom 2.3 decodes RLE itself; other syntaxes need plug-ins
         print("pydicom %s: %s" % (name, e))
         continue
-    t = []
+    wall, cpu = [], []
     for _ in range(repeats):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         pydicom_load(folder)
-        t.append(time.perf_counter() - t0)
-    report("pydicom %s (read, sort, rescale)" % name, t)
+        wall.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    report("pydicom %s (read, sort, rescale; wall)" % name, wall)
+    report("pydicom %s (read, sort, rescale; CPU)" % name, cpu)
+print("load average at the end: %.1f %.1f %.1f" % os.getloadavg())
