@@ -103,7 +103,9 @@ static lc_value_type value_type(const lci_dcm_input *in, const lci_dcm_volume *v
     return LC_VALUE_FLOAT32;
 }
 
-/* The voxels of type t from the stored values (rescaled per file). */
+/* The voxels of type t from the stored values (rescaled per file); dst may
+ * be raw itself when the widths agree (each word is read before it is
+ * written). */
 static lc_status convert(lc_device *dev, const lci_dcm_input *in, const lci_dcm_volume *v, const unsigned char *raw,
                          lc_value_type t, void *dst)
 {
@@ -156,7 +158,10 @@ static lc_status dicom_read(lc_device *dev, const lci_read_args *a, lci_loaded *
     lc_value_type t = value_type(&in, &v, raw, &as_is);
     int es = lci_value_size(t);
     if (as_is) vals = raw, raw = NULL;
-    else {
+    else if (es == m0->bits_allocated / 8 && t != LC_VALUE_FLOAT32) { /* same width (uint16 -> int16 HU): in place */
+        if ((s = convert(dev, &in, &v, raw, t, raw)) != LC_OK) goto out;
+        vals = raw, raw = NULL;
+    } else {
         if (!(vals = lci_alloc_checked(dev, a->path, count, (uint64_t)es, 64, "voxels", 0))) {
             s = LC_ERROR_OUT_OF_MEMORY;
             goto out;
