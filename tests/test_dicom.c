@@ -171,7 +171,8 @@ int main(int argc, char **argv)
             const char *p = k ? dir : f;
             lc_volume *v = NULL;
             lc_status s = lc_volume_load(dev, p, NULL, &v);
-            CHECK(s == LC_ERROR_UNSUPPORTED && strstr(lc_last_error(), "libgdcm-dev") && strstr(lc_last_error(), p),
+            CHECK(s == (k ? LC_ERROR_IO : LC_ERROR_UNSUPPORTED) && strstr(lc_last_error(), "libgdcm-dev") &&
+                      strstr(lc_last_error(), p),
                   "without GDCM %s fails naming libgdcm-dev: %s", p, lc_last_error());
         }
         lc_device_destroy(dev);
@@ -235,6 +236,13 @@ int main(int argc, char **argv)
                   "lanecast %s: exit %d, says '%s'", args, cli[c].rc, cli[c].says);
         }
     }
+    /* a folder without DICOM images is an I/O error, as any folder was before */
+    char empty[1100];
+    snprintf(empty, sizeof empty, "%s/empty", dir);
+    mkdir(empty, 0700);
+    lc_volume *ev = NULL;
+    s = lc_volume_load(dev, empty, NULL, &ev);
+    CHECK(s == LC_ERROR_IO && !ev && strstr(lc_last_error(), "is a directory"), "an empty folder: %s", lc_last_error());
     /* a whole load through the grid kind */
     char ct[1100];
     snprintf(ct, sizeof ct, "%s/ct", dir);

@@ -175,6 +175,7 @@ lc_status lci_dcm_scan(lc_device *dev, const lci_read_args *a, lci_dcm_input *in
     in->chosen = -1;
     const lc_option *list = lci_option_find(a, "files");
     struct stat st;
+    memset(&st, 0, sizeof st);
     lc_status s = LC_OK;
     int added;
     if (list) { /* exactly these files */
@@ -243,7 +244,12 @@ lc_status lci_dcm_scan(lc_device *dev, const lci_read_args *a, lci_dcm_input *in
         in->chosen = 0;
     }
     if (s == LC_OK && in->nfiles == 0)
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: no DICOM images (files with a DICM preamble and Rows/Columns)", a->path);
+        s = list || !S_ISDIR(st.st_mode)
+                ? lci_error(dev, LC_ERROR_FORMAT, "%s: no DICOM images (files with a DICM preamble and Rows/Columns)",
+                            a->path)
+                : lci_error(dev, LC_ERROR_IO,
+                            "%s: is a directory with no DICOM images (files with a DICM preamble and Rows/Columns), "
+                            "the only files lanecast reads from a folder", a->path);
     if (s == LC_OK) s = group(dev, in);
     if (s != LC_OK) lci_dcm_input_free(in);
     return s;

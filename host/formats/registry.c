@@ -104,8 +104,13 @@ static lc_status decide(lc_device *dev, const char *path, const lc_load_desc *d,
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) { /* a folder: the format that reads folders */
         *gzip = 0;
         for (int i = 0; i < NFORMATS; i++)
-            if (formats[i]->folders && (!d->format || !d->format[0] || !strcmp(d->format, formats[i]->name)))
+            if (formats[i]->folders && (!d->format || !d->format[0] || !strcmp(d->format, formats[i]->name))) {
+                if (!formats[i]->read) /* compiled out: still an I/O error, as any folder was before */
+                    return lci_error(dev, LC_ERROR_IO,
+                                     "%s: is a directory (lanecast reads folders as %s series, which this build "
+                                     "lacks: install %s and rebuild)", path, formats[i]->name, formats[i]->package);
                 return *out = formats[i], LC_OK;
+            }
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: a folder; %s files are read one file at a time", path,
                          d->format);
     }
