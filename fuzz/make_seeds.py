@@ -197,6 +197,42 @@ put("vtk", "binary", b"# vtk DataFile Version 2.0\nfuzz\nBINARY\nDATASET STRUCTU
     b"ASPECT_RATIO 1 1 1\nORIGIN 0 0 0\nPOINT_DATA 8\nSCALARS v unsigned_short\nLOOKUP_TABLE default\n"
     + struct.pack(">8H", *range(8)) + b"\nFIELD f 1\nw 1 8 float\n" + struct.pack(">8f", *range(8)))
 
+# ---- DICOM: multi-frame Part 10 files (a file alone is a volume), explicit
+# VR little endian, written element by element (PS3.5 7.1.2, PS3.10 7.1)
+def dcm_el(group, elem, vr, value):
+    if isinstance(value, str):
+        value = value.encode()
+    if len(value) % 2:
+        value += b"\0" if vr in ("UI", "OB") else b" "
+    head = struct.pack("<HH", group, elem) + vr.encode()
+    if vr in ("OB", "OW", "SQ", "UN", "UT"):
+        return head + struct.pack("<HI", 0, len(value)) + value
+    return head + struct.pack("<H", len(value)) + value
+
+
+def dicom(rows, cols, frames, bits, signed, pixels, extra=()):
+    ts = "1.2.840.10008.1.2.1"
+    meta = dcm_el(2, 1, "OB", b"\0\1") + dcm_el(2, 2, "UI", "1.2.840.10008.5.1.4.1.1.4") + \
+        dcm_el(2, 3, "UI", "1.2.3.4") + dcm_el(2, 0x10, "UI", ts)
+    meta = dcm_el(2, 0, "UL", struct.pack("<I", len(meta))) + meta
+    els = [(0x0008, 0x0060, "CS", "MR"), (0x0018, 0x0088, "DS", "2.5"), (0x0020, 0x000E, "UI", "1.2.3.5"),
+           (0x0020, 0x0032, "DS", "-1\\2.5\\3"), (0x0020, 0x0037, "DS", "1\\0\\0\\0\\1\\0"),
+           (0x0028, 0x0002, "US", struct.pack("<H", 1)), (0x0028, 0x0004, "CS", "MONOCHROME2"),
+           (0x0028, 0x0008, "IS", str(frames)), (0x0028, 0x0010, "US", struct.pack("<H", rows)),
+           (0x0028, 0x0011, "US", struct.pack("<H", cols)), (0x0028, 0x0030, "DS", "0.5\\0.75"),
+           (0x0028, 0x0100, "US", struct.pack("<H", bits)), (0x0028, 0x0101, "US", struct.pack("<H", bits)),
+           (0x0028, 0x0102, "US", struct.pack("<H", bits - 1)), (0x0028, 0x0103, "US", struct.pack("<H", signed))]
+    els += list(extra)
+    body = b"".join(dcm_el(*e) for e in sorted(els))
+    return b"\0" * 128 + b"DICM" + meta + body + dcm_el(0x7FE0, 0x0010, "OB" if bits == 8 else "OW", pixels)
+
+
+put("dicom", "u8_frames", dicom(3, 4, 2, 8, 0, bytes(range(24))))
+put("dicom", "s16_rescaled", dicom(2, 3, 3, 16, 1, struct.pack("<18h", *range(-9, 9)),
+                                   [(0x0028, 0x1052, "DS", "-1024"), (0x0028, 0x1053, "DS", "0.5")]))
+put("dicom", "offsets", dicom(2, 2, 3, 16, 0, struct.pack("<12H", *range(12)),
+                              [(0x3004, 0x000C, "DS", "0\\3\\1.5")]))
+
 # ---- RBF sets
 put("rbf_text", "two", "lanecast-rbf 1\n# a comment\nbias 0.25\ncount 2\n0 0 0 1 1\n1 0 0 0.5 -1\n")
 put("rbf_binary", "two", b"\x89LCRBF\r\n" + struct.pack("<IIQfI", 1, 0, 2, 0.25, 0)

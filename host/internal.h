@@ -93,7 +93,8 @@ long lci_env_long(const char *name, long lo, long hi, long unset);
 
 /* Optional features (host/api/features.c), indexed like lc_feature_get. */
 enum { LCI_FEATURE_ZLIB = 0, LCI_FEATURE_JSON = 1, LCI_FEATURE_LAPACKE = 2, LCI_FEATURE_NIFTI = 3, LCI_FEATURE_HDF5 = 4,
-       LCI_FEATURE_MPI = 5, LCI_FEATURE_NETCDF = 6, LCI_FEATURE_FITS = 7 };
+       LCI_FEATURE_MPI = 5, LCI_FEATURE_NETCDF = 6, LCI_FEATURE_FITS = 7,
+       LCI_FEATURE_GDCM = 8 };
 /* The error for something this build lacks: "WHERE: WHAT needs LIB, which this
  * build of lanecast lacks (install PKG and rebuild)", LC_ERROR_UNSUPPORTED. */
 lc_status lci_missing(lc_device *dev, const char *where, const char *what, int feature);

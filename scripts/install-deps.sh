@@ -7,6 +7,8 @@ PKGS="meson ninja-build pkg-config cmake gcc g++ libembree-dev libopenimageio-de
 PKGS="$PKGS libcfitsio-dev"
 # Python bindings (python/) and their tests and adapters
 PKGS="$PKGS python3-dev python3-numpy python3-pytest python3-yt python3-mdanalysis"
+# DICOM series through GDCM (the dicom feature); its tests write files with pydicom and gdcmconv
+PKGS="$PKGS libgdcm-dev libgdcm-tools python3-pydicom"
 # lanecast view (the viewer feature) and its tests under Xvfb
 PKGS="$PKGS libglfw3-dev libimgui-dev libstb-dev xvfb xauth xdotool"
 missing=""

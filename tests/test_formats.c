@@ -45,7 +45,7 @@ static void rows(void)
 {
     static const char *const want[] = {"nrrd", "metaimage", "pdb", "rbf", "rbf-binary", "xyz",
                                        "gro", "raw-particles", "raw-volume", "dcd", "xtc", "trr", "ncdf", "lammps", "gadget",
-                                       "nifti", "vtk", "hdf5", "mmcif", "csv"};
+                                       "nifti", "vtk", "hdf5", "mmcif", "csv", "dicom"};
     int n = lc_format_count(), found = 0;
     CHECK(n == (int)(sizeof want / sizeof want[0]), "lc_format_count = %d", n);
     for (int i = 0; i < n; i++) {
@@ -58,6 +58,7 @@ static void rows(void)
         if (ok && !strcmp(f.name, "nifti")) ok = f.available == LC_HAVE_NIFTI && !strcmp(f.package, "libnifti2-dev");
         if (ok && !strcmp(f.name, "hdf5")) ok = f.available == LC_HAVE_HDF5 && !strcmp(f.package, "libhdf5-dev");
         if (ok && !strcmp(f.name, "ncdf")) ok = f.available == LC_HAVE_NETCDF && !strcmp(f.package, "libnetcdf-dev");
+        if (ok && !strcmp(f.name, "dicom")) ok = f.available == LC_HAVE_GDCM && !strcmp(f.package, "libgdcm-dev");
         for (int j = 0; ok && j < i; j++) {
             lc_format_info g;
             ok &= lc_format_get(j, &g) == LC_OK && strcmp(g.name, f.name) != 0;
@@ -82,7 +83,7 @@ static void rows(void)
     }
     CHECK(l.name && l.available == LC_HAVE_LAPACKE && !strcmp(l.package, "liblapacke-dev"),
           "feature lapacke %d (this build: LC_HAVE_LAPACKE %d)", l.available, LC_HAVE_LAPACKE);
-    CHECK(nf == 8 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
+    CHECK(nf == 9 && z.name && j.name && z.available == LC_HAVE_ZLIB && j.available == LC_HAVE_JSON &&
               !strcmp(z.package, "zlib1g-dev") && !strcmp(j.package, "libjson-c-dev") &&
               lc_feature_get(nf, &z) == LC_ERROR_INVALID_ARGUMENT,
           "features: zlib %d, json %d (this build: LC_HAVE_ZLIB %d, LC_HAVE_JSON %d)", z.available, j.available,

@@ -47,6 +47,7 @@ static const struct {
     {"rbf_text", "rbf", ".rbf", 0},
     {"rbf_binary", "rbf-binary", ".rbf", 0},
     {"hdf5", "hdf5", ".h5", 1},
+    {"dicom", "dicom", ".dcm", 0},
 };
 
 #if defined(__SANITIZE_ADDRESS__)

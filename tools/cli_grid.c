@@ -9,6 +9,11 @@ static const char help[] =
     "volumes (structured grids, Knoll et al. 2011):\n"
     "  INPUT                 .nrrd/.nhdr (raw or gzip, either endianness), .mhd/.mha, or a raw file\n"
     "                        with --dims\n"
+    "  INPUT...              a DICOM series (GDCM): a folder, its files (several INPUTs, e.g.\n"
+    "                        series/*.dcm) or one file of it (the series of its folder); slices in\n"
+    "                        order along the slice normal, rescaled (CT: Hounsfield units)\n"
+    "  --series N|UID        DICOM: the series to read when the input holds several (N from 1, or\n"
+    "                        its Series Instance UID; lanecast info INPUT lists them)\n"
     "  --dims X,Y,Z          raw volume sizes in nodes (makes INPUT a raw volume)\n"
     "  --type T              raw value type: uint8, uint16, int16 or float32\n"
     "  --big-endian          raw values are big-endian\n"
@@ -27,6 +32,7 @@ static const char help[] =
     "  extinction of 8 / the diagonal\n"
     "  examples: lanecast render engine.nhdr -o engine.png --shade phong --stats\n"
     "            lanecast render HeadMRVolume.mhd --colormap inferno --orbit 36 -o head_%02d.png\n"
+    "            lanecast render ct_folder/ --series 2 -o ct.png --shade phong\n"
     "\n";
 
 /* Parameters the flags set; applied to the volume once it is loaded. */
@@ -49,7 +55,7 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     const char *a = argv[*i], *v;
     static const char *const flags[] = {"--preintegrated", "--no-bvh", "--big-endian", "--dims",    "--type",
                                         "--spacing",       "--brick",  "--rda",        "--delta-c", "--delta-p",
-                                        "--delta-sv"};
+                                        "--delta-sv",      "--series"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -58,6 +64,7 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     if (!strcmp(a, "--no-bvh")) return no_bvh = 1, 1;
     if (!strcmp(a, "--big-endian")) return cli_load_add(load, cmd, "endian", "big") ? -1 : 1;
     if (!(v = arg_value(cmd, argc, argv, i))) return -1;
+    if (!strcmp(a, "--series")) return cli_load_add(load, cmd, "series", v) ? -1 : 1;
     if (!strcmp(a, "--dims")) {
         long long d[3];
         if (arg_ints(cmd, a, v, 3, 2, 2147483647LL, d)) return -1;

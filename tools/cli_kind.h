@@ -21,6 +21,13 @@ typedef struct cli_load {
 
 /* Adds option key = value; -1 (message printed) when full. */
 int cli_load_add(cli_load *l, const char *cmd, const char *key, const char *value);
+/* Several inputs (a DICOM series given file by file): appends path to *files
+ * (one per line, malloc'd; the caller frees it) and, for the second path,
+ * points option files at it. -1 (message printed) when out of room. */
+int cli_load_file(cli_load *l, const char *cmd, char **files, const char *first, const char *path);
+/* Appends path to *files (one per line; first before it when *files is
+ * NULL); -1 when out of memory. */
+int cli_files_append(char **files, const char *first, const char *path);
 
 typedef struct cli_tf_req {
     const char *preset;   /* --tf NAME, or NULL */

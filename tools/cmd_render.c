@@ -333,9 +333,11 @@ int cli_render(int argc, char **argv)
     memset(&o, 0, sizeof o);
     o.cmd = "lanecast render";
     int p = render_parse(&o, argc, argv, 1);
-    if (p) return p > 0 ? 0 : CLI_EXIT_USAGE;
+    if (p) return free(o.files), p > 0 ? 0 : CLI_EXIT_USAGE;
     int rc = cli_mpi_begin(o.cmd);
-    return rc ? rc : cli_mpi_end(run(&o, 0));
+    rc = rc ? rc : cli_mpi_end(run(&o, 0));
+    free(o.files);
+    return rc;
 }
 
 int cli_demo(int argc, char **argv)

@@ -121,6 +121,34 @@ const cli_kind *cli_kind_of(lc_kind kind)
     return NULL;
 }
 
+int cli_files_append(char **files, const char *first, const char *path)
+{
+    size_t had = *files ? strlen(*files) : 0, add = (had ? 0 : strlen(first) + 1) + strlen(path) + 2;
+    char *f = realloc(*files, had + add);
+    if (!f) return -1;
+    if (!had) snprintf(f, add, "%s\n", first), had = strlen(f);
+    snprintf(f + had, add, "%s\n", path);
+    *files = f;
+    return 0;
+}
+
+int cli_load_file(cli_load *l, const char *cmd, char **files, const char *first, const char *path)
+{
+    if (cli_files_append(files, first, path)) {
+        fprintf(stderr, "%s: out of memory for the list of inputs\n", cmd);
+        return -1;
+    }
+    for (int i = 0; i < l->n; i++)
+        if (!strcmp(l->opt[i].key, "files")) return l->opt[i].value = *files, 0;
+    if (l->n == CLI_MAX_OPTIONS) {
+        fprintf(stderr, "%s: too many load options (at the list of inputs)\n", cmd);
+        return -1;
+    }
+    l->opt[l->n].key = "files";
+    l->opt[l->n++].value = *files;
+    return 0;
+}
+
 int cli_load_add(cli_load *l, const char *cmd, const char *key, const char *value)
 {
     for (int i = 0; i < l->n; i++) /* a repeated flag: the last one wins */
@@ -426,6 +454,8 @@ int render_parse(ropts *o, int argc, char **argv, int want_input)
                 return -1;
             } else if (want_input && !o->input) {
                 o->input = a;
+            } else if (want_input) { /* the files of a DICOM series */
+                if (cli_load_file(&o->load, o->cmd, &o->files, o->input, a)) return -1;
             } else {
                 fprintf(stderr, "%s: unexpected argument '%s'\n", o->cmd, a);
                 return -1;

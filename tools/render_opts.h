@@ -19,6 +19,7 @@ int cli_input_merge(const char *cmd, const cli_load *load, const lc_option *extr
 typedef struct ropts {
     const char *cmd;
     const char *input, *output;
+    char *files; /* several inputs (a DICOM series' files): them all, one per line (load option files) */
     cli_load load;
     const char *first_flag[NKINDS]; /* first flag of each kind given */
     lc_render_desc rd;

@@ -263,6 +263,7 @@ out:
     lc_device_destroy(ui_dev);
     lc_device_destroy(dev);
     free(rargv);
+    if (o) free(o->files);
     free(o);
     free(v);
     return rc;

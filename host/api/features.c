@@ -21,6 +21,8 @@ static const lc_feature_info features[] = {
                             "AMBER NetCDF trajectories and restarts: .nc, .ncdf, .ncrst"},
     [LCI_FEATURE_FITS] = {"fits", "cfitsio", LC_HAVE_FITS, "libcfitsio-dev",
                           "FITS float maps of projections: lc_map_write, -o map.fits"},
+    [LCI_FEATURE_GDCM] = {"dicom", "GDCM", LC_HAVE_GDCM, "libgdcm-dev",
+                          "DICOM series: a folder, files or one file of a CT, MR, ... series"},
 };
 #define NFEATURES ((int)(sizeof features / sizeof features[0]))
 

@@ -52,6 +52,10 @@ typedef struct lci_format {
     /* formats of kind LC_KIND_NONE: the kind this file (and load request)
      * holds; the reader then fills that kind's descriptor */
     lc_status (*kind_of)(lc_device *dev, const char *path, const lc_load_desc *desc, lc_kind *out);
+    int folders;             /* 1: the reader takes a folder as its path (DICOM series) */
+    /* lc_file_describe: lines about what the file holds beyond lc_file_info
+     * (DICOM: its series), written into text (size bytes); NULL: nothing */
+    lc_status (*describe)(lc_device *dev, const lci_read_args *a, char *text, size_t size);
 } lci_format;
 
 /* The option of the given key, or NULL. */
@@ -64,6 +68,7 @@ extern const lci_format lci_format_rbf, lci_format_rbf_binary;
 extern const lci_format lci_format_dcd, lci_format_lammps, lci_format_gadget;
 extern const lci_format lci_format_xtc, lci_format_trr, lci_format_ncdf;
 extern const lci_format lci_format_nifti, lci_format_vtk, lci_format_hdf5, lci_format_mmcif, lci_format_csv;
+extern const lci_format lci_format_dicom;
 
 /* Reads a structured volume's lc_grid_desc without creating the volume (the
  * RBF encoder's input); *format = the format's name. */

@@ -25,6 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "host/formats/checked.h"
+#include "host/formats/orient.h"
 #include "host/formats/volume_data.h"
 #include "host/kinds/grid.h"
 
@@ -180,49 +181,6 @@ static lc_status read_head(lc_device *dev, const char *path, nhead *h)
     return LC_OK;
 }
 
-/* The nearest axis-aligned frame of matrix m (world = m * (i, j, k, 1)):
- * perm[w] = the voxel axis on world axis w, flip[w], spacing, origin; the
- * return value is the largest angle (degrees) between a voxel axis and its
- * world axis, 0 when m is exactly a scaled permutation with flips. */
-static double axis_frame(const double m[3][4], const int64_t n[3], int perm[3], int flip[3], double spacing[3],
-                         double origin[3])
-{
-    static const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-    double norm[3];
-    for (int a = 0; a < 3; a++) {
-        norm[a] = sqrt(m[0][a] * m[0][a] + m[1][a] * m[1][a] + m[2][a] * m[2][a]);
-        if (!(norm[a] > 0.0)) norm[a] = 1.0;
-    }
-    double best = -1.0;
-    int bp = 0;
-    for (int p = 0; p < 6; p++) {
-        double score = 0.0;
-        for (int w = 0; w < 3; w++) score += fabs(m[w][perms[p][w]]) / norm[perms[p][w]];
-        if (score > best + 1e-12) best = score, bp = p;
-    }
-    double worst = 1.0; /* smallest cosine */
-    int exact = 1;
-    for (int w = 0; w < 3; w++) {
-        int a = perm[w] = perms[bp][w];
-        flip[w] = m[w][a] < 0.0;
-        spacing[w] = norm[a];
-        double c = fabs(m[w][a]) / norm[a];
-        worst = c < worst ? c : worst;
-        for (int v = 0; v < 3; v++)
-            if (v != w && fabs(m[v][a]) > 1e-6 * norm[a]) exact = 0;
-    }
-    for (int w = 0; w < 3; w++) {
-        int a = perm[w];
-        if (exact) origin[w] = m[w][3] + (flip[w] ? (double)(n[a] - 1) * m[w][a] : 0.0);
-        else { /* keep the centre */
-            double c = m[w][3];
-            for (int b = 0; b < 3; b++) c += m[w][b] * 0.5 * (double)(n[b] - 1);
-            origin[w] = c - 0.5 * (double)(n[a] - 1) * spacing[w];
-        }
-    }
-    return exact ? 0.0 : acos(fmin(1.0, worst)) * 180.0 / M_PI;
-}
-
 static double value_at(const ntype *t, const void *p, uint64_t i)
 {
     switch (t->code) {
@@ -292,7 +250,7 @@ static lc_status nifti_read(lc_device *dev, const lci_read_args *a, lci_loaded *
             }
     int perm[3], flip[3];
     double spacing[3], origin[3];
-    double angle = axis_frame((const double(*)[4])m, n, perm, flip, spacing, origin);
+    double angle = lci_axis_frame((const double(*)[4])m, n, perm, flip, spacing, origin);
     if (angle > 0.0)
         lci_log(dev, LC_LOG_WARNING,
                 "%s: the %s is oblique (up to %.2f degrees off the axes); lanecast grids are axis-aligned, so the "

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include "host/formats/checked.h"
 #include "host/formats/format.h"
 #include "host/formats/text_reader.h"
@@ -17,7 +18,7 @@ static const lci_format *const formats[] = {
     &lci_format_nrrd, &lci_format_metaimage, &lci_format_pdb, &lci_format_rbf, &lci_format_rbf_binary,
     &lci_format_xyz, &lci_format_gro, &lci_format_raw_particles, &lci_format_raw_volume,
     &lci_format_dcd, &lci_format_xtc, &lci_format_trr, &lci_format_ncdf, &lci_format_lammps, &lci_format_gadget,
-    &lci_format_nifti, &lci_format_vtk, &lci_format_hdf5, &lci_format_mmcif, &lci_format_csv,
+    &lci_format_nifti, &lci_format_vtk, &lci_format_hdf5, &lci_format_mmcif, &lci_format_csv, &lci_format_dicom,
 };
 #define NFORMATS ((int)(sizeof formats / sizeof formats[0]))
 
@@ -99,6 +100,20 @@ static void extension(const char *path, char *ext, size_t n, int *gz)
 static lc_status decide(lc_device *dev, const char *path, const lc_load_desc *d, const lci_format **out, int *gzip)
 {
     *out = NULL;
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) { /* a folder: the format that reads folders */
+        *gzip = 0;
+        for (int i = 0; i < NFORMATS; i++)
+            if (formats[i]->folders && (!d->format || !d->format[0] || !strcmp(d->format, formats[i]->name))) {
+                if (!formats[i]->read) /* compiled out: still an I/O error, as any folder was before */
+                    return lci_error(dev, LC_ERROR_IO,
+                                     "%s: is a directory (lanecast reads folders as %s series, which this build "
+                                     "lacks: install %s and rebuild)", path, formats[i]->name, formats[i]->package);
+                return *out = formats[i], LC_OK;
+            }
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: a folder; %s files are read one file at a time", path,
+                         d->format);
+    }
     unsigned char head[512];
     size_t n = 0;
     lc_status s = lci_file_head(dev, path, head, sizeof head, &n, gzip);
@@ -164,6 +179,33 @@ lc_status lc_file_probe(lc_device *dev, const char *path, const lc_load_desc *de
         }
     }
     return LC_OK;
+}
+
+lc_status lc_file_describe(lc_device *dev, const char *path, const lc_load_desc *desc, char *text, size_t size)
+{
+    if (!path || !text || size == 0)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_file_describe: path and text must not be NULL, size not 0");
+    text[0] = 0;
+    lc_load_desc none = {0};
+    const lc_load_desc *d = desc ? desc : &none;
+    if (d->noptions < 0 || (d->noptions > 0 && !d->options))
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_file_describe: bad options list");
+    const lci_format *f;
+    int gzip;
+    lc_status s = decide(dev, path, d, &f, &gzip);
+    if (s != LC_OK || !f->describe || !f->read) return s;
+    /* the format's own options only: the description does not build a volume */
+    lc_option *fo = malloc(sizeof *fo * (size_t)(d->noptions + 1));
+    if (!fo) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_file_describe: out of memory");
+    int nf = 0;
+    for (int i = 0; i < d->noptions; i++)
+        if (d->options[i].key && d->options[i].value &&
+            in_list(f->options, d->options[i].key, strlen(d->options[i].key)))
+            fo[nf++] = d->options[i];
+    lci_read_args a = {path, d, fo, nf, f->name};
+    s = f->describe(dev, &a, text, size);
+    free(fo);
+    return s;
 }
 
 /* Splits the options: the format's to the reader (in fopts), the kind's

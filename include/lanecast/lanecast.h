@@ -632,6 +632,12 @@ typedef struct lc_file_info {
  * the extension (".gz" looked through).
  * device may be NULL. */
 LC_API lc_status lc_file_probe(lc_device *device, const char *path, const lc_load_desc *desc, lc_file_info *out);
+/* What a file holds beyond lc_file_info, as lines of text for people
+ * (DICOM: every series of a folder with its files, size, spacing, modality,
+ * rescale and transfer syntax); "" when its format has nothing to add.
+ * Writes at most size bytes (NUL included) into text. device may be NULL. */
+LC_API lc_status lc_file_describe(lc_device *device, const char *path, const lc_load_desc *desc, char *text,
+                                  size_t size);
 /* Reads a file through its format's reader and creates the volume of its
  * kind. desc may be NULL (detect, frame 0, no options). Errors
  * (LC_ERROR_IO, LC_ERROR_FORMAT, LC_ERROR_INVALID_ARGUMENT, and
