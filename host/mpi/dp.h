@@ -94,6 +94,12 @@ size_t lci_cpack_max(int w, int rows, int op);
 /* Composites a packed buffer into img (front: img's pixels are in front) and
  * widens img's rect. */
 void lci_cblend(lci_cimage *img, int op, const float *buf, int front);
+/* The pixels a packed buffer holds. */
+uint64_t lci_cpacked_pixels(const float *buf);
+/* Rows [y0, y1) of the w-wide RGBA out from a packed buffer (transparent
+ * outside its rect), or from an image's own rows. */
+void lci_cunpack(const float *buf, int w, int y0, int y1, float *out);
+void lci_cunpack_own(const lci_cimage *img, int y0, int y1, float *out);
 
 /* The whole schedule over P images in one process, imgs[pos] in visibility
  * order; the result (rows of every owner gathered) into out (w x h RGBA,
