@@ -6,8 +6,11 @@
  * pixels, and bytes and messages per rank against binary swap's
  * S (1 - 1/P), S = 16 W H. With --blend (one process): lci_cblend's
  * throughput. One JSON line per measurement on stdout (docs/BENCHMARKS.md
- * "Compositing"; bench/mpi_composite.sh runs it).
- * usage: bench_mpi_composite [--reps N] [--sizes 1,64,256,...] | --blend */
+ * "Compositing"; bench/mpi_composite.sh runs it). With --imbalance FILE
+ * [KEY=VALUE load options] (one process): each kd-tree region of
+ * P = 2 .. 64 rendered in turn, the slowest against the mean render time.
+ * usage: bench_mpi_composite [--reps N] [--sizes 1,64,256,...] | --blend |
+ *        --imbalance FILE [KEY=VALUE ...] */
 #include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -77,12 +80,70 @@ static int blend(void)
     return 0;
 }
 
+/* Renders every region of P = 2 .. 64 of the scene in turn (256^2, the
+ * default view and TF, 2 threads); max / mean region render time. */
+static int imbalance(const char *name, int nopt, char **opts)
+{
+    lc_device *dev;
+    lc_device_create(&(lc_device_desc){.threads = 2}, &dev);
+    lc_option o[8];
+    char kv[8][256];
+    int n = 0;
+    for (int i = 0; i < nopt && n < 8; i++) {
+        snprintf(kv[n], sizeof kv[n], "%s", opts[i]);
+        char *eq = strchr(kv[n], '=');
+        if (!eq) continue;
+        *eq = 0;
+        o[n].key = kv[n], o[n].value = eq + 1, n++;
+    }
+    lc_load_desc ld = {.options = o, .noptions = n};
+    struct { lc_volume *vol; lc_volume_info info; } sc;
+    if (lc_volume_load(dev, name, &ld, &sc.vol) != LC_OK) {
+        fprintf(stderr, "bench_mpi_composite: %s\n", lc_device_last_error(dev));
+        return 1;
+    }
+    lc_volume_get_info(sc.vol, &sc.info);
+    lc_tf *tf = NULL;
+    lc_tf_auto(dev, sc.vol, NULL, 0.0f, &tf);
+    lc_render_desc d = {0};
+    d.width = d.height = 256, d.volume = sc.vol, d.tf = tf, d.alpha_stop = 1.0f;
+    lc_camera_frame(&sc.info.bounds, 35.0f, 25.0f, &d.camera);
+    for (int P = 2; P <= 64; P *= 2) {
+        lci_kdtree t;
+        if (lci_dp_partition(dev, &d, P, &t) != LC_OK) {
+            fprintf(stderr, "bench_mpi_composite: %s\n", lc_device_last_error(dev));
+            return 1;
+        }
+        double mx = 0.0, sum = 0.0;
+        uint64_t wmin = UINT64_MAX, wmax = 0;
+        for (int r = 0; r < P; r++) {
+            lci_cimage img;
+            double t0 = now();
+            lci_dp_render_region(dev, &d, &t, r, &img, NULL);
+            double dt = now() - t0;
+            lci_cimage_free(&img);
+            mx = dt > mx ? dt : mx, sum += dt;
+            wmin = t.weight[r] < wmin ? t.weight[r] : wmin, wmax = t.weight[r] > wmax ? t.weight[r] : wmax;
+        }
+        printf("{\"bench\": \"mpi_imbalance\", \"scene\": \"%s\", \"regions\": %d, \"max_s\": %.4f, \"mean_s\": %.4f, "
+               "\"imbalance\": %.3f, \"weight_min\": %llu, \"weight_max\": %llu}\n",
+               name, P, mx, sum / P, mx / (sum / P), (unsigned long long)wmin, (unsigned long long)wmax);
+        fflush(stdout);
+        lci_kd_release(&t);
+    }
+    lc_tf_destroy(tf);
+    lc_volume_destroy(sc.vol);
+    lc_device_destroy(dev);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     int reps = 15;
     const char *sizes = "1,64,128,256,512,1024,2048";
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--blend")) return blend();
+        if (!strcmp(argv[i], "--imbalance") && i + 1 < argc) return imbalance(argv[i + 1], argc - i - 2, argv + i + 2);
         if (!strcmp(argv[i], "--reps") && i + 1 < argc) reps = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--sizes") && i + 1 < argc) sizes = argv[++i];
         else {
