@@ -37,7 +37,7 @@ beta = num / den if den else 0.0
 print("run %s at %s, load %s" % (run.get("commit"), run.get("date"), run.get("load")))
 print("alpha %.2f us, beta %.3f ns/byte (%.2f GB/s), gamma %.2f ns/pixel (%.0f Mpixel/s)" %
       (alpha * 1e6, beta * 1e9, 1e-9 / beta if beta > 0 else float("inf"), gamma * 1e9, 1e-6 / gamma))
-print("P=2 steps of rank 0: size, measured swap step s, model s; whole composite median (min) s")
+print("P=2 steps of rank 0 (the fastest run): size, measured swap step s, model s; whole composite median (min) s")
 for r in p2:
     st = r["steps_rank0"][0]
     model = alpha + beta * st["bytes"] + gamma * st["pixels"]
