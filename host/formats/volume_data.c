@@ -279,28 +279,33 @@ static lc_status parse_file(lc_device *dev, const char *path, const lci_vol_opts
     return s;
 }
 
+/* The header of path parsed and where its voxels are. */
+static lc_status locate(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse, lci_vol_header *h,
+                        char *data_path, size_t cap, long long *offset)
+{
+    lc_status s = parse_file(dev, path, o, parse, h);
+    if (s == LC_OK) data_location(path, h, data_path, cap, offset);
+    return s;
+}
+
 lc_status lci_vol_read_with_header(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse,
                                    lci_loaded *out)
 {
     lci_vol_header h;
-    lc_status s = parse_file(dev, path, o, parse, &h);
-    if (s != LC_OK) return s;
     char data_path[2048];
     long long offset;
-    data_location(path, &h, data_path, sizeof data_path, &offset);
-    return lci_vol_load(dev, path, data_path, offset, &h, o, out);
+    lc_status s = locate(dev, path, o, parse, &h, data_path, sizeof data_path, &offset);
+    return s != LC_OK ? s : lci_vol_load(dev, path, data_path, offset, &h, o, out);
 }
 
 lc_status lci_vol_layout_of(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse,
                             lci_vol_layout *l)
 {
     lci_vol_header h;
-    lc_status s = parse_file(dev, path, o, parse, &h);
-    if (s != LC_OK) return s;
     char data_path[2048];
     long long offset;
-    data_location(path, &h, data_path, sizeof data_path, &offset);
-    return lci_vol_layout_from_header(dev, path, data_path, offset, &h, o, l);
+    lc_status s = locate(dev, path, o, parse, &h, data_path, sizeof data_path, &offset);
+    return s != LC_OK ? s : lci_vol_layout_from_header(dev, path, data_path, offset, &h, o, l);
 }
 
 /* Voxel count of h's sizes, or 0 after an error. */

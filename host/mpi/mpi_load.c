@@ -1,7 +1,8 @@
 /* lc_mpi_volume_load (lanecast_mpi.h): each rank loads the part of a file
  * its region needs. Grids: the region's nodes and ghosts (window.c), read
  * from the file where its voxels are plain (raw, NRRD, MetaImage, NIfTI),
- * else read whole by rank 0 and cut into every rank's part; the BVH's leaf
+ * else read whole by rank 0 and cut into every rank's part (HDF5 grids and
+ * frames past the first of other files: read whole by every rank); the BVH's leaf
  * ranges are united by an allreduce, so every rank's tree is the whole
  * grid's, and histograms (lc_tf_auto) are summed over ranks. Other kinds:
  * every rank reads the whole file. Every step ends in an agreement
@@ -57,6 +58,15 @@ static lc_status kind_options(lc_device *dev, const char *path, const lc_load_de
                              path, o->key, format, fopts);
     }
     return LC_OK;
+}
+
+/* The kind the registry gives the format (LC_KIND_NONE: the file decides, as HDF5's). */
+static lc_kind format_kind(const char *format)
+{
+    lc_format_info fi;
+    for (int i = 0; i < lc_format_count(); i++)
+        if (lc_format_get(i, &fi) == LC_OK && !strcmp(fi.name, format)) return fi.kind;
+    return LC_KIND_NONE;
 }
 
 /* The format's options alone (lci_read_grid refuses the kind's). */
@@ -165,7 +175,9 @@ static lc_status load_grid(lc_device *dev, MPI_Comm comm, const char *path, cons
     void *data = NULL;
     if (s == LC_OK && any) {
         free(lay);
-        if (ld->frame != 0) { /* lci_read_grid reads first frames: every rank reads the whole file */
+        /* lci_read_grid reads first frames of grid formats: other frames and
+           containers of several kinds (HDF5) are read whole by every rank */
+        if (ld->frame != 0 || format_kind(format) != LC_KIND_GRID) {
             s = lc_volume_load(dev, path, ld, out);
             return lc_mpi_agree(dev, comm, s);
         }

@@ -59,7 +59,9 @@ LC_API lc_status lc_mpi_render(lc_device *device, MPI_Comm comm, int root, const
  * more, and a step's reach), read from their bytes of the file alone for
  * raw, NRRD and MetaImage files without compression and NIfTI files of
  * uint8, int16, uint16 or float32 without scaling or compression; other
- * grid files are read whole by rank 0, which sends each rank its part. The
+ * grid files are read whole by rank 0, which sends each rank its part
+ * (HDF5 grids, and frames past the first of those files: read whole by
+ * every rank). The
  * part is a grid volume that is the whole grid to the API (lc_grid_info,
  * bounds, value range, BVH) and renders only its region under
  * lc_mpi_render; lc_grid_histogram (and so lc_tf_auto) becomes collective
