@@ -9,6 +9,7 @@ static inline __attribute__((always_inline)) void brute_tile(const lc_kgrid *g, 
                                                              const lc_ktile *t, lc_kstats *st)
 {
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
+        if (lc_ktile_stopped(t)) return;
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             gpk p;
             grid_packlet_init(g, f, t, x, y, &p);

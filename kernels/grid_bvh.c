@@ -321,6 +321,7 @@ static void grid_bvh(const void *scene, const lc_kframe *f, const lc_ktile *t, l
     uintptr_t base = ((uintptr_t)scratch->mem + 63) & ~(uintptr_t)63;
     gpk *pk = (gpk *)base;
     for (int y = t->y0; y < t->y1; y += ph) {
+        if (lc_ktile_stopped(t)) return;
         for (int x = t->x0; x < t->x1; x += pw) {
             for (int j = 0; j < ny; j++)
                 for (int i = 0; i < nx; i++) {

@@ -19,6 +19,7 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
     const int skip = skip_base(s, f);
     const vfloat vbias = vf_set1(s->bias);
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
+        if (lc_ktile_stopped(t)) return;
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
             vcolor surf = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};

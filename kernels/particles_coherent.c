@@ -460,6 +460,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
     if (!cones) c.vc = NULL;
     for (int gy = t->y0; gy < t->y1; gy += g.gh) {
         for (int gx = t->x0; gx < t->x1; gx += g.gw) {
+            if (lc_ktile_stopped(t)) return;
             /* Listing 3, line 3: rays, their box interval and lattice range */
             int kmin, kmax;
             setup_group(s, f, t, &c, gx, gy, nv, vpr, &kmin, &kmax, st);
@@ -469,6 +470,7 @@ static inline __attribute__((always_inline)) void coherent_tile(const lc_kpartic
             int chunk = GL_FIRST_PASSES, done = 0;
             float gwaste = 0.0f, gover = 0.0f; /* this group's, in deposited terms */
             for (int kc = kmin; kc <= kmax && !done;) {
+                if (lc_ktile_stopped(t)) return; /* a central group of a dense set takes milliseconds */
                 int kc1 = pass_end(kc, chunk * P, kmax);
                 int n = -1; /* entries in the list; -1: a walk per pass */
                 if (c.list && set_windows(f, &c, nv, kc, kc1)) n = collect_group(s, f, &c, nv, vshift, kc, kc1, dt, st);

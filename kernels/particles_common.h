@@ -289,6 +289,7 @@ static __attribute__((noinline, unused)) void particles_slice_tile(const lc_kpar
     const pprobe pc = {s, stack, st};
     const mprobe probe = {particles_probe, &pc};
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
+        if (lc_ktile_stopped(t)) return;
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vint px, py;
             dvr_packet_pixels(x, y, &px, &py);

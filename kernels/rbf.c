@@ -94,6 +94,7 @@ static inline __attribute__((always_inline)) void render_tile_as(const lc_krbf *
     /* nothing contributed and w0 = 0: the sample is 0 and, with tau(0) = 0, blends to exactly nothing */
     const int skip_zero = f->zero_transparent && s->bias == 0.0f;
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
+        if (lc_ktile_stopped(t)) return;
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vint px, py, kf, kl;
             vray r;

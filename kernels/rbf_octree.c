@@ -178,6 +178,7 @@ static inline __attribute__((always_inline)) void octree_tile(const lc_krbf *s, 
     const int64_t rows = (int64_t)CHUNK_MAX * LC_W;
     const obuf b = {mem, mem + rows, mem + 2 * rows, mem + 3 * rows, (uint8_t *)(mem + 4 * rows)};
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
+        if (lc_ktile_stopped(t)) return;
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vint px, py, kf, kl;
             vray r;

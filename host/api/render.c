@@ -282,9 +282,16 @@ static void run_tile(void *ctx, int task, int worker)
     t.pad = 0;
     t.rgba = p->scale > 1 ? p->small : r->rgba;
     t.depth = p->scale > 1 ? p->small_depth : r->depth;
+    t.stop = (const int32_t *)c->stop; /* atomic_int, read by the kernels with __atomic_load_n */
     clear_tile(&t);
     lc_kscratch sc = {p->scratch + (size_t)worker * p->scratch_bytes, p->scratch_bytes};
     p->prep.tile(p->prep.kscene, p->frame, &t, &sc, &p->ws[worker].s);
+    /* the kernel may have returned early on the flag (it is never cleared, so
+       this load sees what the kernel saw): the tile is then incomplete */
+    if (c->stop && atomic_load_explicit(c->stop, memory_order_relaxed)) {
+        atomic_store_explicit(&r->stopped, 1, memory_order_relaxed);
+        return;
+    }
     if (p->scale > 1) fill_blocks(r, &t);
     int done = atomic_fetch_add_explicit(c->done, 1, memory_order_relaxed) + 1;
     if (c->progress && worker == 0) c->progress(c->progress_user, c->base + c->span * (float)done / (float)p->ntasks);

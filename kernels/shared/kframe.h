@@ -111,8 +111,15 @@ typedef struct lc_ktile {
     int32_t pad;
     float *rgba;
     float *depth;
+    /* a render job's cancel flag (non-zero: stop), or NULL: kernels read it
+       between row strips and ray groups and return early, leaving the rest of
+       the tile cleared, so a cancel does not wait for a whole expensive tile */
+    const int32_t *stop;
 } lc_ktile;
-_Static_assert(sizeof(lc_ktile) == 40, "lc_ktile layout");
+_Static_assert(sizeof(lc_ktile) == 48, "lc_ktile layout");
+
+/* The tile's job was cancelled (relaxed atomic load: the host stores the flag atomically). */
+static inline int lc_ktile_stopped(const lc_ktile *t) { return t->stop && __atomic_load_n(t->stop, __ATOMIC_RELAXED); }
 
 /* Per-tile counters, summed by the host for --stats. */
 typedef struct lc_kstats {
