@@ -88,8 +88,69 @@ static void build_node(build *b, int32_t id, const int32_t r0[3], const int32_t 
     n->vmax = b->nodes[c].vmax > b->nodes[c + 1].vmax ? b->nodes[c].vmax : b->nodes[c + 1].vmax;
 }
 
-int lci_grid_bvh_build(const void *data, int type, const int32_t size[3], const float origin[3], const float spacing[3],
-                       int L, lci_grid_bvh *out)
+size_t lci_grid_bvh_bricks(const int32_t size[3], int L)
+{
+    size_t n = 1;
+    for (int a = 0; a < 3; a++) n *= (size_t)((size[a] - 1 + L - 1) / L);
+    return n;
+}
+
+void lci_grid_bvh_ranges_init(size_t nbricks, float *bmin, float *bmax)
+{
+    for (size_t i = 0; i < nbricks; i++) bmin[i] = FLT_MAX, bmax[i] = -FLT_MAX;
+}
+
+int lci_grid_bvh_ranges(const void *data, int type, const int32_t start[3], const int32_t count[3],
+                        const int32_t size[3], int L, float *bmin, float *bmax)
+{
+    int32_t nb[3];
+    for (int a = 0; a < 3; a++) nb[a] = (size[a] - 1 + L - 1) / L;
+    void (*row_minmax)(const void *, int64_t, int64_t, float *, float *) =
+        type == LC_KVAL_U8 ? row_minmax_uint8_t : type == LC_KVAL_U16 ? row_minmax_uint16_t
+        : type == LC_KVAL_I16 ? row_minmax_int16_t : row_minmax_float;
+    size_t esize = type == LC_KVAL_U8 ? 1 : type == LC_KVAL_F32 ? 4 : 2;
+    float *rmn = malloc((size_t)nb[0] * sizeof(float)), *rmx = malloc((size_t)nb[0] * sizeof(float));
+    if (!rmn || !rmx) {
+        free(rmn), free(rmx);
+        return -1;
+    }
+    /* the bricks the held x nodes reach: a brick's nodes are a L .. a L + L */
+    int32_t xs = start[0], xe = start[0] + count[0] - 1; /* first and last node held */
+    int32_t a0 = xs / L - (xs % L == 0 && xs > 0), a1 = xe / L < nb[0] ? xe / L : nb[0] - 1;
+    /* each row of x is scanned once; a node on a brick face belongs to the
+     * bricks on both sides (the +1 stencil) */
+    for (int32_t kw = 0; kw < count[2]; kw++) {
+        int32_t k = start[2] + kw, zb[2], nz = 0;
+        if (k / L < nb[2]) zb[nz++] = k / L;
+        if (k % L == 0 && k > 0) zb[nz++] = k / L - 1;
+        for (int32_t jw = 0; jw < count[1]; jw++) {
+            int32_t j = start[1] + jw, yb[2], ny = 0;
+            if (j / L < nb[1]) yb[ny++] = j / L;
+            if (j % L == 0 && j > 0) yb[ny++] = j / L - 1;
+            const unsigned char *row =
+                (const unsigned char *)data + ((size_t)kw * (size_t)count[1] + (size_t)jw) * (size_t)count[0] * esize;
+            for (int32_t a = a0; a <= a1; a++) {
+                int64_t x0 = (int64_t)a * L, x1 = x0 + L < size[0] - 1 ? x0 + L : size[0] - 1;
+                if (x0 < xs) x0 = xs;
+                if (x1 > xe) x1 = xe;
+                row_minmax(row, x0 - xs, x1 - xs, &rmn[a], &rmx[a]);
+            }
+            for (int zi = 0; zi < nz; zi++)
+                for (int yi = 0; yi < ny; yi++) {
+                    size_t base = ((size_t)zb[zi] * (size_t)nb[1] + (size_t)yb[yi]) * (size_t)nb[0];
+                    for (int32_t a = a0; a <= a1; a++) {
+                        if (rmn[a] < bmin[base + a]) bmin[base + a] = rmn[a];
+                        if (rmx[a] > bmax[base + a]) bmax[base + a] = rmx[a];
+                    }
+                }
+        }
+    }
+    free(rmn), free(rmx);
+    return 0;
+}
+
+int lci_grid_bvh_from_ranges(const float *bmin, const float *bmax, const int32_t size[3], const float origin[3],
+                             const float spacing[3], int L, lci_grid_bvh *out)
 {
     memset(out, 0, sizeof *out);
     build b;
@@ -101,56 +162,15 @@ int lci_grid_bvh_build(const void *data, int type, const int32_t size[3], const 
         b.spacing[a] = spacing[a];
         b.nb[a] = (size[a] - 1 + L - 1) / L;
     }
-    size_t nbricks = (size_t)b.nb[0] * (size_t)b.nb[1] * (size_t)b.nb[2];
-    float *bmin = malloc(nbricks * sizeof(float)), *bmax = malloc(nbricks * sizeof(float));
+    size_t nbricks = lci_grid_bvh_bricks(size, L);
     lc_kgrid_node *nodes = calloc(2 * nbricks - 1, sizeof *nodes);
-    if (!bmin || !bmax || !nodes) {
-        free(bmin), free(bmax), free(nodes);
-        return -1;
-    }
-    for (size_t i = 0; i < nbricks; i++) bmin[i] = FLT_MAX, bmax[i] = -FLT_MAX;
-    void (*row_minmax)(const void *, int64_t, int64_t, float *, float *) =
-        type == LC_KVAL_U8 ? row_minmax_uint8_t : type == LC_KVAL_U16 ? row_minmax_uint16_t
-        : type == LC_KVAL_I16 ? row_minmax_int16_t : row_minmax_float;
-    size_t esize = type == LC_KVAL_U8 ? 1 : type == LC_KVAL_F32 ? 4 : 2;
-    float *rmn = malloc((size_t)b.nb[0] * sizeof(float)), *rmx = malloc((size_t)b.nb[0] * sizeof(float));
-    if (!rmn || !rmx) {
-        free(bmin), free(bmax), free(nodes), free(rmn), free(rmx);
-        return -1;
-    }
-    /* each row of x is scanned once; a node on a brick face belongs to the
-     * bricks on both sides (the +1 stencil) */
-    for (int32_t k = 0; k < size[2]; k++) {
-        int32_t zb[2], nz = 0;
-        if (k / L < b.nb[2]) zb[nz++] = k / L;
-        if (k % L == 0 && k > 0) zb[nz++] = k / L - 1;
-        for (int32_t j = 0; j < size[1]; j++) {
-            int32_t yb[2], ny = 0;
-            if (j / L < b.nb[1]) yb[ny++] = j / L;
-            if (j % L == 0 && j > 0) yb[ny++] = j / L - 1;
-            const unsigned char *row = (const unsigned char *)data + ((size_t)k * (size_t)size[1] + (size_t)j) * (size_t)size[0] * esize;
-            for (int32_t a = 0; a < b.nb[0]; a++) {
-                int64_t x0 = (int64_t)a * L, x1 = x0 + L < size[0] - 1 ? x0 + L : size[0] - 1;
-                row_minmax(row, x0, x1, &rmn[a], &rmx[a]);
-            }
-            for (int zi = 0; zi < nz; zi++)
-                for (int yi = 0; yi < ny; yi++) {
-                    size_t base = ((size_t)zb[zi] * (size_t)b.nb[1] + (size_t)yb[yi]) * (size_t)b.nb[0];
-                    for (int32_t a = 0; a < b.nb[0]; a++) {
-                        if (rmn[a] < bmin[base + a]) bmin[base + a] = rmn[a];
-                        if (rmx[a] > bmax[base + a]) bmax[base + a] = rmx[a];
-                    }
-                }
-        }
-    }
-    free(rmn), free(rmx);
+    if (!nodes) return -1;
     b.nodes = nodes;
     b.bmin = bmin;
     b.bmax = bmax;
     b.used = 1;
     int32_t r0[3] = {0, 0, 0};
     build_node(&b, 0, r0, b.nb, 1);
-    free(bmin), free(bmax);
     out->nodes = nodes;
     out->nnodes = b.used;
     out->nleaves = (int32_t)nbricks;
@@ -158,6 +178,23 @@ int lci_grid_bvh_build(const void *data, int type, const int32_t size[3], const 
     out->brick = L;
     out->bytes = (uint64_t)b.used * sizeof *nodes;
     return 0;
+}
+
+int lci_grid_bvh_build(const void *data, int type, const int32_t size[3], const float origin[3], const float spacing[3],
+                       int L, lci_grid_bvh *out)
+{
+    memset(out, 0, sizeof *out);
+    size_t nbricks = lci_grid_bvh_bricks(size, L);
+    float *bmin = malloc(nbricks * sizeof(float)), *bmax = malloc(nbricks * sizeof(float));
+    const int32_t zero[3] = {0, 0, 0};
+    int rc = bmin && bmax ? 0 : -1;
+    if (rc == 0) {
+        lci_grid_bvh_ranges_init(nbricks, bmin, bmax);
+        rc = lci_grid_bvh_ranges(data, type, zero, size, size, L, bmin, bmax);
+    }
+    if (rc == 0) rc = lci_grid_bvh_from_ranges(bmin, bmax, size, origin, spacing, L, out);
+    free(bmin), free(bmax);
+    return rc;
 }
 
 void lci_grid_bvh_free(lci_grid_bvh *bvh)

@@ -147,9 +147,9 @@ static inline __attribute__((always_inline)) void grid_cell(const lc_kgrid *g, v
         c->wx = ux, c->wy = uy, c->wz = uz;
         return;
     }
-    vfloat fx0 = vf_clamp(vf_floor(ux), vf_zero(), vf_set1((float)(g->size[0] - 2)));
-    vfloat fy0 = vf_clamp(vf_floor(uy), vf_zero(), vf_set1((float)(g->size[1] - 2)));
-    vfloat fz0 = vf_clamp(vf_floor(uz), vf_zero(), vf_set1((float)(g->size[2] - 2)));
+    vfloat fx0 = vf_clamp(vf_floor(ux), vf_set1(g->cell_lo[0]), vf_set1(g->cell_hi[0]));
+    vfloat fy0 = vf_clamp(vf_floor(uy), vf_set1(g->cell_lo[1]), vf_set1(g->cell_hi[1]));
+    vfloat fz0 = vf_clamp(vf_floor(uz), vf_set1(g->cell_lo[2]), vf_set1(g->cell_hi[2]));
     c->wx = vf_clamp(vf_sub(ux, fx0), vf_zero(), vf_set1(1.0f));
     c->wy = vf_clamp(vf_sub(uy, fy0), vf_zero(), vf_set1(1.0f));
     c->wz = vf_clamp(vf_sub(uz, fz0), vf_zero(), vf_set1(1.0f));
@@ -292,9 +292,9 @@ static inline __attribute__((always_inline)) void grid_prefetch_pairs(const lc_k
     vfloat uy = vf_mul(vf_sub(vf_fma(t, p->ray.dy, p->ray.oy), vf_set1(g->origin[1])), vf_set1(g->inv_spacing[1]));
     vfloat uz = vf_mul(vf_sub(vf_fma(t, p->ray.dz, p->ray.oz), vf_set1(g->origin[2])), vf_set1(g->inv_spacing[2]));
     /* clamped like grid_cell (a prefetch never faults, but stay inside) */
-    vint i = vf_to_vi(vf_clamp(ux, vf_zero(), vf_set1((float)(g->size[0] - 2))));
-    vint j = vf_to_vi(vf_clamp(uy, vf_zero(), vf_set1((float)(g->size[1] - 2))));
-    vint k = vf_to_vi(vf_clamp(uz, vf_zero(), vf_set1((float)(g->size[2] - 2))));
+    vint i = vf_to_vi(vf_clamp(ux, vf_set1(g->cell_lo[0]), vf_set1(g->cell_hi[0])));
+    vint j = vf_to_vi(vf_clamp(uy, vf_set1(g->cell_lo[1]), vf_set1(g->cell_hi[1])));
+    vint k = vf_to_vi(vf_clamp(uz, vf_set1(g->cell_lo[2]), vf_set1(g->cell_hi[2])));
     vint e = vi_add(i, vi_add(vi_mul(j, vi_set1(g->pair_ystride)), vi_mul(k, vi_set1(g->pair_zstride))));
     int32_t ev[LC_W];
     vi_store(ev, e);

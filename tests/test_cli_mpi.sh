@@ -35,11 +35,19 @@ run 3 grid-iso png $vol --mode iso --iso 0.5 --shade phong --eye 8,8,8 --at 20,9
 run 2 atoms-mip png "$dir/atoms.xyz" --mode mip --ortho 12
 run 3 rbf-slice png "$dir/set.rbf" --mode slice --plane 0,0,0,0,0,1
 run 4 grid-1x1 png $vol --mode mip --size 1x1
+# each rank reads its part (NRRD, MetaImage, NIfTI) or gets it from rank 0 (gzip);
+# the default TF comes from the histogram summed over ranks
+run 3 nrrd-part png "$dir/ball.nhdr" --alpha-stop 1 --shade phong
+run 2 mhd-part png "$dir/ball.mhd" --mode iso --iso 0.4 --shade phong
+if "$exe" formats 2>/dev/null | grep -q "^ *nifti  *yes"; then run 4 nifti-part png "$dir/ball.nii" --mode mip; fi
+run 3 gzip-scattered png "$dir/ballz.nhdr" --alpha-stop 1
+run 2 histogram-summed png "$dir/half.raw" --dims 16,16,16 --type float32 --alpha-stop 1 --view 30,20
 
 # --stats: rank 0 prints one row per rank and the imbalance
 if timeout 60 "$mpiexec" --oversubscribe -np 3 "$exe" render $vol --size 40x30 --threads 1 --stats \
     -o "$dir/stats.png" > "$dir/out" 2> "$dir/err" &&
-    grep -q "^mpi .*3 ranks, render imbalance" "$dir/out" && [ "$(grep -c '^ *[0-2] ' "$dir/out")" -ge 3 ]; then
+    grep -q "^mpi .*3 ranks, render imbalance" "$dir/out" && grep -q "peak_MB" "$dir/out" &&
+    [ "$(grep -c '^ *[0-2] ' "$dir/out")" -ge 3 ]; then
     echo "ok   --stats per rank"
 else
     echo "FAIL --stats per rank: $(cat "$dir/out" "$dir/err")"

@@ -1,6 +1,7 @@
 /* lanecast render under mpirun (cli_mpi.h). */
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/resource.h>
 #include "cli_mpi.h"
 #include "cli.h"
 #include "lc_config.h"
@@ -77,24 +78,44 @@ lc_status cli_mpi_agree(lc_device *dev, lc_status s)
     return s;
 }
 
+lc_status cli_mpi_load(lc_device *dev, const char *path, const lc_load_desc *ld, float dt, lc_volume **out)
+{
 #if LC_HAVE_MPI
-enum { NSTAT = 8 };
+    if (started) {
+        lc_status s = lc_mpi_volume_load(dev, MPI_COMM_WORLD, path, ld, dt, out);
+        agreed_failure |= s != LC_OK;
+        return s;
+    }
+#endif
+    (void)dt;
+    return lc_volume_load(dev, path, ld, out);
+}
+
+#if LC_HAVE_MPI
+enum { NSTAT = 9 };
+
+/* This process's peak resident memory in MB (getrusage: kilobytes on Linux). */
+static double peak_mb(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? (double)ru.ru_maxrss / 1024.0 : 0.0;
+}
 
 static void print_ranks(const lc_mpi_stats *m)
 {
     double mine[NSTAT] = {(double)m->region, (double)m->region_weight, m->render_seconds, m->composite_seconds,
-                          (double)m->bytes_sent, (double)m->messages_sent, (double)m->rounds, (double)m->render.samples};
+                          (double)m->bytes_sent, (double)m->messages_sent, (double)m->rounds, (double)m->render.samples, peak_mb()};
     double *all = myrank == 0 ? malloc(sizeof(double) * NSTAT * (size_t)nranks) : NULL;
     MPI_Gather(mine, NSTAT, MPI_DOUBLE, all, NSTAT, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     if (myrank != 0) return;
     if (!all) return;
     printf("mpi           %d ranks, render imbalance %.3f (max / mean render time %.4f / %.4f s)\n", nranks,
            m->render_mean > 0.0 ? m->render_max / m->render_mean : 1.0, m->render_max, m->render_mean);
-    printf("rank region     weight   render_s  composite_s      bytes  messages  rounds    samples\n");
+    printf("rank region     weight   render_s  composite_s      bytes  messages  rounds    samples  peak_MB\n");
     for (int r = 0; r < nranks; r++) {
         const double *v = all + (size_t)r * NSTAT;
-        printf("%4d %6.0f %10.0f %10.4f %12.4f %10.0f %9.0f %7.0f %10.0f\n", r, v[0], v[1], v[2], v[3], v[4], v[5],
-               v[6], v[7]);
+        printf("%4d %6.0f %10.0f %10.4f %12.4f %10.0f %9.0f %7.0f %10.0f %8.1f\n", r, v[0], v[1], v[2], v[3], v[4],
+               v[5], v[6], v[7], v[8]);
     }
     free(all);
 }

@@ -19,10 +19,14 @@ int cli_mpi_ranks(void);
 int cli_mpi_rank(void);
 /* The status every rank agrees on (lc_mpi_agree); s itself with one rank. */
 lc_status cli_mpi_agree(lc_device *dev, lc_status s);
+/* Under MPI lc_mpi_volume_load on all ranks (each reads its region's part
+ * where the format allows; dt: the render's step); else lc_volume_load. */
+lc_status cli_mpi_load(lc_device *dev, const char *path, const lc_load_desc *ld, float dt, lc_volume **out);
 /* lc_mpi_render over all ranks, root 0; st gets this rank's region render
  * counters (seconds: render and composite). With stats, rank 0 prints a
  * line per rank: its region, weight, render and composite seconds, bytes
- * and messages sent, compositing steps, and the imbalance. */
+ * and messages sent, compositing steps, samples, its peak resident memory
+ * (getrusage ru_maxrss, MB) and the imbalance. */
 lc_status cli_mpi_render(lc_device *dev, const lc_render_desc *d, float *rgba, int stats, lc_render_stats *st);
 
 #endif

@@ -155,7 +155,7 @@ lc_status render_load(ropts *o, lc_device *dev, int demo, const cli_kind *kind, 
         lc_load_desc ld = {.format = o->load.format, .companion = o->topology, .frame = frame,
                            .options = o->load.opt, .noptions = o->load.n,
                            .progress = tk.started ? load_progress : NULL, .progress_user = &tk};
-        s = lc_volume_load(dev, o->input, &ld, vol);
+        s = cli_mpi_ranks() > 1 ? cli_mpi_load(dev, o->input, &ld, o->rd.dt, vol) : lc_volume_load(dev, o->input, &ld, vol);
         ticker_stop(&tk);
     }
     if (s != LC_OK) return s;

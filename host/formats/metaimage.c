@@ -59,7 +59,7 @@ static lc_status field(lci_header_lines *r, const char *k, const char *v, lci_vo
     return LC_OK;
 }
 
-static lc_status parse_header(lc_device *dev, const char *path, FILE *f, lci_vol_header *h)
+lc_status lci_mhd_header(lc_device *dev, const char *path, FILE *f, lci_vol_header *h)
 {
     lci_header_lines r = {.dev = dev, .path = path, .f = f, .meta = 1};
     for (int stop = 0; !stop;) {
@@ -76,7 +76,7 @@ static lc_status mhd_read(lc_device *dev, const lci_read_args *a, lci_loaded *ou
 {
     lci_vol_opts o;
     lc_status s = lci_vol_options(dev, a, &o);
-    return s != LC_OK ? s : lci_vol_read_with_header(dev, a->path, &o, parse_header, out);
+    return s != LC_OK ? s : lci_vol_read_with_header(dev, a->path, &o, lci_mhd_header, out);
 }
 
 const lci_format lci_format_metaimage = {

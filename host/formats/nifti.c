@@ -181,6 +181,30 @@ static lc_status read_head(lc_device *dev, const char *path, nhead *h)
     return LC_OK;
 }
 
+/* The grid's frame from the sform, qform or voxel sizes (axis_frame),
+ * warning when it is oblique. */
+static lc_status grid_frame(lc_device *dev, const char *path, const nifti_image *nim, const int64_t n[3], int perm[3],
+                            int flip[3], double spacing[3], double origin[3])
+{
+    double m[3][4];
+    const char *which = nim->sform_code > 0 ? "sform" : nim->qform_code > 0 ? "qform" : "voxel sizes";
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 4; c++)
+            m[r][c] = nim->sform_code > 0 ? nim->sto_xyz.m[r][c]
+                    : nim->qform_code > 0 ? nim->qto_xyz.m[r][c]
+                    : (r == c ? (nim->pixdim[r + 1] > 0 ? nim->pixdim[r + 1] : 1.0) : 0.0);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 4; c++)
+            if (!isfinite(m[r][c])) return BAD("%s: the %s matrix is not finite", path, which);
+    double angle = lci_axis_frame((const double(*)[4])m, n, perm, flip, spacing, origin);
+    if (angle > 0.0)
+        lci_log(dev, LC_LOG_WARNING,
+                "%s: the %s is oblique (up to %.2f degrees off the axes); lanecast grids are axis-aligned, so the "
+                "nearest axis-aligned frame is used (voxel sizes and the volume's centre kept)",
+                path, which, angle);
+    return LC_OK;
+}
+
 static double value_at(const ntype *t, const void *p, uint64_t i)
 {
     switch (t->code) {
@@ -234,28 +258,9 @@ static lc_status nifti_read(lc_device *dev, const lci_read_args *a, lci_loaded *
                       a->path, t->name, scaled ? ", scaled to float32" : "");
         goto out;
     }
-    /* the frame */
-    double m[3][4];
-    const char *which = nim->sform_code > 0 ? "sform" : nim->qform_code > 0 ? "qform" : "voxel sizes";
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 4; c++)
-            m[r][c] = nim->sform_code > 0 ? nim->sto_xyz.m[r][c]
-                    : nim->qform_code > 0 ? nim->qto_xyz.m[r][c]
-                    : (r == c ? (nim->pixdim[r + 1] > 0 ? nim->pixdim[r + 1] : 1.0) : 0.0);
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 4; c++)
-            if (!isfinite(m[r][c])) {
-                s = BAD("%s: the %s matrix is not finite", a->path, which);
-                goto out;
-            }
     int perm[3], flip[3];
     double spacing[3], origin[3];
-    double angle = lci_axis_frame((const double(*)[4])m, n, perm, flip, spacing, origin);
-    if (angle > 0.0)
-        lci_log(dev, LC_LOG_WARNING,
-                "%s: the %s is oblique (up to %.2f degrees off the axes); lanecast grids are axis-aligned, so the "
-                "nearest axis-aligned frame is used (voxel sizes and the volume's centre kept)",
-                a->path, which, angle);
+    if ((s = grid_frame(dev, a->path, nim, n, perm, flip, spacing, origin)) != LC_OK) goto out;
     if (t->to == LC_VALUE_FLOAT32 && t->code != DT_FLOAT32)
         lci_log(dev, LC_LOG_INFO, "%s: %s voxels read as float32", a->path, t->name);
     /* reorder (and convert) into world x, y, z, increasing */
@@ -302,6 +307,47 @@ out:
     return s;
 }
 
+lc_status lci_nifti_layout(lc_device *dev, const lci_read_args *a, const lci_vol_opts *o, lci_vol_layout *l)
+{
+    memset(l, 0, sizeof *l);
+    nhead h;
+    lc_status s = read_head(dev, a->path, &h);
+    if (s != LC_OK) return s;
+    int64_t frame = a->desc->frame;
+    if (frame >= h.dim[4])
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: frame %lld is past the end: the file holds %lld volume%s",
+                         a->path, (long long)frame, (long long)h.dim[4], h.dim[4] > 1 ? "s" : "");
+    nifti_set_debug_level(0);
+    nifti_image *nim = nifti_image_read(a->path, 0); /* the header only */
+    if (!nim) return BAD("%s: nifti_clib could not read the header", a->path);
+    const ntype *t = ntype_of(nim->datatype);
+    double slope = nim->scl_slope, inter = nim->scl_inter;
+    int scaled = slope != 0.0 && isfinite(slope) && isfinite(inter) && !(slope == 1.0 && inter == 0.0);
+    int gz = 1;
+    FILE *f = nim->iname ? fopen(nim->iname, "rb") : NULL;
+    unsigned char mg[2] = {0, 0};
+    if (f) gz = fread(mg, 1, 2, f) != 2 || (mg[0] == 0x1f && mg[1] == 0x8b), fclose(f);
+    int native = t && !scaled && (t->to != LC_VALUE_FLOAT32 || t->code == DT_FLOAT32); /* read as stored */
+    if (gz || !native || (o->type != LC_VALUE_DEFAULT && o->type != t->to)) {
+        nifti_image_free(nim);
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: compressed, scaled or converted voxels are read whole", a->path);
+    }
+    int64_t n[3] = {nim->nx, nim->ny, nim->nz};
+    int perm[3], flip[3];
+    double spacing[3], origin[3];
+    s = grid_frame(dev, a->path, nim, n, perm, flip, spacing, origin);
+    if (s == LC_OK) {
+        snprintf(l->data_path, sizeof l->data_path, "%s", nim->iname);
+        l->offset = (long long)nim->iname_offset + (long long)frame * n[0] * n[1] * n[2] * t->bytes;
+        l->swap = nim->byteorder != nifti_short_order();
+        int64_t on[3];
+        for (int w = 0; w < 3; w++) l->fsize[w] = n[w], l->perm[w] = perm[w], l->flip[w] = flip[w], on[w] = n[perm[w]];
+        s = lci_vol_layout_grid(dev, a->path, on, t->to, spacing, origin, o, l);
+    }
+    nifti_image_free(nim);
+    return s;
+}
+
 /* Frames: the volumes of a 4-D file (dim[4]). */
 static lc_status nifti_frames(lc_device *dev, const char *path, int64_t *out)
 {
@@ -316,6 +362,11 @@ static lc_status nifti_frames(lc_device *dev, const char *path, int64_t *out)
 #else
 #define NIFTI_READ NULL
 #define NIFTI_FRAMES NULL
+lc_status lci_nifti_layout(lc_device *dev, const lci_read_args *a, const lci_vol_opts *o, lci_vol_layout *l)
+{
+    (void)o, (void)l;
+    return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: NIfTI needs libnifti2-dev", a->path);
+}
 #endif
 
 /* NIfTI-1 (sizeof_hdr 348, magic at 344) or NIfTI-2 (540, magic at 4), either byte order. */

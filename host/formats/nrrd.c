@@ -96,7 +96,7 @@ static lc_status field(lci_header_lines *r, const char *k, const char *v, lci_vo
     return LC_OK;
 }
 
-static lc_status parse_header(lc_device *dev, const char *path, FILE *f, lci_vol_header *h)
+lc_status lci_nrrd_header(lc_device *dev, const char *path, FILE *f, lci_vol_header *h)
 {
     lci_header_lines r = {.dev = dev, .path = path, .f = f, .meta = 0, .ln = 1};
     if (!fgets(r.line, sizeof r.line, f) || strncmp(r.line, "NRRD000", 7) != 0)
@@ -115,7 +115,7 @@ static lc_status nrrd_read(lc_device *dev, const lci_read_args *a, lci_loaded *o
 {
     lci_vol_opts o;
     lc_status s = lci_vol_options(dev, a, &o);
-    return s != LC_OK ? s : lci_vol_read_with_header(dev, a->path, &o, parse_header, out);
+    return s != LC_OK ? s : lci_vol_read_with_header(dev, a->path, &o, lci_nrrd_header, out);
 }
 
 static int nrrd_magic(const unsigned char *h, size_t n) { return n >= 7 && !memcmp(h, "NRRD000", 7); }

@@ -250,31 +250,62 @@ lc_status lci_vol_options(lc_device *dev, const lci_read_args *a, lci_vol_opts *
     return s;
 }
 
+/* Where the voxels of a parsed header are: the data file (detached:
+ * relative to the header's folder) and the byte offset (-1: the last bytes). */
+static void data_location(const char *path, const lci_vol_header *h, char *data_path, size_t cap, long long *offset)
+{
+    if (h->data_file[0]) {
+        const char *slash = strrchr(path, '/');
+        if (h->data_file[0] == '/' || !slash) snprintf(data_path, cap, "%s", h->data_file);
+        else snprintf(data_path, cap, "%.*s/%s", (int)(slash - path), path, h->data_file);
+        *offset = h->byte_skip;
+    } else {
+        snprintf(data_path, cap, "%s", path);
+        *offset = h->byte_skip < 0 ? -1 : h->data_offset + h->byte_skip; /* both at most 2^62: no overflow */
+    }
+}
+
+static lc_status parse_file(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse,
+                            lci_vol_header *h)
+{
+    memset(h, 0, sizeof *h);
+    FILE *f;
+    lc_status s = lci_open_regular(dev, path, NULL, &f, NULL);
+    if (s != LC_OK) return s;
+    s = parse(dev, path, f, h);
+    fclose(f);
+    if (s == LC_OK && o->type != LC_VALUE_DEFAULT && o->type != h->type)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the header's type differs from the requested one", path);
+    return s;
+}
+
+/* The header of path parsed and where its voxels are. */
+static lc_status locate(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse, lci_vol_header *h,
+                        char *data_path, size_t cap, long long *offset)
+{
+    lc_status s = parse_file(dev, path, o, parse, h);
+    if (s == LC_OK) data_location(path, h, data_path, cap, offset);
+    return s;
+}
+
 lc_status lci_vol_read_with_header(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse,
                                    lci_loaded *out)
 {
     lci_vol_header h;
-    memset(&h, 0, sizeof h);
-    FILE *f;
-    lc_status s = lci_open_regular(dev, path, NULL, &f, NULL);
-    if (s != LC_OK) return s;
-    s = parse(dev, path, f, &h);
-    fclose(f);
-    if (s != LC_OK) return s;
     char data_path[2048];
     long long offset;
-    if (h.data_file[0]) {
-        const char *slash = strrchr(path, '/');
-        if (h.data_file[0] == '/' || !slash) snprintf(data_path, sizeof data_path, "%s", h.data_file);
-        else snprintf(data_path, sizeof data_path, "%.*s/%s", (int)(slash - path), path, h.data_file);
-        offset = h.byte_skip;
-    } else {
-        snprintf(data_path, sizeof data_path, "%s", path);
-        offset = h.byte_skip < 0 ? -1 : h.data_offset + h.byte_skip; /* both at most 2^62: no overflow */
-    }
-    if (o->type != LC_VALUE_DEFAULT && o->type != h.type)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the header's type differs from the requested one", path);
-    return lci_vol_load(dev, path, data_path, offset, &h, o, out);
+    lc_status s = locate(dev, path, o, parse, &h, data_path, sizeof data_path, &offset);
+    return s != LC_OK ? s : lci_vol_load(dev, path, data_path, offset, &h, o, out);
+}
+
+lc_status lci_vol_layout_of(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse,
+                            lci_vol_layout *l)
+{
+    lci_vol_header h;
+    char data_path[2048];
+    long long offset;
+    lc_status s = locate(dev, path, o, parse, &h, data_path, sizeof data_path, &offset);
+    return s != LC_OK ? s : lci_vol_layout_from_header(dev, path, data_path, offset, &h, o, l);
 }
 
 /* Voxel count of h's sizes, or 0 after an error. */
@@ -349,5 +380,42 @@ lc_status lci_vol_hand_over(lc_device *dev, const char *path, lc_grid_desc *d, c
     d->data = data;
     out->desc = d;
     lci_loaded_keep(out, data);
+    return lci_vol_geometry(dev, path, d->size, d->spacing, d->origin);
+}
+
+lc_status lci_vol_layout_from_header(lc_device *dev, const char *path, const char *data_path, long long offset,
+                                     const lci_vol_header *h, const lci_vol_opts *o, lci_vol_layout *l)
+{
+    memset(l, 0, sizeof *l);
+    if (h->gzip) return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: compressed voxels are read whole", path);
+    int es = lci_value_size(h->type);
+    if (!es) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: value type %d is not supported", path, (int)h->type);
+    uint64_t count = voxel_count(dev, path, h);
+    if (!count) return LC_ERROR_FORMAT;
+    FILE *f;
+    int64_t len;
+    lc_status s = open_data(dev, path, data_path, &offset, 0, count * (uint64_t)es, &f, &len); /* sizes checked */
+    if (s != LC_OK) return s;
+    fclose(f);
+    snprintf(l->data_path, sizeof l->data_path, "%s", data_path);
+    l->offset = offset;
+    l->swap = h->big_endian;
+    for (int a = 0; a < 3; a++) l->fsize[a] = h->size[a], l->perm[a] = a, l->flip[a] = 0;
+    const double one[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
+    return lci_vol_layout_grid(dev, path, h->size, h->type, h->have_spacing ? h->spacing : one,
+                               h->have_origin ? h->origin : zero, o, l);
+}
+
+lc_status lci_vol_layout_grid(lc_device *dev, const char *path, const int64_t size[3], lc_value_type type,
+                              const double spacing[3], const double origin[3], const lci_vol_opts *o, lci_vol_layout *l)
+{
+    /* lci_vol_hand_over's rules, without data */
+    lc_grid_desc *d = &l->grid;
+    for (int a = 0; a < 3; a++) d->size[a] = (int)size[a];
+    d->type = l->type = type;
+    d->spacing = (lc_vec3){(float)spacing[0], (float)spacing[1], (float)spacing[2]};
+    d->origin = (lc_vec3){(float)origin[0], (float)origin[1], (float)origin[2]};
+    if (o->spacing.x != 0 || o->spacing.y != 0 || o->spacing.z != 0) d->spacing = o->spacing;
+    if (o->origin.x != 0 || o->origin.y != 0 || o->origin.z != 0) d->origin = o->origin;
     return lci_vol_geometry(dev, path, d->size, d->spacing, d->origin);
 }

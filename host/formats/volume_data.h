@@ -92,4 +92,37 @@ lc_status lci_vol_read_with_header(lc_device *dev, const char *path, const lci_v
 lc_status lci_vol_load(lc_device *dev, const char *path, const char *data_path, long long offset,
                        const lci_vol_header *h, const lci_vol_opts *o, lci_loaded *out);
 
+/* Where the voxels of a volume file lie, for reading a part of them
+ * (host/mpi/window.c): uncompressed values of `type` from byte `offset` of
+ * data_path, the file's axes fsize (its first fastest); grid axis w is
+ * file axis perm[w], reversed when flip[w]; grid is the lc_grid_desc the
+ * whole load gives (data NULL). */
+typedef struct lci_vol_layout {
+    char data_path[2048];
+    long long offset;
+    int64_t fsize[3];
+    lc_value_type type;
+    int swap; /* big-endian values */
+    int perm[3], flip[3];
+    lc_grid_desc grid;
+} lci_vol_layout;
+
+/* The layout of a header format's file (LC_ERROR_UNSUPPORTED, with a
+ * message, for compressed data); the checks of a whole load on the header
+ * and the data file's size, without reading voxels. */
+lc_status lci_vol_layout_of(lc_device *dev, const char *path, const lci_vol_opts *o, lci_header_fn parse,
+                            lci_vol_layout *l);
+lc_status lci_vol_layout_from_header(lc_device *dev, const char *path, const char *data_path, long long offset,
+                                     const lci_vol_header *h, const lci_vol_opts *o, lci_vol_layout *l);
+/* Fills l->grid and l->type as lci_vol_hand_over would the desc. */
+lc_status lci_vol_layout_grid(lc_device *dev, const char *path, const int64_t size[3], lc_value_type type,
+                              const double spacing[3], const double origin[3], const lci_vol_opts *o, lci_vol_layout *l);
+/* The headers of NRRD and MetaImage files (nrrd.c, metaimage.c). */
+lc_status lci_nrrd_header(lc_device *dev, const char *path, FILE *f, lci_vol_header *h);
+lc_status lci_mhd_header(lc_device *dev, const char *path, FILE *f, lci_vol_header *h);
+/* A NIfTI file's layout when its voxels can be read in parts: one
+ * uncompressed 3-D frame `frame` of uint8, int16, uint16 or float32,
+ * unscaled; else LC_ERROR_UNSUPPORTED (read whole). nifti.c. */
+lc_status lci_nifti_layout(lc_device *dev, const lci_read_args *a, const lci_vol_opts *o, lci_vol_layout *l);
+
 #endif

@@ -155,36 +155,82 @@ static lc_status validate(lc_device *dev, const lc_grid_desc *d, const char *nam
 }
 
 
-static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
+/* A window's own checks: inside the whole grid, starting on a brick row
+ * (4 | start), the whole grid within the kernels' limits, owned (not borrowed). */
+static lc_status check_window(lc_device *dev, const lc_grid_desc *d, const lci_grid_window *w, const char *name)
 {
+    int64_t full = 1;
+    for (int a = 0; a < 3; a++) {
+        if (w->full[a] < 2 || w->full[a] > MAX_AXIS || w->start[a] < 0 || w->start[a] % 4 ||
+            w->start[a] + d->size[a] > w->full[a] || w->own0[a] < w->start[a] || w->own1[a] > w->start[a] + d->size[a] ||
+            w->own0[a] > w->own1[a])
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "%s: axis %c: nodes %d .. %d (owning %d .. %d) are not a window of a grid of %d nodes", name,
+                             "xyz"[a], w->start[a], w->start[a] + d->size[a] - 1, w->own0[a], w->own1[a] - 1, w->full[a]);
+        full *= w->full[a];
+    }
+    if (full > LCI_GRID_MAX_ELEMENTS)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the whole grid %d x %d x %d has more than 2^31 values", name,
+                         w->full[0], w->full[1], w->full[2]);
+    if (d->borrow) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: a window of a grid is copied, not borrowed", name);
+    if (!w->bmin || !w->bmax) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: a window needs the brick ranges", name);
+    return LC_OK;
+}
+
+static lc_status create_grid(lc_device *dev, const lc_grid_desc *desc, const lci_grid_window *w, lc_volume **out)
+{
+    lc_grid_desc dw;
     const lc_grid_desc *d = desc;
-    const char *name = "lc_grid_create";
+    const char *name = w ? "lci_grid_create_window" : "lc_grid_create";
+    lc_status s = LC_OK;
+    if (w) { /* the whole grid's leaf side, so its BVH is the whole grid's */
+        dw = *desc;
+        if (!dw.brick) dw.brick = lci_grid_bvh_default_brick(w->full);
+        d = &dw;
+        s = check_window(dev, d, w, name);
+    }
     shape sh;
     memset(&sh, 0, sizeof sh);
-    lc_status s = validate(dev, d, name, &sh);
+    if (s == LC_OK) s = validate(dev, d, name, &sh);
     if (s != LC_OK) return s;
     grid *g = NULL;
     const void *src = d->data;
     int es = sh.es, L = sh.L, borrow = sh.borrow;
     int64_t count = sh.count;
     int32_t n[3] = {sh.n[0], sh.n[1], sh.n[2]};
+    /* nf: the whole grid's nodes; s0: the first node held (0 0 0 unless a window) */
+    int32_t nf[3] = {n[0], n[1], n[2]}, s0[3] = {0, 0, 0};
+    int64_t count_full = count;
+    if (w) {
+        memcpy(nf, w->full, sizeof nf), memcpy(s0, w->start, sizeof s0);
+        count_full = (int64_t)nf[0] * nf[1] * nf[2];
+    }
     lc_vec3 sp = sh.sp;
     lc_grid_layout layout = sh.layout;
     g = calloc(1, sizeof *g);
     if (!g) goto oom;
+    if (w) {
+        g->window = malloc(sizeof *g->window);
+        if (!g->window) goto oom;
+        *g->window = *w;
+        g->window->bmin = g->window->bmax = NULL;
+        memcpy(g->window->count, n, sizeof n);
+        g->windowed = 1;
+    }
     g->base.ops = &lci_grid_ops;
     g->base.device = dev;
     g->info.params = d->params;
     if (pthread_mutex_init(&g->tables_mu, NULL) != 0) goto oom;
     g->tables_mu_init = 1;
-    g->offsets = malloc(sizeof(int32_t) * ((size_t)n[0] + (size_t)n[1] + (size_t)n[2]));
+    g->offsets = malloc(sizeof(int32_t) * ((size_t)nf[0] + (size_t)nf[1] + (size_t)nf[2]));
     if (!g->offsets) goto oom;
-    int32_t *xo = g->offsets, *yo = xo + n[0], *zo = yo + n[1];
+    int32_t *xo = g->offsets, *yo = xo + nf[0], *zo = yo + nf[1];
     /* owned uint8: a packed copy the kernels sample (2 or 4 bytes a voxel)
      * instead of the voxels; the kernels then never read the voxels, nor
      * does the host after the BVH build (lc_grid_histogram reads the copy) */
     int copy = 0;
-    if (!borrow && d->type == LC_VALUE_UINT8) copy = count <= lci_grid_quads_max ? 2 : count <= lci_grid_pairs_max;
+    if (!borrow && d->type == LC_VALUE_UINT8)
+        copy = count_full <= lci_grid_quads_max ? 2 : count_full <= lci_grid_pairs_max; /* a window samples as the whole */
     /* owned linear voxels (uint16, int16, float32 asked linear, uint8 past
      * the copies): rows and planes padded like the pair copy's; the kernels
      * read them through lc_kgrid.ystride / zstride, lc_grid_histogram through
@@ -192,9 +238,13 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     int64_t ys = n[0], zs = (int64_t)n[0] * n[1];
     if (layout == LC_LAYOUT_LINEAR && !borrow && !copy) lci_grid_padded_strides(n, es, &ys, &zs);
     int64_t elements = zs * n[2];
-    if (layout == LC_LAYOUT_BRICKED) lci_grid_brick_tables(n, xo, yo, zo, &elements);
-    else lci_grid_linear_tables(n, ys, zs, xo, yo, zo);
-    if (elements > LCI_GRID_MAX_ELEMENTS) {
+    if (layout == LC_LAYOUT_BRICKED) lci_grid_brick_tables(n, nf, xo, yo, zo, &elements);
+    else lci_grid_linear_tables(nf, ys, zs, xo, yo, zo);
+    /* a window's element (i, j, k) of the whole grid's indices lies at
+     * xo[i] + yo[j] + zo[k] - shift of what it holds; the kernels compute the
+     * same offsets and read through data pointers moved back by shift */
+    int64_t shift = (int64_t)xo[s0[0]] + yo[s0[1]] + zo[s0[2]];
+    if (elements + shift > LCI_GRID_MAX_ELEMENTS) {
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the bricked copy would exceed 2^31 values; use a linear layout",
                       name);
         goto fail;
@@ -208,18 +258,19 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         for (int32_t k = 0; k < n[2]; k++)
             for (int32_t j = 0; j < n[1]; j++) {
                 const unsigned char *row = s8 + ((size_t)k * (size_t)n[1] + (size_t)j) * (size_t)n[0] * (size_t)es;
-                int64_t base = (int64_t)yo[j] + zo[k];
+                int64_t base = (int64_t)yo[s0[1] + j] + zo[s0[2] + k] - shift;
+                const int32_t *xw = xo + s0[0];
                 if (layout == LC_LAYOUT_LINEAR) { /* a row is contiguous; the padding stays zero */
-                    memcpy(d8 + (size_t)base * (size_t)es, row, (size_t)n[0] * (size_t)es);
+                    memcpy(d8 + (size_t)(base + xw[0]) * (size_t)es, row, (size_t)n[0] * (size_t)es);
                     continue;
                 }
                 int32_t i = 0;
                 for (; i + 4 <= n[0]; i += 4) /* a brick row holds 4 consecutive x */
-                    memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, 4 * (size_t)es);
+                    memcpy(d8 + (size_t)(base + xw[i]) * (size_t)es, row + (size_t)i * (size_t)es, 4 * (size_t)es);
                 for (; i < n[0]; i++)
-                    memcpy(d8 + (size_t)(base + xo[i]) * (size_t)es, row + (size_t)i * (size_t)es, (size_t)es);
+                    memcpy(d8 + (size_t)(base + xw[i]) * (size_t)es, row + (size_t)i * (size_t)es, (size_t)es);
             }
-        data = g->owned;
+        data = (const char *)g->owned - shift * es;
     }
     int64_t pys = n[0], pzs = (int64_t)n[0] * n[1];
     if (copy) {
@@ -231,26 +282,35 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         if (copy == 2) lci_grid_build_quads(src, n, pys, pzs, g->pairs);
         else lci_grid_build_pairs(src, n, pys, pzs, g->pairs);
     }
+    int64_t pshift = s0[0] + s0[1] * pys + s0[2] * pzs; /* the copy's element of node s0 */
+    if (copy && pzs * n[2] + pshift > LCI_GRID_MAX_ELEMENTS) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: the window's sampling copy would exceed 2^31 values", name);
+        goto fail;
+    }
     float origin[3] = {d->origin.x, d->origin.y, d->origin.z}, spacing[3] = {sp.x, sp.y, sp.z};
     double t0 = lci_now();
-    if (lci_grid_bvh_build(src, kval(d->type), n, origin, spacing, L, &g->bvh) != 0) goto oom;
+    int brc = w ? lci_grid_bvh_from_ranges(w->bmin, w->bmax, nf, origin, spacing, L, &g->bvh)
+                : lci_grid_bvh_build(src, kval(d->type), n, origin, spacing, L, &g->bvh);
+    if (brc != 0) goto oom;
     g->bvh.seconds = lci_now() - t0;
     lc_kgrid *k = &g->kg;
     k->data = data;
     k->xoff = xo, k->yoff = yo, k->zoff = zo;
     for (int a = 0; a < 3; a++) {
-        k->size[a] = n[a];
+        k->size[a] = nf[a];
         k->origin[a] = origin[a];
         k->spacing[a] = spacing[a];
         k->inv_spacing[a] = 1.0f / spacing[a];
         k->lo[a] = origin[a];
-        k->hi[a] = origin[a] + (float)(n[a] - 1) * spacing[a];
+        k->hi[a] = origin[a] + (float)(nf[a] - 1) * spacing[a];
+        k->cell_lo[a] = (float)s0[a];
+        k->cell_hi[a] = (float)(s0[a] + n[a] - 2);
     }
     k->type = kval(d->type);
     k->bricked = layout == LC_LAYOUT_BRICKED;
     k->ystride = k->bricked ? 64 * ((n[0] + 3) / 4) : (int32_t)ys;
     k->zstride = k->bricked ? 64 * ((n[0] + 3) / 4) * ((n[1] + 3) / 4) : (int32_t)zs;
-    k->pairs = g->pairs;
+    k->pairs = g->pairs ? (const char *)g->pairs - pshift * (copy == 2 ? 4 : 2) : NULL;
     k->pair_quads = g->quads;
     k->pair_ystride = (int32_t)pys;
     k->pair_zstride = (int32_t)pzs;
@@ -261,7 +321,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     float dx = k->hi[0] - k->lo[0], dy = k->hi[1] - k->lo[1], dz = k->hi[2] - k->lo[2];
     k->diag_volume = sqrtf(dx * dx + dy * dy + dz * dz);
     lc_grid_info *in = &g->info;
-    for (int a = 0; a < 3; a++) in->size[a] = n[a];
+    for (int a = 0; a < 3; a++) in->size[a] = nf[a];
     in->type = d->type;
     in->spacing = sp;
     in->origin = d->origin;
@@ -299,6 +359,7 @@ oom:
     s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for a %d x %d x %d grid", name, d->size[0], d->size[1],
                   d->size[2]);
 fail:
+    if (g && g->window) g->window->user_free = NULL; /* the caller keeps user on failure */
     destroy(g ? &g->base : NULL);
     return s;
 }
@@ -309,7 +370,26 @@ lc_status lc_grid_create(lc_device *dev, const lc_grid_desc *desc, lc_volume **o
     if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_grid_create: device is NULL");
     if (!desc || !out || !desc->data)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_grid_create: desc, data and out must not be NULL");
-    return create(dev, desc, out);
+    return create_grid(dev, desc, NULL, out);
+}
+
+static lc_status create(lc_device *dev, const void *desc, lc_volume **out) { return create_grid(dev, desc, NULL, out); }
+
+lc_status lci_grid_create_window(lc_device *dev, const lc_grid_desc *desc, const lci_grid_window *w, lc_volume **out)
+{
+    *out = NULL;
+    if (!desc || !desc->data || !w)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lci_grid_create_window: desc, data and window must not be NULL");
+    return create_grid(dev, desc, w, out);
+}
+
+int lci_grid_window_of(const lc_volume *v, lci_grid_window *w)
+{
+    if (!v || lc_volume_kind(v) != LC_KIND_GRID) return 0;
+    const grid *g = (const grid *)v;
+    if (!g->windowed) return 0;
+    if (w) *w = *g->window;
+    return 1;
 }
 
 static void destroy(lc_volume *v)
@@ -322,6 +402,8 @@ static void destroy(lc_volume *v)
     lci_aligned_free(g->owned);
     lci_aligned_free(g->pairs);
     free(g->offsets);
+    if (g->window && g->window->user_free) g->window->user_free(g->window->user);
+    free(g->window);
     free(g);
 }
 
@@ -392,6 +474,11 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (m != LC_METHOD_DEFAULT && m != LC_METHOD_BVH && m != LC_METHOD_BRUTE)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "grids render with method bvh or brute, not %d", (int)m);
     lc_status s = check_params(dev, "lc_render", p);
+    if (s == LC_OK && g->windowed && !frame->has_region)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                      "lc_render: this grid holds region %d's part of a %d x %d x %d grid (lc_mpi_volume_load): render it "
+                      "with lc_mpi_render",
+                      g->window->part, g->window->full[0], g->window->full[1], g->window->full[2]);
     if (s != LC_OK) return s;
     prep_block *pb = malloc(sizeof *pb);
     if (!pb) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the grid's frame");
@@ -482,9 +569,12 @@ lc_status lc_grid_histogram(const lc_volume *v, int nbins, uint64_t *counts)
     const lc_kgrid *k = &g->kg;
     double lo = g->info.value_min, hi = g->info.value_max;
     double scale = hi > lo ? nbins / (hi - lo) : 0.0;
-    for (int32_t z = 0; z < k->size[2]; z++)
-        for (int32_t y = 0; y < k->size[1]; y++)
-            for (int32_t x = 0; x < k->size[0]; x++) {
+    /* a window counts its own nodes (the parts' own ranges tile the grid) */
+    int32_t o0[3] = {0, 0, 0}, o1[3] = {k->size[0], k->size[1], k->size[2]};
+    if (g->windowed) memcpy(o0, g->window->own0, sizeof o0), memcpy(o1, g->window->own1, sizeof o1);
+    for (int32_t z = o0[2]; z < o1[2]; z++)
+        for (int32_t y = o0[1]; y < o1[1]; y++)
+            for (int32_t x = o0[0]; x < o1[0]; x++) {
                 int64_t e = (int64_t)k->xoff[x] + k->yoff[y] + k->zoff[z];
                 int64_t el = x + (int64_t)y * k->pair_ystride + (int64_t)z * k->pair_zstride; /* the copy's */
                 double val;
@@ -499,5 +589,6 @@ lc_status lc_grid_histogram(const lc_volume *v, int nbins, uint64_t *counts)
                 long b = (long)((val - lo) * scale);
                 counts[b < 0 ? 0 : b >= nbins ? nbins - 1 : b]++;
             }
+    if (g->windowed && g->window->reduce) return g->window->reduce(g->window->user, counts, nbins);
     return LC_OK;
 }

@@ -8,14 +8,17 @@
 #include <sys/mman.h>
 #include "host/kinds/grid.h"
 
-/* 4^3 bricks: element (i, j, k) at brick (i/4, j/4, k/4) * 64 + (k%4)*16 + (j%4)*4 + i%4 */
-void lci_grid_brick_tables(const int32_t n[3], int32_t *xo, int32_t *yo, int32_t *zo, int64_t *elements)
+/* 4^3 bricks: element (i, j, k) at brick (i/4, j/4, k/4) * 64 + (k%4)*16 + (j%4)*4 + i%4,
+ * bricks counted from the n nodes held; tables for len nodes (n, or the
+ * whole grid's for a window) */
+void lci_grid_brick_tables(const int32_t n[3], const int32_t len[3], int32_t *xo, int32_t *yo, int32_t *zo,
+                           int64_t *elements)
 {
     int32_t nb[3];
     for (int a = 0; a < 3; a++) nb[a] = (n[a] + 3) / 4;
-    for (int32_t i = 0; i < n[0]; i++) xo[i] = (i >> 2) * 64 + (i & 3);
-    for (int32_t j = 0; j < n[1]; j++) yo[j] = (j >> 2) * 64 * nb[0] + (j & 3) * 4;
-    for (int32_t k = 0; k < n[2]; k++) zo[k] = (k >> 2) * 64 * nb[0] * nb[1] + (k & 3) * 16;
+    for (int32_t i = 0; i < len[0]; i++) xo[i] = (i >> 2) * 64 + (i & 3);
+    for (int32_t j = 0; j < len[1]; j++) yo[j] = (j >> 2) * 64 * nb[0] + (j & 3) * 4;
+    for (int32_t k = 0; k < len[2]; k++) zo[k] = (k >> 2) * 64 * nb[0] * nb[1] + (k & 3) * 16;
     *elements = (int64_t)nb[0] * nb[1] * nb[2] * 64;
 }
 

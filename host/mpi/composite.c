@@ -97,6 +97,33 @@ size_t lci_cpack(const lci_cimage *img, int op, int y0, int y1, float *buf)
     return o;
 }
 
+/* "over" of one row of n premultiplied pixels: d = d over s (front) or s
+ * over d. A pixel's four channels are loaded before any is stored, so the
+ * compiler keeps them in one vector (the front case read d[3] after
+ * storing d[0..2] and ran 3x slower: 170 against 470 Mpixel/s). */
+static void over_row(float *restrict d, const float *restrict s, size_t n, int front)
+{
+    for (size_t i = 0; i < 4 * n; i += 4) {
+        float d0 = d[i], d1 = d[i + 1], d2 = d[i + 2], d3 = d[i + 3];
+        float s0 = s[i], s1 = s[i + 1], s2 = s[i + 2], s3 = s[i + 3];
+        if (front) {
+            float k = 1.0f - d3;
+            d[i] = d0 + k * s0, d[i + 1] = d1 + k * s1, d[i + 2] = d2 + k * s2, d[i + 3] = d3 + k * s3;
+        } else {
+            float k = 1.0f - s3;
+            d[i] = s0 + k * d0, d[i + 1] = s1 + k * d1, d[i + 2] = s2 + k * d2, d[i + 3] = s3 + k * d3;
+        }
+    }
+}
+
+uint64_t lci_cpacked_pixels(const float *buf)
+{
+    int32_t r[4];
+    memcpy(r, buf, sizeof r);
+    if (r[0] >= r[2] || r[1] >= r[3]) return 0;
+    return (uint64_t)(r[2] - r[0]) * (uint64_t)(r[3] - r[1]);
+}
+
 void lci_cblend(lci_cimage *img, int op, const float *buf, int front)
 {
     int32_t r[4];
@@ -104,25 +131,19 @@ void lci_cblend(lci_cimage *img, int op, const float *buf, int front)
     if (r[0] >= r[2] || r[1] >= r[3]) return;
     size_t rw = (size_t)(r[2] - r[0]), np = rw * (size_t)(r[3] - r[1]);
     const float *src = buf + 4, *dsrc = buf + 4 + 4 * np;
-    for (int y = r[1]; y < r[3]; y++) {
-        for (size_t x = 0; x < rw; x++, src += 4) {
-            size_t i = (size_t)y * (size_t)img->w + (size_t)r[0] + x;
-            float *d = img->rgba + 4 * i;
-            if (op == LCI_COMP_DEPTH) {
-                float z = *dsrc++;
-                /* the nearest; at equal depths the front one */
-                if (z < img->depth[i] || (z == img->depth[i] && !front)) {
-                    memcpy(d, src, sizeof(float) * 4);
-                    img->depth[i] = z;
-                }
-                continue;
-            }
-            if (front) {
-                float k = 1.0f - d[3];
-                for (int c = 0; c < 4; c++) d[c] = d[c] + k * src[c];
-            } else {
-                float k = 1.0f - src[3];
-                for (int c = 0; c < 4; c++) d[c] = src[c] + k * d[c];
+    for (int y = r[1]; y < r[3]; y++, src += 4 * rw) {
+        size_t i0 = (size_t)y * (size_t)img->w + (size_t)r[0];
+        if (op != LCI_COMP_DEPTH) {
+            over_row(img->rgba + 4 * i0, src, rw, front);
+            continue;
+        }
+        for (size_t x = 0; x < rw; x++) {
+            size_t i = i0 + x;
+            float z = *dsrc++;
+            /* the nearest; at equal depths the front one */
+            if (z < img->depth[i] || (z == img->depth[i] && !front)) {
+                memcpy(img->rgba + 4 * i, src + 4 * x, sizeof(float) * 4);
+                img->depth[i] = z;
             }
         }
     }
@@ -199,4 +220,16 @@ lc_status lci_dp_composite_local(lc_device *dev, int P, lci_cimage *imgs, int op
     }
     free(steps), free(ns), free(own), free(mail);
     return LC_OK;
+}
+
+void lci_cunpack(const float *buf, int w, int y0, int y1, float *out)
+{
+    unpack_rows(buf, LCI_COMP_OVER, w, y0, y1, out, NULL);
+}
+
+void lci_cunpack_own(const lci_cimage *img, int y0, int y1, float *out)
+{
+    /* outside its rect an image is transparent (lci_cimage_rect), so its rows are the result's */
+    size_t row = 4 * (size_t)img->w;
+    memcpy(out + (size_t)y0 * row, img->rgba + (size_t)y0 * row, sizeof(float) * row * (size_t)(y1 - y0));
 }

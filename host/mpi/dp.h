@@ -27,6 +27,7 @@ typedef struct lci_kdtree {
     lc_kregion *cell;   /* per region: its cell, faces outside the data at -+inf */
     lc_box3 *box;       /* per region: its cell clipped to the data's box */
     uint64_t *weight;   /* per region: the points (or voxels) it holds */
+    int32_t *crange;    /* grids, per region: its cells c0[3], c1[3] (cells c0 .. c1 - 1); NULL for points */
 } lci_kdtree;
 
 /* Recursive bisection of `bounds` into nleaves regions (1 .. 65536), each
@@ -93,6 +94,12 @@ size_t lci_cpack_max(int w, int rows, int op);
 /* Composites a packed buffer into img (front: img's pixels are in front) and
  * widens img's rect. */
 void lci_cblend(lci_cimage *img, int op, const float *buf, int front);
+/* The pixels a packed buffer holds. */
+uint64_t lci_cpacked_pixels(const float *buf);
+/* Rows [y0, y1) of the w-wide RGBA out from a packed buffer (transparent
+ * outside its rect), or from an image's own rows. */
+void lci_cunpack(const float *buf, int w, int y0, int y1, float *out);
+void lci_cunpack_own(const lci_cimage *img, int y0, int y1, float *out);
 
 /* The whole schedule over P images in one process, imgs[pos] in visibility
  * order; the result (rows of every owner gathered) into out (w x h RGBA,
@@ -124,5 +131,51 @@ void lci_cimage_free(lci_cimage *img);
  * P counts. */
 lc_status lci_dp_render_local(lc_device *dev, const lc_render_desc *d, int P, float *rgba, lc_render_stats *stats,
                               uint64_t *region_samples);
+
+/* ---------------------------------------------------------------- partial grids (window.c) */
+
+/* The nodes a rank holds of a grid: start .. start + count - 1 per axis (its
+ * region's cells, ghost nodes around them, the start rounded down to a
+ * multiple of 4), and the nodes own0 .. own1 - 1 it counts in histograms
+ * (the regions' own ranges tile the grid). */
+typedef struct lci_dp_window {
+    int32_t start[3], count[3], own0[3], own1[3];
+} lci_dp_window;
+
+/* Ghost nodes beyond a region's cells for step dt (0: the grid's default). */
+void lci_dp_grid_ghosts(const lc_grid_desc *g, float dt, int ghost[3]);
+/* The kd-tree lci_dp_partition builds for the grid g describes (size,
+ * spacing, origin; no data). */
+lc_status lci_dp_grid_tree(lc_device *dev, const lc_grid_desc *g, int P, lci_kdtree *t);
+void lci_dp_grid_window(const lci_kdtree *t, int leaf, const int32_t full[3], const int ghost[3], lci_dp_window *w);
+/* tree, ghosts and window of region leaf of P in one call */
+lc_status lci_dp_grid_plan(lc_device *dev, const lc_grid_desc *shape, int P, int leaf, float dt, lci_dp_window *w);
+int lci_dp_window_covers(const lci_dp_window *have, const lci_dp_window *need);
+/* Where a grid file's voxels lie (raw-volume, nrrd, metaimage, nifti of the
+ * format registry's names); LC_ERROR_UNSUPPORTED (with a message) when the
+ * file must be read whole (compressed or converted values, other formats). */
+struct lci_vol_layout;
+lc_status lci_dp_grid_layout(lc_device *dev, const char *path, const lc_load_desc *ld, const char *format,
+                             struct lci_vol_layout *l);
+/* The nodes start .. start + count - 1 of the file (x fastest, native byte
+ * order, on the grid's axes), reading only their bytes; *out malloc'ed. */
+lc_status lci_dp_grid_read(lc_device *dev, const char *path, const struct lci_vol_layout *l, const int32_t start[3],
+                           const int32_t count[3], void **out);
+/* The same nodes cut out of a whole grid's data (malloc'ed; NULL: out of memory). */
+void *lci_dp_grid_cut(const lc_grid_desc *whole, const int32_t start[3], const int32_t count[3]);
+/* The leaf brick ranges of the nodes held (lci_grid_bvh_ranges; malloc'ed). */
+lc_status lci_dp_grid_ranges(lc_device *dev, const lc_grid_desc *shape, const lci_dp_window *w, const void *data,
+                             float **bmin, float **bmax, size_t *nbricks);
+/* The part's volume (lci_grid_create_window) from the whole grid's shape
+ * (type, spacing, origin, brick, layout), the nodes held and the brick
+ * ranges united over every part. */
+lc_status lci_dp_grid_create(lc_device *dev, const lc_grid_desc *shape, const lci_dp_window *w, const void *data,
+                             const float *bmin, const float *bmax, int P, int leaf,
+                             lc_status (*reduce)(void *, uint64_t *, int), void *user, void (*user_free)(void *),
+                             lc_volume **out);
+/* A part of a grid renders only the region it was loaded for, and only when
+ * it holds the nodes desc's step needs (LC_ERROR_INVALID_ARGUMENT else);
+ * LC_OK for a whole grid or another kind. */
+lc_status lci_dp_grid_check(lc_device *dev, const lc_render_desc *d, int P, int leaf);
 
 #endif

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "host/mpi/dp.h"
+#include "host/mpi/mpi_internal.h"
 #include "lanecast/lanecast_mpi.h"
 
 lc_status lc_mpi_agree(lc_device *dev, MPI_Comm comm, lc_status s)
@@ -41,6 +42,7 @@ typedef struct mpi_run {
     float *buf[2];
     size_t cap;
     lc_mpi_stats st;
+    lci_mpi_cstats *cs; /* per-step timings (lci_mpi_composite), or NULL */
 } mpi_run;
 
 static lc_status mpi_fail(mpi_run *r, int code, const char *what)
@@ -49,6 +51,15 @@ static lc_status mpi_fail(mpi_run *r, int code, const char *what)
     int len = 0;
     MPI_Error_string(code, e, &len);
     return lci_error(r->dev, LC_ERROR_INTERNAL, "lc_mpi_render: %s failed: %s", what, e);
+}
+
+static void step_done(mpi_run *r, double t0, uint64_t bytes, uint64_t pixels)
+{
+    if (!r->cs || r->cs->nsteps >= LCI_CSTEPS_MAX + 1) return;
+    int i = r->cs->nsteps++;
+    r->cs->seconds[i] = MPI_Wtime() - t0;
+    r->cs->bytes[i] = bytes;
+    r->cs->pixels[i] = pixels;
 }
 
 /* The schedule's fold and swap steps of this rank. */
@@ -61,6 +72,7 @@ static lc_status swap_steps(mpi_run *r, int op, int *own0, int *own1)
         const lci_cstep *s = &steps[i];
         int has_send = s->send_y1 > s->send_y0, has_recv = s->recv_y1 > s->recv_y0;
         if (!has_send && !has_recv) continue;
+        double t0 = MPI_Wtime();
         int peer = r->order[s->partner], rc = MPI_SUCCESS;
         size_t n = has_send ? lci_cpack(&r->img, op, s->send_y0, s->send_y1, r->buf[0]) : 0;
         MPI_Status ms;
@@ -73,8 +85,10 @@ static lc_status swap_steps(mpi_run *r, int op, int *own0, int *own1)
             rc = MPI_Recv(r->buf[1], (int)r->cap, MPI_FLOAT, peer, 1 + i, r->comm, &ms);
         if (rc != MPI_SUCCESS) return mpi_fail(r, rc, "a compositing message");
         if (has_send) r->st.bytes_sent += n * sizeof(float), r->st.messages_sent++;
+        uint64_t px = has_recv ? lci_cpacked_pixels(r->buf[1]) : 0;
         if (has_recv) lci_cblend(&r->img, op, r->buf[1], s->front);
         r->st.rounds++;
+        step_done(r, t0, n * sizeof(float), px);
     }
     return LC_OK;
 }
@@ -83,31 +97,108 @@ static lc_status swap_steps(mpi_run *r, int op, int *own0, int *own1)
 static lc_status gather(mpi_run *r, int op, int own0, int own1, float *rgba)
 {
     const int tag = 100;
+    double t0 = MPI_Wtime();
     if (r->rank != r->root) {
         if (own1 <= own0) return LC_OK;
         size_t n = lci_cpack(&r->img, op, own0, own1, r->buf[0]);
         int rc = MPI_Send(r->buf[0], (int)n, MPI_FLOAT, r->root, tag, r->comm);
         if (rc != MPI_SUCCESS) return mpi_fail(r, rc, "sending rows to root");
         r->st.bytes_sent += n * sizeof(float), r->st.messages_sent++, r->st.rounds++;
+        step_done(r, t0, n * sizeof(float), 0);
         return LC_OK;
     }
-    lci_cimage out = {r->img.w, r->img.h, rgba, NULL, {0, 0, 0, 0}};
-    memset(rgba, 0, sizeof(float) * 4 * (size_t)out.w * (size_t)out.h);
+    uint64_t px = 0;
     for (int p = 0; p < r->P; p++) {
         lci_cstep steps[LCI_CSTEPS_MAX];
         int y0, y1, src = r->order[p];
         lci_cschedule(r->P, p, r->img.h, steps, &y0, &y1);
         if (y1 <= y0) continue;
-        if (src == r->rank) {
-            lci_cpack(&r->img, op, y0, y1, r->buf[1]);
-        } else {
-            int rc = MPI_Recv(r->buf[1], (int)r->cap, MPI_FLOAT, src, tag, r->comm, MPI_STATUS_IGNORE);
-            if (rc != MPI_SUCCESS) return mpi_fail(r, rc, "receiving rows at root");
+        if (src == r->rank) { /* its own rows straight from its image */
+            lci_cunpack_own(&r->img, y0, y1, rgba);
+            continue;
         }
-        /* rows outside the sender's rect stay transparent: copy as "over" an empty image */
-        lci_cblend(&out, LCI_COMP_OVER, r->buf[1], 0);
+        int rc = MPI_Recv(r->buf[1], (int)r->cap, MPI_FLOAT, src, tag, r->comm, MPI_STATUS_IGNORE);
+        if (rc != MPI_SUCCESS) return mpi_fail(r, rc, "receiving rows at root");
+        /* rows outside the sender's rect are transparent */
+        lci_cunpack(r->buf[1], r->img.w, y0, y1, rgba);
+        px += lci_cpacked_pixels(r->buf[1]);
     }
+    step_done(r, t0, 0, px);
     return LC_OK;
+}
+
+/* The swap and the gather, each followed by an agreement. */
+static lc_status composite(mpi_run *r, int op, float *rgba)
+{
+    int own0 = 0, own1 = 0;
+    lc_status s = swap_steps(r, op, &own0, &own1);
+    s = lc_mpi_agree(r->dev, r->comm, s);
+    if (s != LC_OK) return s;
+    s = gather(r, op, own0, own1, rgba);
+    return lc_mpi_agree(r->dev, r->comm, s);
+}
+
+/* The two message buffers, kept from one composite to the next: fresh 16 MB
+ * buffers (a 1024^2 image) were page-faulted and zeroed by the kernel on
+ * every frame, a quarter of the composite time at P = 2 (perf:
+ * clear_page_erms, exc_page_fault). Only the thread that talks MPI uses them
+ * (MPI_THREAD_FUNNELED); freed at exit. */
+static struct {
+    float *p[2];
+    size_t cap;
+} scratch;
+
+static void scratch_free(void)
+{
+    free(scratch.p[0]), free(scratch.p[1]);
+    scratch.p[0] = scratch.p[1] = NULL, scratch.cap = 0;
+}
+
+static int scratch_get(size_t cap, float **buf)
+{
+    if (scratch.cap < cap) {
+        static int registered;
+        if (!registered) registered = atexit(scratch_free) == 0;
+        scratch_free();
+        scratch.p[0] = malloc(sizeof(float) * cap);
+        scratch.p[1] = malloc(sizeof(float) * cap);
+        if (!scratch.p[0] || !scratch.p[1]) {
+            scratch_free();
+            return -1;
+        }
+        scratch.cap = cap;
+    }
+    buf[0] = scratch.p[0], buf[1] = scratch.p[1];
+    return 0;
+}
+
+lc_status lci_mpi_composite(lc_device *dev, MPI_Comm comm, int root, int op, lci_cimage *img, const int *order,
+                            float *rgba, lci_mpi_cstats *cs)
+{
+    mpi_run r;
+    memset(&r, 0, sizeof r);
+    r.dev = dev, r.comm = comm, r.root = root, r.cs = cs;
+    MPI_Comm_rank(comm, &r.rank);
+    MPI_Comm_size(comm, &r.P);
+    r.img = *img;
+    r.order = (int *)order;
+    r.pos_of = malloc(sizeof(int) * (size_t)r.P);
+    r.cap = lci_cpack_max(img->w, img->h, op);
+    lc_status s = LC_OK;
+    if (!r.pos_of || scratch_get(r.cap, r.buf) != 0)
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "compositing: out of memory");
+    for (int p = 0; s == LC_OK && p < r.P; p++) r.pos_of[order[p]] = p;
+    if (cs) memset(cs, 0, sizeof *cs);
+    s = lc_mpi_agree(dev, comm, s);
+    double t0 = MPI_Wtime();
+    if (s == LC_OK) s = composite(&r, op, rgba);
+    if (cs) {
+        cs->total_seconds = MPI_Wtime() - t0;
+        cs->bytes_sent = r.st.bytes_sent, cs->messages_sent = r.st.messages_sent;
+    }
+    img->rect[0] = r.img.rect[0], img->rect[1] = r.img.rect[1], img->rect[2] = r.img.rect[2], img->rect[3] = r.img.rect[3];
+    free(r.pos_of);
+    return s;
 }
 
 static lc_status render_and_composite(mpi_run *r, float *rgba)
@@ -135,21 +226,14 @@ static lc_status render_and_composite(mpi_run *r, float *rgba)
     int op = lci_dp_op(d);
     if (s == LC_OK) {
         r->cap = lci_cpack_max(r->img.w, r->img.h, op);
-        r->buf[0] = malloc(sizeof(float) * r->cap);
-        r->buf[1] = malloc(sizeof(float) * r->cap);
-        if (!r->buf[0] || !r->buf[1])
+        if (scratch_get(r->cap, r->buf) != 0)
             s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_mpi_render: out of memory for compositing buffers");
     }
     r->st.render_seconds = MPI_Wtime() - t0;
     s = lc_mpi_agree(dev, r->comm, s);
     if (s != LC_OK) return s;
     double t1 = MPI_Wtime();
-    int own0 = 0, own1 = 0;
-    s = swap_steps(r, op, &own0, &own1);
-    s = lc_mpi_agree(dev, r->comm, s);
-    if (s != LC_OK) return s;
-    s = gather(r, op, own0, own1, rgba);
-    s = lc_mpi_agree(dev, r->comm, s);
+    s = composite(r, op, rgba);
     r->st.composite_seconds = MPI_Wtime() - t1;
     double sum = 0.0, mx = 0.0;
     MPI_Allreduce(&r->st.render_seconds, &sum, 1, MPI_DOUBLE, MPI_SUM, r->comm);
@@ -183,8 +267,6 @@ lc_status lc_mpi_render(lc_device *dev, MPI_Comm comm, int root, const lc_render
     /* a bad root is every rank's error alike: no collective needs it */
     if (s == LC_OK) s = render_and_composite(&r, rgba);
     if (stats) *stats = r.st;
-    free(r.buf[0]);
-    free(r.buf[1]);
     lci_cimage_free(&r.img);
     free(r.order);
     free(r.pos_of);

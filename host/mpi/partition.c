@@ -34,6 +34,8 @@ static int build_node(kd_build *k, lc_box3 b, const int c0[3], const int c1[3], 
         t->box[leaf0] = b;
         if (k->xyz[0]) t->weight[leaf0] = (uint64_t)(i1 - i0);
         else t->weight[leaf0] = (uint64_t)(c1[0] - c0[0]) * (uint64_t)(c1[1] - c0[1]) * (uint64_t)(c1[2] - c0[2]);
+        if (t->crange)
+            for (int a = 0; a < 3; a++) t->crange[6 * leaf0 + a] = c0[a], t->crange[6 * leaf0 + 3 + a] = c1[a];
         return id;
     }
     float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
@@ -113,6 +115,7 @@ lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_
     out->cell = calloc((size_t)nleaves, sizeof *out->cell);
     out->box = calloc((size_t)nleaves, sizeof *out->box);
     out->weight = calloc((size_t)nleaves, sizeof *out->weight);
+    if (!x) out->crange = calloc((size_t)nleaves * 6, sizeof *out->crange);
     kd_build k;
     memset(&k, 0, sizeof k);
     k.t = out;
@@ -120,7 +123,8 @@ lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_
         k.idx = malloc(n * sizeof *k.idx);
         k.key = malloc(n * sizeof *k.key);
     }
-    if (!out->node || !out->cell || !out->box || !out->weight || (x && n > 0 && (!k.idx || !k.key))) {
+    if (!out->node || !out->cell || !out->box || !out->weight || (!x && !out->crange) ||
+        (x && n > 0 && (!k.idx || !k.key))) {
         free(k.idx), free(k.key);
         lci_kd_release(out);
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "kd-tree: out of memory for %d regions", nleaves);
@@ -153,6 +157,7 @@ void lci_kd_release(lci_kdtree *t)
     free(t->cell);
     free(t->box);
     free(t->weight);
+    free(t->crange);
     memset(t, 0, sizeof *t);
 }
 

@@ -73,6 +73,7 @@ lc_status lci_dp_render_region(lc_device *dev, const lc_render_desc *d, const lc
     memset(img, 0, sizeof *img);
     const float probe = 0.0f; /* lci_render_check asks for an image pointer; img's come below */
     lc_status s = lci_render_check(dev, d, &probe, "data-parallel render");
+    if (s == LC_OK) s = lci_dp_grid_check(dev, d, t->nleaves, leaf);
     if (s != LC_OK) return s;
     if (d->pixel_scale > 1)
         return lci_error(dev, LC_ERROR_UNSUPPORTED, "data-parallel render: pixel_scale %d (previews are one process's)",

@@ -52,6 +52,24 @@ typedef struct lc_mpi_stats {
 LC_API lc_status lc_mpi_render(lc_device *device, MPI_Comm comm, int root, const lc_render_desc *desc, float *rgba,
                                lc_mpi_stats *stats);
 
+/* Collective: loads the part of the file at path that this rank's region
+ * of a render on comm needs (lc_volume_load's desc; dt: the render's step,
+ * 0 = the default; a longer step later is refused by lc_mpi_render).
+ * Grids: the region's nodes plus ghost nodes (its cells' stencils, one
+ * more, and a step's reach), read from their bytes of the file alone for
+ * raw, NRRD and MetaImage files without compression and NIfTI files of
+ * uint8, int16, uint16 or float32 without scaling or compression; other
+ * grid files are read whole by rank 0, which sends each rank its part
+ * (HDF5 grids, and frames past the first of those files: read whole by
+ * every rank). The
+ * part is a grid volume that is the whole grid to the API (lc_grid_info,
+ * bounds, value range, BVH) and renders only its region under
+ * lc_mpi_render; lc_grid_histogram (and so lc_tf_auto) becomes collective
+ * on comm and returns the whole grid's counts. Destroy it before
+ * MPI_Finalize. Particles and RBF sets: every rank reads the whole file. */
+LC_API lc_status lc_mpi_volume_load(lc_device *device, MPI_Comm comm, const char *path, const lc_load_desc *desc,
+                                    float dt, lc_volume **out);
+
 /* Collective: every rank of comm passes its status; all get LC_OK when all
  * passed LC_OK, else the lowest failing rank's status, with its message
  * prefixed "rank R: " on the other ranks (lc_device_last_error). For a

@@ -89,8 +89,13 @@ typedef struct lc_kgrid {
     const uint8_t *node_tf_bits;
     int32_t pair_quads; /* pairs holds the z-paired uint32 layout (above) */
     int32_t pad_;
+    /* the cells a sample's stencil is clamped to, per axis: 0 .. size - 2, or
+     * for a part of a grid held by one rank (host/mpi/, lci_grid_create_window)
+     * the cells of the nodes it holds, so that no lane (active or not) reads
+     * outside them; the same floats as before for a whole grid */
+    float cell_lo[4], cell_hi[4];
 } lc_kgrid;
-_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8 + 8, "lc_kgrid layout");
+_Static_assert(sizeof(lc_kgrid) == 8 * 4 + 16 + 16 + 5 * 16 + 8 + 8 + 8 + 8 + 3 * 4 + 12 + 24 + 8 + 8 + 32, "lc_kgrid layout");
 
 enum { LC_KGRID_CULL = 1, LC_KGRID_PRUNE = 2, LC_KGRID_CONST = 4 };
 

@@ -1,0 +1,26 @@
+/* The compositing of host/mpi/mpi.c on its own (lanecast bench --mpi and
+ * bench/mpi_composite.sh measure it on synthetic images). Needs MPI. */
+#ifndef LC_HOST_MPI_INTERNAL_H
+#define LC_HOST_MPI_INTERNAL_H
+
+#include <mpi.h>
+#include "host/mpi/dp.h"
+
+/* What one rank's compositing took, step by step (fold, swap rounds, gather). */
+typedef struct lci_mpi_cstats {
+    int nsteps;
+    double seconds[LCI_CSTEPS_MAX + 1]; /* the step: pack, message, blend (gather: receives and copies) */
+    uint64_t bytes[LCI_CSTEPS_MAX + 1]; /* sent in the step */
+    uint64_t pixels[LCI_CSTEPS_MAX + 1]; /* received and blended (gather: copied) */
+    double total_seconds;               /* swap, gather and their agreements */
+    uint64_t bytes_sent, messages_sent;
+} lci_mpi_cstats;
+
+/* Composites img (this rank's region image, w x h, its rect set) over comm
+ * in the visibility order `order` (position -> rank) by the schedule of
+ * composite.c; rank root gets the w x h RGBA result in rgba. Collective.
+ * cs may be NULL. */
+lc_status lci_mpi_composite(lc_device *dev, MPI_Comm comm, int root, int op, lci_cimage *img, const int *order,
+                            float *rgba, lci_mpi_cstats *cs);
+
+#endif
