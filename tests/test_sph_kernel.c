@@ -7,18 +7,11 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "check.h"
 #include "host/sph/sph_kernel.h"
 
-static int failures;
-#define CHECK(c, ...)                                                                                                  \
-    do {                                                                                                               \
-        if (!(c)) {                                                                                                    \
-            failures++;                                                                                                \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                                \
-            printf(__VA_ARGS__);                                                                                       \
-            printf("\n");                                                                                              \
-        }                                                                                                              \
-    } while (0)
+#undef CHECK
+#define CHECK CHECK_QUIET
 
 /* Simpson's rule of g on [a, b] with n (even) intervals. */
 static double simpson(double (*g)(const lci_sph_kernel *, double), const lci_sph_kernel *k, double a, double b, int n)
@@ -66,6 +59,5 @@ int main(void)
     CHECK(lc_kernel_from_name("gaussian", &k) == LC_OK && k == LC_KERNEL_GAUSSIAN, "gaussian by name");
     CHECK(lc_kernel_from_name("cubic", &k) == LC_ERROR_INVALID_ARGUMENT, "unknown name accepted");
     CHECK(lc_kernel_name((lc_kernel)7) == NULL && lci_sph_kernel_get(LC_KERNEL_GAUSSIAN) == NULL, "range");
-    printf("%s\n", failures ? "FAILED" : "ok");
-    return failures != 0;
+    return check_summary("sph_kernel");
 }
