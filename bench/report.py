@@ -423,14 +423,15 @@ def jobs_section(jobs):
                      fmt(1e3 * r["full_s"], 3), fmt(1e3 * r["nav_s"], 3), fmt(1e3 * r["preview_s"], 3),
                      fmt(1e3 * r["refined_s"], 3), "%s / %s / %s" % (fmt(r["cancel_median_ms"], 2), fmt(r["cancel_p95_ms"], 2),
                                                                      fmt(r["cancel_worst_ms"], 2)),
-                     "%d (+%d done first)" % (r["cancels"], r["finished_before_cancel"]), fmt(r.get("loadavg"), 2)])
+                     "%d (+%d done first)" % (r["cancels"], r["finished_before_cancel"]), fmt(r.get("loadavg"), 2),
+                     r.get("commit", "-")])
     intro = ("What an interactive user waits for: the full frame (`lc_render`), the navigation frame (`pixel_scale` 2, "
              "what `lanecast view` renders while the camera moves), a render job's preview pass (pixel scale 4 at "
              "1024^2) and refined image, and the cancel latency, from `lc_job_cancel` to `lc_job_wait` returning, "
              "at random points of a frame (median / p95 / worst, ms). Times in ms.\n\n")
     return "\n## Interactive use (`--jobs`)\n\n" + intro + table(
         ["scene", "view", "size", "mode", "target", "threads", "full", "navigation", "preview", "refined",
-         "cancel med / p95 / worst", "cancels", "load"], rows)
+         "cancel med / p95 / worst", "cancels", "load", "commit"], rows)
 
 
 def peers_section(peers):
