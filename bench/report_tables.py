@@ -165,7 +165,9 @@ def jobs_section(jobs):
     intro = ("What an interactive user waits for: the full frame (`lc_render`), the navigation frame (`pixel_scale` 2, "
              "what `lanecast view` renders while the camera moves), a render job's preview pass (pixel scale 4 at "
              "1024^2) and refined image, and the cancel latency, from `lc_job_cancel` to `lc_job_wait` returning, "
-             "at random points of a frame (median / p95 / worst, ms). Times in ms.\n\n")
+             "at random points of a frame (median / p95 / worst, ms). Times in ms. The 67f2366 rows check the "
+             "cancel between tiles only, later rows inside the kernels too; the window's own figures (navigation "
+             "frames in `lanecast view`, adaptive scale) are in [bench/view.md](bench/view.md).\n\n")
     return "\n## Interactive use (`--jobs`)\n\n" + intro + table(
         ["scene", "view", "size", "mode", "target", "threads", "full", "navigation", "preview", "refined",
          "cancel med / p95 / worst", "cancels", "load", "commit"], rows)
