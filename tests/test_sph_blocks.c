@@ -112,6 +112,39 @@ static void must_fail(const char *path, const char *says, const char *says2, lc_
     load_must_fail(dev, path, ": ", says, says2, want, d);
 }
 
+/* NAME:comp and |NAME| of the velocities of the first n particles read through fmt. */
+static void check_vector(const lci_format *fmt, const char *path, const char *name, int n, int comp)
+{
+    float vc[NT], vm[NT];
+    for (int i = 0; i < n; i++) {
+        const float *v = vel + 3 * i;
+        vc[i] = v[comp], vm[i] = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    }
+    char opt[2][64];
+    snprintf(opt[0], sizeof opt[0], "%s:%d", name, comp);
+    snprintf(opt[1], sizeof opt[1], "|%s|", name);
+    for (int k = 0; k < 2; k++) {
+        lci_loaded l;
+        const lc_particles_desc *d = read_with(fmt, path, OPTS({"value", opt[k]}, {"radius", "1"}), &l);
+        CHECK(values_are(d, (size_t)n, k ? vm : vc, k ? 1e-6f : 0.0f), "%s value = %s: %s of %d particles", path,
+              opt[k], k ? "the speeds" : "the component", n);
+        lci_loaded_free(&l);
+    }
+}
+
+/* value = the temperatures with kernel m4 and normalise 1: k = m / rho * T, norm_weights = m / rho. */
+static void check_weights(const lci_format *fmt, const char *path, const char *value)
+{
+    float k[NG], w[NG];
+    for (int i = 0; i < NG; i++) w[i] = (float)((double)mass[i] / rho[i]), k[i] = (float)((double)w[i] * temp[i]);
+    lci_loaded l;
+    const lc_particles_desc *d = read_with(fmt, path, OPTS({"value", value}, {"kernel", "m4"}, {"normalise", "1"}), &l);
+    int ok = values_are(d, NG, k, 1e-6f) && d->norm_weights;
+    for (int i = 0; ok && i < NG; i++) ok = fabsf(d->norm_weights[i] - w[i]) <= 1e-6f * w[i];
+    CHECK(ok, "%s value = %s, kernel m4, normalise 1: k = m / rho * %s, norm_weights = m / rho", path, value, value);
+    lci_loaded_free(&l);
+}
+
 static void gadget(void)
 {
     write_gadget("b2.g2", 2);
@@ -121,17 +154,7 @@ static void gadget(void)
     const lc_particles_desc *d = read_with(&lci_format_gadget, p2, OPTS({"value", "TEMP"}, {"radius", "1"}), &l);
     CHECK(values_are(d, NG, temp, 0.0f), "b2.g2 value = TEMP: the gas's TEMP block (%zu particles)", d ? d->count : 0);
     lci_loaded_free(&l);
-    float vy[NT], vm[NT];
-    for (int i = 0; i < NT; i++) {
-        vy[i] = vel[3 * i + 1];
-        vm[i] = sqrtf(vel[3 * i] * vel[3 * i] + vel[3 * i + 1] * vel[3 * i + 1] + vel[3 * i + 2] * vel[3 * i + 2]);
-    }
-    d = read_with(&lci_format_gadget, p2, OPTS({"value", "VEL:1"}, {"radius", "1"}), &l);
-    CHECK(values_are(d, NT, vy, 0.0f), "b2.g2 value = VEL:1: the y velocities of all 5 particles");
-    lci_loaded_free(&l);
-    d = read_with(&lci_format_gadget, p2, OPTS({"value", "|VEL|"}, {"radius", "1"}), &l);
-    CHECK(values_are(d, NT, vm, 1e-6f), "b2.g2 value = |VEL|: the speeds");
-    lci_loaded_free(&l);
+    check_vector(&lci_format_gadget, p2, "VEL", NT, 1);
     d = read_with(&lci_format_gadget, p2, OPTS({"value", "u"}, {"radius", "1"}), &l);
     CHECK(values_are(d, NG, u, 0.0f), "b2.g2 value = u: the alias of U");
     lci_loaded_free(&l);
@@ -155,14 +178,7 @@ static void gadget(void)
     d = read_with(&lci_format_gadget, p1, OPTS({"value", "hsml"}, {"radius", "1"}), &l);
     CHECK(values_are(d, NG, hsml, 0.0f), "b1.gadget value = hsml after NE and NH");
     lci_loaded_free(&l);
-    /* SPH weights and the normalisation weights with a named value */
-    float k[NG], w[NG];
-    for (int i = 0; i < NG; i++) w[i] = (float)((double)mass[i] / rho[i]), k[i] = (float)((double)w[i] * temp[i]);
-    d = read_with(&lci_format_gadget, p2, OPTS({"value", "TEMP"}, {"kernel", "m4"}, {"normalise", "1"}), &l);
-    int ok = values_are(d, NG, k, 1e-6f) && d->norm_weights;
-    for (int i = 0; ok && i < NG; i++) ok = fabsf(d->norm_weights[i] - w[i]) <= 1e-6f * w[i];
-    CHECK(ok, "b2.g2 value = TEMP, kernel m4, normalise 1: k = m / rho * TEMP, norm_weights = m / rho");
-    lci_loaded_free(&l);
+    check_weights(&lci_format_gadget, p2, "TEMP"); /* SPH and normalisation weights with a named value */
     d = read_with(&lci_format_gadget, p2, OPTS({"value", "TEMP"}, {"kernel", "m4"}), &l);
     CHECK(d && !d->norm_weights, "b2.g2 without normalise: no norm_weights");
     lci_loaded_free(&l);
@@ -229,24 +245,8 @@ static void hdf5(void)
     d = read_with(&lci_format_hdf5, path, OPTS({"value", "ElementAbundance/Oxygen"}, {"radius", "1"}), &l);
     CHECK(values_are(d, NG, ne, 0.0f), "blocks.hdf5 value = ElementAbundance/Oxygen (N x 1 in a subgroup)");
     lci_loaded_free(&l);
-    float vz[NG], vm[NG];
-    for (int i = 0; i < NG; i++) {
-        vz[i] = vel[3 * i + 2];
-        vm[i] = sqrtf(vel[3 * i] * vel[3 * i] + vel[3 * i + 1] * vel[3 * i + 1] + vel[3 * i + 2] * vel[3 * i + 2]);
-    }
-    d = read_with(&lci_format_hdf5, path, OPTS({"value", "Velocities:2"}, {"radius", "1"}), &l);
-    CHECK(values_are(d, NG, vz, 0.0f), "blocks.hdf5 value = Velocities:2");
-    lci_loaded_free(&l);
-    d = read_with(&lci_format_hdf5, path, OPTS({"value", "|Velocities|"}, {"radius", "1"}), &l);
-    CHECK(values_are(d, NG, vm, 1e-6f), "blocks.hdf5 value = |Velocities|");
-    lci_loaded_free(&l);
-    float k[NG], w[NG];
-    for (int i = 0; i < NG; i++) w[i] = (float)((double)mass[i] / rho[i]), k[i] = (float)((double)w[i] * temp[i]);
-    d = read_with(&lci_format_hdf5, path, OPTS({"value", "Temperature"}, {"kernel", "m4"}, {"normalise", "1"}), &l);
-    int ok = values_are(d, NG, k, 1e-6f) && d->norm_weights;
-    for (int i = 0; ok && i < NG; i++) ok = fabsf(d->norm_weights[i] - w[i]) <= 1e-6f * w[i];
-    CHECK(ok, "blocks.hdf5 value = Temperature, kernel m4, normalise 1: k = m / rho * T, norm_weights = m / rho");
-    lci_loaded_free(&l);
+    check_vector(&lci_format_hdf5, path, "Velocities", NG, 2);
+    check_weights(&lci_format_hdf5, path, "Temperature");
     must_fail(path, "/PartType0: value = Metals, but the group has no Metals dataset", "lanecast info",
               LC_ERROR_FORMAT, LOAD({"value", "Metals"}, {"types", "0"}));
     must_fail(path, "/PartType0/Velocities", "name a component Velocities:0..2 or the magnitude |Velocities|",
