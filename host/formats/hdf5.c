@@ -53,7 +53,7 @@ static lc_status read_dataset(lc_device *dev, const lci_read_args *a, hid_t f, l
         if (s == LC_OK) s = lci_h5_fill_radii(dev, path, o, p.xyz, n, p.r, 0);
         if (s == LC_OK) {
             memset(p.f, 0, (size_t)n);
-            p.n = (size_t)lci_h5_select_range(&o->sel, &p, 0, n, 0, -1);
+            p.n = (size_t)lci_h5_select_range(&o->sel, &p, 0, n, 0, -1, NULL);
         }
         H5Dclose(ds);
         return lci_plist_finish(dev, path, s, &p, 1, 0, out);
@@ -249,11 +249,29 @@ static lc_status hdf5_kind_guarded(lc_device *dev, const char *path, const lc_lo
     lc_status s = guard(dev, path, desc, NULL);
     return s != LC_OK ? s : hdf5_kind(dev, path, desc, out);
 }
+/* lanecast info: a snapshot's PartTypeN datasets (the names value = takes). */
+static lc_status hdf5_describe(lc_device *dev, const lci_read_args *a, char *text, size_t size)
+{
+    text[0] = 0;
+    lc_status s = guard(dev, a->path, a->desc, NULL);
+    if (s != LC_OK || lci_option_find(a, "dataset")) return s;
+    lci_h5_quiet q;
+    lci_h5_quiet_on(&q);
+    hid_t f;
+    if ((s = lci_h5_open(dev, a->path, &f)) == LC_OK) {
+        s = lci_h5_describe_snapshot(dev, a->path, f, text, size);
+        H5Fclose(f);
+    }
+    lci_h5_quiet_off(&q);
+    return s;
+}
 #define HDF5_READ hdf5_read_guarded
 #define HDF5_KIND hdf5_kind_guarded
+#define HDF5_DESCRIBE hdf5_describe
 #else
 #define HDF5_READ NULL
 #define HDF5_KIND NULL
+#define HDF5_DESCRIBE NULL
 #endif
 
 static int hdf5_magic(const unsigned char *h, size_t n)
@@ -264,7 +282,8 @@ static int hdf5_magic(const unsigned char *h, size_t n)
 
 const lci_format lci_format_hdf5 = {
     .name = "hdf5", .kind = LC_KIND_NONE, .extensions = ".hdf5 .h5 .he5",
-    .options = "dataset types value knn radius radius_scale fields spacing origin type select kernel hsml_is",
-    .description = "HDF5: GADGET/AREPO/SWIFT PartTypeN snapshots (types as fields, value = none|mass|u|rho|hsml), "
-                   "or dataset = PATH: 3-D as a grid, N x 3 as particles",
-    .magic = hdf5_magic, .read = HDF5_READ, .package = "libhdf5-dev", .kind_of = HDF5_KIND};
+    .options = "dataset types value knn radius radius_scale fields spacing origin type select kernel hsml_is normalise",
+    .description = "HDF5: GADGET/AREPO/SWIFT PartTypeN snapshots (types as fields, value = none|mass|u|rho|hsml or any "
+                   "dataset: NAME, NAME:K, |NAME|), or dataset = PATH: 3-D as a grid, N x 3 as particles",
+    .magic = hdf5_magic, .read = HDF5_READ, .package = "libhdf5-dev", .kind_of = HDF5_KIND,
+    .describe = HDF5_DESCRIBE};

@@ -165,9 +165,7 @@ int lci_h5_header_attr(hid_t f, const char *name, double *v, hssize_t n, char *w
 
 const char *const lci_h5_vnames[5] = {"none", "mass", "u", "rho", "hsml"};
 
-/* Keeps the particles [base, base + n) of p that the selection takes
- * (index first + i, type t; t < 0: no type); returns how many. */
-int64_t lci_h5_select_range(lci_psel *ps, lci_plist *p, size_t base, int64_t n, size_t first, int t)
+int64_t lci_h5_select_range(lci_psel *ps, lci_plist *p, size_t base, int64_t n, size_t first, int t, float *w8)
 {
     if (!ps->sel) return n;
     char ty[2] = {(char)('0' + t), 0};
@@ -178,6 +176,7 @@ int64_t lci_h5_select_range(lci_psel *ps, lci_plist *p, size_t base, int64_t n, 
         if (!lci_psel_keep(ps, first + (size_t)i, NULL, &attr)) continue;
         memmove(p->xyz + 3 * w, p->xyz + 3 * q, 3 * sizeof(float));
         p->r[w] = p->r[q], p->v[w] = p->v[q], p->f[w] = p->f[q];
+        if (w8) w8[w] = w8[q];
         w++;
     }
     return (int64_t)(w - base);
@@ -200,12 +199,16 @@ lc_status lci_h5_parse_opts(lc_device *dev, const lci_read_args *a, lci_h5_opts 
         else if (strcmp(x->value, "type"))
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected type or none", a->path, x->value);
     }
+    o->vtext = "none";
     if (s == LC_OK && (x = lci_option_find(a, "value"))) {
-        o->value = -1;
+        o->value = LCI_H5_V_NAMED;
+        o->vtext = x->value;
         for (int i = 0; i < 5; i++)
             if (!strcmp(x->value, lci_h5_vnames[i])) o->value = i;
-        if (o->value < 0)
-            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option value = '%s', expected none, mass, u, rho or hsml",
+        if (o->value == LCI_H5_V_NAMED && lci_value_spec_parse(x->value, &o->vs))
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                          "%s: option value = '%s', expected none, mass, u, rho, hsml or a dataset of the PartTypeN "
+                          "groups: NAME (N or N x 1 values), NAME:K (component K of N x C) or |NAME| (the magnitude)",
                           a->path, x->value);
     }
     if (s == LC_OK && (x = lci_option_find(a, "types"))) {

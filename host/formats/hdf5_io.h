@@ -54,12 +54,15 @@ lc_status lci_h5_read_floats(lc_device *dev, const char *path, const char *name,
  * longer than n or of a type libhdf5 does not convert safely. */
 int lci_h5_header_attr(hid_t f, const char *name, double *v, hssize_t n, char *why, size_t wn);
 
-/* The option value = none|mass|u|rho|hsml. */
-enum { LCI_H5_V_NONE, LCI_H5_V_MASS, LCI_H5_V_U, LCI_H5_V_RHO, LCI_H5_V_HSML };
+/* The option value = none|mass|u|rho|hsml (aliases), or any dataset of
+ * the groups by name (LCI_H5_V_NAMED: vs). */
+enum { LCI_H5_V_NONE, LCI_H5_V_MASS, LCI_H5_V_U, LCI_H5_V_RHO, LCI_H5_V_HSML, LCI_H5_V_NAMED };
 extern const char *const lci_h5_vnames[5];
 
 typedef struct lci_h5_opts {
     int types[6], types_given, by_type, value, knn;
+    lci_value_spec vs; /* value = a dataset: its path in the group and component */
+    const char *vtext; /* the option as given ("none" when absent) */
     float radius, radius_scale;
     const char *dataset;
     lci_psel sel; /* select: index over the file's particles (type order), type = the PartType number */
@@ -69,8 +72,9 @@ typedef struct lci_h5_opts {
 lc_status lci_h5_parse_opts(lc_device *dev, const lci_read_args *a, lci_h5_opts *o);
 
 /* Keeps the particles [base, base + n) of p that the selection takes
- * (index first + i, type t; t < 0: no type); returns how many. */
-int64_t lci_h5_select_range(lci_psel *ps, lci_plist *p, size_t base, int64_t n, size_t first, int t);
+ * (index first + i, type t; t < 0: no type), and their w8[] when w8 is not
+ * NULL; returns how many. */
+int64_t lci_h5_select_range(lci_psel *ps, lci_plist *p, size_t base, int64_t n, size_t first, int t, float *w8);
 
 /* Radii of n points: radius option, else k-NN, zeros replaced by the smallest. */
 lc_status lci_h5_fill_radii(lc_device *dev, const char *path, const lci_h5_opts *o, const float *x, int64_t n, float *r,
@@ -78,6 +82,10 @@ lc_status lci_h5_fill_radii(lc_device *dev, const char *path, const lci_h5_opts 
 
 /* The particles of the PartTypeN groups of the open file f (hdf5_snapshot.c). */
 lc_status lci_h5_read_snapshot(lc_device *dev, const char *path, hid_t f, lci_h5_opts *o, lci_loaded *out);
+
+/* lanecast info: every PartTypeN group's per-particle datasets with their
+ * shapes, into text (hdf5_snapshot.c). */
+lc_status lci_h5_describe_snapshot(lc_device *dev, const char *path, hid_t f, char *text, size_t size);
 
 #endif
 #endif
