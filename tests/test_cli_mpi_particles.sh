@@ -72,14 +72,12 @@ run() { # K, name, args...: one process and K ranks, compared byte for byte (40x
 }
 raw="$dir/pts.f32 --raw-particles 3000 --radius 0.05"
 run 2 raw-dvr $raw
-run 3 raw-dvr $raw --view 40,25
 run 4 raw-mip $raw --mode mip --eye 0.2,0.1,0.3 --at 1,1,1
 run 2 raw-sigma3 $raw --sigma 3 --mode iso --iso 0.4 --shade phong
 run 3 pdb-scattered "$dir/mol.pdb"
 run 2 gadget-knn "$dir/snap.gadget" --mode slice --plane 0,0,0,0,0,1
 run 4 gadget-m4 "$dir/snap.gadget" --kernel m4
 run 2 rbf-dvr "$dir/terms.rbf"
-run 3 rbf-mip "$dir/terms.rbf" --mode mip --view 10,70
 run 4 rbf-octree "$dir/terms.rbf" --mode iso --iso 0.3 --rbf-accel octree
 # three atoms over four ranks: a rank without particles
 python3 -c "open('$dir/three.xyz', 'w').write('C 0 0 0\nO 1.2 0 0\nC 0 1.3 0.4\n')"

@@ -260,9 +260,10 @@ static void pack_dest(void *u, int leaf)
     d->at[leaf] += d->nf;
 }
 
-lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, size_t n, const float *items, int nf,
+lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, size_t n, float **itemsp, int nf,
                            const float *reach, float **recv, size_t *nrecv)
 {
+    const float *items = *itemsp;
     int P;
     MPI_Comm_size(comm, &P);
     *recv = NULL, *nrecv = 0;
@@ -290,6 +291,8 @@ lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, s
             lci_dp_regions_near(t, d.item[0], d.item[1], d.item[2], reach[i], pack_dest, &d);
         }
     }
+    free(*itemsp); /* packed: not held through the exchange */
+    *itemsp = NULL, items = NULL;
     s = lc_mpi_agree(dev, comm, s);
     if (s == LC_OK && MPI_Alltoall(sc, 1, MPI_INT, rc, 1, MPI_INT, comm) != MPI_SUCCESS)
         s = lci_error(dev, LC_ERROR_INTERNAL, "exchange: MPI_Alltoall of the counts failed");
@@ -326,7 +329,7 @@ static lc_status exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, sh
     }
     share_free(sh); /* the records hold it now */
     s = lc_mpi_agree(dev, comm, s);
-    if (s == LC_OK) s = lci_mpi_exchange(dev, comm, t, n, items, REC, reach, recv, nrecv);
+    if (s == LC_OK) s = lci_mpi_exchange(dev, comm, t, n, &items, REC, reach, recv, nrecv);
     free(items), free(reach);
     return s;
 }
@@ -352,9 +355,10 @@ static lc_status take_sigma(lc_device *dev, const char *path, const lc_load_desc
     return LC_OK;
 }
 
-static lc_status make_part(lc_device *dev, MPI_Comm *comm, const shape *sp, const float *rec, size_t n,
+static lc_status make_part(lc_device *dev, MPI_Comm *comm, const shape *sp, float **recp, size_t n,
                            const lci_particles_global *g, lci_dp_ppart *pp, lc_volume **out)
 {
+    const float *rec = *recp;
     size_t m = n ? n : 1;
     float *xyz = malloc(12 * m), *r = malloc(4 * m), *k = malloc(4 * m);
     uint8_t *f = malloc(m);
@@ -364,6 +368,8 @@ static lc_status make_part(lc_device *dev, MPI_Comm *comm, const shape *sp, cons
         xyz[3 * i] = o[0], xyz[3 * i + 1] = o[1], xyz[3 * i + 2] = o[2];
         r[i] = o[3], k[i] = o[4], f[i] = (uint8_t)o[5];
     }
+    free(*recp); /* unpacked: not held through the build */
+    *recp = NULL, rec = NULL;
     lc_particles_desc d = {.count = n, .positions = xyz, .radii = r, .radius = sp->radius, .values = k, .fields = f,
                            .nfields = sp->nfields, .leaf_size = sp->leaf_size, .params = sp->params,
                            .radius_note = sp->note[0] ? sp->note : NULL};
@@ -425,7 +431,7 @@ lc_status lci_mpi_load_particles(lc_device *dev, MPI_Comm comm, const char *path
     size_t n = 0;
     if (s == LC_OK) s = exchange(dev, comm, &pp.tree, &sh, pp.support, pp.dt, &rec, &n);
     share_free(&sh);
-    if (s == LC_OK) s = make_part(dev, &comm, &sp, rec, n, &g, &pp, out);
+    if (s == LC_OK) s = make_part(dev, &comm, &sp, &rec, n, &g, &pp, out);
     else lci_kd_release(&pp.tree);
     free(rec);
     return lc_mpi_agree(dev, comm, s);

@@ -135,7 +135,7 @@ lc_status lci_mpi_load_rbf(lc_device *dev, MPI_Comm comm, const char *path, cons
     s = lc_mpi_agree(dev, comm, s);
     float *rec = NULL;
     size_t nrec = 0;
-    if (s == LC_OK) s = lci_mpi_exchange(dev, comm, &pp.tree, n, items, TERM, R, &rec, &nrec);
+    if (s == LC_OK) s = lci_mpi_exchange(dev, comm, &pp.tree, n, &items, TERM, R, &rec, &nrec);
     free(items), free(R);
     if (s == LC_OK) s = make_part(dev, &h, rec, nrec, &pp, out);
     else lci_kd_release(&pp.tree);
