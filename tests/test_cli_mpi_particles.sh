@@ -13,13 +13,7 @@
 set -eu
 exe=$1
 mpiexec=$2
-if [ -z "$mpiexec" ]; then
-    echo "mpiexec not found (Debian: openmpi-bin): skipped"
-    exit 77
-fi
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-fail=0
+. "$(dirname "$0")/cli_mpi_run.sh" # $dir, run
 python3 - "$dir" <<'PY'
 import math, struct, sys
 d = sys.argv[1]
@@ -57,31 +51,23 @@ with open(d + "/terms.rbf", "w") as f:
 with open(d + "/snap.gadget", "wb") as f:
     f.write(rec(head) + rec(pos) + rec(b"\0" * (12 * n)) + rec(b"".join(struct.pack("<I", i) for i in range(n))))
 PY
-run() { # K, name, args...: one process and K ranks, compared byte for byte (40x30)
+prun() { # K, name, args...: as run, dvr without early termination
     k=$1 name=$2
     shift 2
-    set -- --size 40x30 --alpha-stop 1 "$@"
-    "$exe" render "$@" --threads 1 --quiet -o "$dir/one-$name.png" 2> "$dir/err1" || true
-    if timeout 60 "$mpiexec" --oversubscribe -np "$k" "$exe" render "$@" --threads 1 --quiet \
-        -o "$dir/np$k-$name.png" 2> "$dir/err" && cmp -s "$dir/one-$name.png" "$dir/np$k-$name.png"; then
-        echo "ok   np $k $name"
-    else
-        echo "FAIL np $k $name: $(cat "$dir/err1" "$dir/err")"
-        fail=1
-    fi
+    run "$k" "$name" png --alpha-stop 1 "$@"
 }
 raw="$dir/pts.f32 --raw-particles 3000 --radius 0.05"
-run 2 raw-dvr $raw
-run 4 raw-mip $raw --mode mip --eye 0.2,0.1,0.3 --at 1,1,1
-run 2 raw-sigma3 $raw --sigma 3 --mode iso --iso 0.4 --shade phong
-run 3 pdb-scattered "$dir/mol.pdb"
-run 2 gadget-knn "$dir/snap.gadget" --mode slice --plane 0,0,0,0,0,1
-run 4 gadget-m4 "$dir/snap.gadget" --kernel m4
-run 2 rbf-dvr "$dir/terms.rbf"
-run 4 rbf-octree "$dir/terms.rbf" --mode iso --iso 0.3 --rbf-accel octree
+prun 2 raw-dvr $raw
+prun 4 raw-mip $raw --mode mip --eye 0.2,0.1,0.3 --at 1,1,1
+prun 2 raw-sigma3 $raw --sigma 3 --mode iso --iso 0.4 --shade phong
+prun 3 pdb-scattered "$dir/mol.pdb"
+prun 2 gadget-knn "$dir/snap.gadget" --mode slice --plane 0,0,0,0,0,1
+prun 4 gadget-m4 "$dir/snap.gadget" --kernel m4
+prun 2 rbf-dvr "$dir/terms.rbf"
+prun 4 rbf-octree "$dir/terms.rbf" --mode iso --iso 0.3 --rbf-accel octree
 # three atoms over four ranks: a rank without particles
 python3 -c "open('$dir/three.xyz', 'w').write('C 0 0 0\nO 1.2 0 0\nC 0 1.3 0.4\n')"
-run 4 more-ranks-than-particles "$dir/three.xyz" --mode mip
+prun 4 more-ranks-than-particles "$dir/three.xyz" --mode mip
 if /usr/bin/python3 -c "import h5py, numpy" 2>/dev/null && "$exe" formats 2>/dev/null | grep -q "^ *hdf5  *yes"; then
     /usr/bin/python3 - "$dir" <<'PY'
 import sys, h5py, numpy as np
@@ -97,7 +83,7 @@ with h5py.File(sys.argv[1] + "/snap.hdf5", "w") as f:
     g["SmoothingLength"] = (0.05 + 0.1 * rng.random(500)).astype(np.float32)
     g["Masses"] = np.ones(500, dtype=np.float32)
 PY
-    run 3 hdf5-scattered "$dir/snap.hdf5"
+    prun 3 hdf5-scattered "$dir/snap.hdf5"
 else
     echo "skip hdf5 snapshot (needs python3-h5py and a build with HDF5)"
 fi

@@ -89,26 +89,8 @@ static double region_diff(lc_device *dev, const lc_volume *whole, lc_volume *con
     d.dt = dt;
     size_t np = (size_t)W * H;
     float *want = malloc(sizeof(float) * 4 * np), *got = malloc(sizeof(float) * 4 * np);
-    lci_kdtree t;
-    lc_kcamera cam;
-    int order[4];
-    lci_cimage imgs[4];
-    memset(imgs, 0, sizeof imgs);
     lc_status s = lci_dp_render_local(dev, &d, P, want, NULL, NULL);
-    lc_render_desc dp = d;
-    dp.volume = parts[0];
-    if (s == LC_OK) s = lci_dp_partition(dev, &dp, P, &t); /* the tree the parts keep */
-    if (s == LC_OK) {
-        lci_dp_camera(dev, &d, &cam);
-        lci_kd_order(&t, &cam, order);
-        for (int i = 0; i < P && s == LC_OK; i++) {
-            lc_render_desc dr = d;
-            dr.volume = parts[order[i]];
-            s = lci_dp_render_region(dev, &dr, &t, order[i], &imgs[i], NULL);
-        }
-        if (s == LC_OK) s = lci_dp_composite_local(dev, P, imgs, lci_dp_op(&d), got, NULL, NULL, NULL);
-        lci_kd_release(&t);
-    }
+    if (s == LC_OK) s = dp_render_parts(dev, &d, parts, P, got);
     double e = -1.0;
     CHECK_QUIET(s == LC_OK, "%s: %s", label, lc_device_last_error(dev));
     if (s == LC_OK) {
@@ -116,7 +98,6 @@ static double region_diff(lc_device *dev, const lc_volume *whole, lc_volume *con
         for (size_t i = 0; i < 4 * np; i++) e = fmax(e, fabs((double)got[i] - (double)want[i]));
         if (check) dp_check_parts(label, got, want, &d);
     }
-    for (int i = 0; i < P; i++) lci_cimage_free(&imgs[i]);
     free(want), free(got);
     return e;
 }
