@@ -8,28 +8,9 @@
 set -eu
 exe=$1
 mpiexec=$2
-if [ -z "$mpiexec" ]; then
-    echo "mpiexec not found (Debian: openmpi-bin): skipped"
-    exit 77
-fi
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-fail=0
+. "$(dirname "$0")/cli_mpi_run.sh" # $dir, run
 python3 "$(dirname "$0")/cli_scenes.py" "$dir" # ball.raw, atoms.xyz, set.rbf
 vol="$dir/ball.raw --dims 16,16,16 --type float32"
-run() { # K, name, ext, args...: one process and K ranks, compared byte for byte (default size 40x30)
-    k=$1 name=$2 ext=$3
-    shift 3
-    set -- --size 40x30 "$@"
-    "$exe" render "$@" --threads 1 --quiet -o "$dir/one-$name.$ext" 2> "$dir/err1" || true
-    if timeout 60 "$mpiexec" --oversubscribe -np "$k" "$exe" render "$@" --threads 1 --quiet \
-        -o "$dir/np$k-$name.$ext" 2> "$dir/err" && cmp -s "$dir/one-$name.$ext" "$dir/np$k-$name.$ext"; then
-        echo "ok   np $k $name"
-    else
-        echo "FAIL np $k $name: $(cat "$dir/err1" "$dir/err")"
-        fail=1
-    fi
-}
 run 2 grid-dvr png $vol --alpha-stop 1
 run 3 grid-iso png $vol --mode iso --iso 0.5 --shade phong --eye 8,8,8 --at 20,9,3
 run 2 atoms-mip png "$dir/atoms.xyz" --mode mip --ortho 12

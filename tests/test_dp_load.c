@@ -145,30 +145,13 @@ static void compare(lc_device *dev, const char *label, const lc_volume *whole, l
     d.shading = mode == LC_MODE_DVR || mode == LC_MODE_ISO ? LC_SHADE_PHONG : LC_SHADE_NONE;
     size_t np = (size_t)W * H;
     float *want = malloc(sizeof(float) * 4 * np), *got = malloc(sizeof(float) * 4 * np);
-    lci_kdtree t;
-    lc_kcamera cam;
-    int order[4];
-    lci_cimage imgs[4];
-    memset(imgs, 0, sizeof imgs);
     lc_status s = lci_dp_render_local(dev, &d, P, want, NULL, NULL);
-    if (s == LC_OK) s = lci_dp_partition(dev, &d, P, &t);
-    if (s == LC_OK) {
-        lci_dp_camera(dev, &d, &cam);
-        lci_kd_order(&t, &cam, order);
-        for (int i = 0; i < P && s == LC_OK; i++) {
-            lc_render_desc dr = d;
-            dr.volume = parts[order[i]];
-            s = lci_dp_render_region(dev, &dr, &t, order[i], &imgs[i], NULL);
-        }
-        if (s == LC_OK) s = lci_dp_composite_local(dev, P, imgs, lci_dp_op(&d), got, NULL, NULL, NULL);
-        lci_kd_release(&t);
-    }
+    if (s == LC_OK) s = dp_render_parts(dev, &d, parts, P, got);
     CHECK_QUIET(s == LC_OK, "%s %s %s P=%d: %s", label, dp_mode_names[mode], dp_view_names[vi], P,
                 lc_device_last_error(dev));
     if (s == LC_OK)
         CHECK_QUIET(memcmp(got, want, sizeof(float) * 4 * np) == 0, "%s %s %s P=%d: parts' image != whole grid's",
                     label, dp_mode_names[mode], dp_view_names[vi], P);
-    for (int i = 0; i < P; i++) lci_cimage_free(&imgs[i]);
     free(want), free(got);
 }
 

@@ -62,6 +62,7 @@ int cli_mpi_end(int rc)
     return rc;
 }
 
+int cli_mpi_launched(void) { return launched_ranks() > 1; }
 int cli_mpi_ranks(void) { return nranks; }
 int cli_mpi_rank(void) { return myrank; }
 

@@ -14,6 +14,9 @@ int cli_mpi_begin(const char *cmd);
 /* Finalises MPI if cli_mpi_begin initialised it (rc != 0: aborts every
  * rank, so none waits for this one); returns rc. */
 int cli_mpi_end(int rc);
+/* 1 when the environment says this process is one of several MPI ranks
+ * (before cli_mpi_begin too). */
+int cli_mpi_launched(void);
 /* Ranks (1 without MPI) and this process's rank (0 without MPI). */
 int cli_mpi_ranks(void);
 int cli_mpi_rank(void);

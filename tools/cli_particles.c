@@ -4,6 +4,7 @@
 #include <string.h>
 #include "args.h"
 #include "cli_kind.h"
+#include "cli_mpi.h"
 
 static const char help[] =
     "particles (sums of truncated Gaussians, Knoll et al. 2014):\n"
@@ -176,7 +177,10 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     if (!strcmp(a, "--types")) return cli_load_add(load, cmd, "types", v) ? -1 : 1;
     if (!strcmp(a, "--knn")) return arg_int(cmd, a, v, 1, 1024, &n) || cli_load_add(load, cmd, "knn", v) ? -1 : 1;
     if (!strcmp(a, "--leaf")) return arg_int(cmd, a, v, 1, 32, &n) || cli_load_add(load, cmd, "leaf_size", v) ? -1 : 1;
-    if (!strcmp(a, "--sigma")) return arg_float(cmd, a, v, 1e-3f, 100.0f, &params.sigma) ? -1 : 1;
+    if (!strcmp(a, "--sigma")) { /* under mpirun also a load option: the ghosts reach sigma radii */
+        if (arg_float(cmd, a, v, 1e-3f, 100.0f, &params.sigma)) return -1;
+        return cli_mpi_launched() && cli_load_add(load, cmd, "sigma", v) ? -1 : 1;
+    }
     if (!strcmp(a, "--spheres")) return arg_float(cmd, a, v, 1e-3f, 100.0f, &params.sphere_scale) ? -1 : 1;
     if (!strcmp(a, "--buffer")) return arg_int(cmd, a, v, 1, 4096, &params.buffer_samples) ? -1 : 1;
     /* --kappa */

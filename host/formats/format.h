@@ -75,4 +75,11 @@ extern const lci_format lci_format_dicom;
 lc_status lci_read_grid(lc_device *dev, const char *path, const lc_load_desc *desc, const char **format,
                         lci_loaded *out);
 
+/* What lc_volume_load reads before it creates the volume: the kind's
+ * descriptor (in l->desc, the kind's load options applied; free with
+ * lci_loaded_free), its kind and the format's name. desc is not NULL. For
+ * host/mpi/, which distributes the data before creating each rank's part. */
+lc_status lci_read_volume_desc(lc_device *dev, const char *path, const lc_load_desc *desc, lc_kind *kind,
+                               const char **format, lci_loaded *l);
+
 #endif

@@ -237,16 +237,10 @@ static lc_status split_options(lc_device *dev, const char *path, const lci_forma
     return LC_OK;
 }
 
-lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *desc, lc_volume **out)
+lc_status lci_read_volume_desc(lc_device *dev, const char *path, const lc_load_desc *d, lc_kind *kind_out,
+                               const char **format, lci_loaded *l)
 {
-    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: device is NULL");
-    if (!out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: out is NULL");
-    *out = NULL;
-    if (!path) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: path is NULL");
-    lc_load_desc none = {0};
-    const lc_load_desc *d = desc ? desc : &none;
-    if (d->noptions < 0 || (d->noptions > 0 && !d->options) || d->frame < 0)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: bad options list or frame");
+    memset(l, 0, sizeof *l);
     const lci_format *f;
     int gzip;
     lc_status s = decide(dev, path, d, &f, &gzip);
@@ -268,22 +262,40 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
     const lci_kind_ops *k = lci_kind(kind);
     dev->load_max_memory = 0;
     if (s == LC_OK) s = split_options(dev, path, f, k, d, fopts, &nf);
-    lci_loaded l;
-    memset(&l, 0, sizeof l);
     if (s == LC_OK) {
         lci_read_args a = {path, d, fopts, nf, f->name};
         dev->load_progress = d->progress, dev->load_progress_user = d->progress_user, dev->load_last = 0.0f;
         if (d->progress) d->progress(d->progress_user, 0.0f);
-        s = f->read(dev, &a, &l);
+        s = f->read(dev, &a, l);
         if (s == LC_OK && d->progress) d->progress(d->progress_user, 1.0f);
         dev->load_progress = NULL, dev->load_progress_user = NULL;
     }
     dev->load_max_memory = 0;
     for (int i = 0; s == LC_OK && i < d->noptions; i++)
         if (strcmp(d->options[i].key, "max_memory") && in_list(k->option_keys, d->options[i].key, strlen(d->options[i].key)))
-            s = k->set_option(dev, l.desc, &d->options[i], path);
+            s = k->set_option(dev, l->desc, &d->options[i], path);
+    free(fopts);
+    if (s != LC_OK) lci_loaded_free(l);
+    if (s == LC_OK) *kind_out = kind, *format = f->name;
+    return s;
+}
+
+lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *desc, lc_volume **out)
+{
+    if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: device is NULL");
+    if (!out) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: out is NULL");
+    *out = NULL;
+    if (!path) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: path is NULL");
+    lc_load_desc none = {0};
+    const lc_load_desc *d = desc ? desc : &none;
+    if (d->noptions < 0 || (d->noptions > 0 && !d->options) || d->frame < 0)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_volume_load: bad options list or frame");
+    lci_loaded l;
+    lc_kind kind;
+    const char *format;
+    lc_status s = lci_read_volume_desc(dev, path, d, &kind, &format, &l);
     if (s == LC_OK) {
-        s = k->create(dev, l.desc, out);
+        s = lci_kind(kind)->create(dev, l.desc, out);
         if (s != LC_OK) { /* the message names the file */
             char msg[LCI_MSG_MAX];
             snprintf(msg, sizeof msg, "%s", lc_last_error());
@@ -291,7 +303,6 @@ lc_status lc_volume_load(lc_device *dev, const char *path, const lc_load_desc *d
         }
     }
     lci_loaded_free(&l);
-    free(fopts);
     return s;
 }
 

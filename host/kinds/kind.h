@@ -77,6 +77,32 @@ typedef struct lci_particle_view {
     float max_radius;
 } lci_particle_view;
 lc_status lci_particles_view(const lc_volume *v, const char *fn, lci_particle_view *out);
+/* Data-parallel parts (host/mpi/): why particle i of d is invalid (NULL:
+ * valid; lc_particles_create's rule); a set's extremes (an empty set gives
+ * +-inf bounds, so they reduce by MIN / MAX over parts); and a part made
+ * the whole set to the frame (bounds, radii, value range and the
+ * empty-space bounds' cells from g), holding `part` (freed with
+ * part_free on destroy). */
+typedef struct lci_particles_global {
+    size_t count;
+    lc_box3 bounds;
+    float min_radius, max_radius, kmin, kmax;
+    double kh3min, kh3max;
+} lci_particles_global;
+const char *lci_particles_invalid(const lc_particles_desc *d, size_t i, int nfields);
+void lci_particles_extremes(const lc_volume *v, lci_particles_global *g);
+void lci_particles_set_global(lc_volume *v, const lci_particles_global *g, void *part, void (*part_free)(void *));
+void *lci_particles_part(const lc_volume *v); /* NULL: a whole set, or another kind */
+/* The same for RBF sets: what a part takes from the whole set (the default
+ * range's peaks at the centres, the widths, the largest support, the range
+ * bound, the count). */
+typedef struct lci_rbf_global {
+    size_t count;
+    float peak[2], min_width, max_width, max_support, range[2];
+} lci_rbf_global;
+void lci_rbf_global_of(const lc_volume *v, lci_rbf_global *g);
+void lci_rbf_set_global(lc_volume *v, const lci_rbf_global *g, void *part, void (*part_free)(void *));
+void *lci_rbf_part(const lc_volume *v); /* NULL: a whole set, or another kind */
 lc_status lci_rbf_centres(const lc_volume *v, size_t *n, const float **x, const float **y, const float **z);
 
 /* host/api/camera.c: the kernel camera for the desc (default framing of bounds). */

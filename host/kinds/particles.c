@@ -35,6 +35,9 @@ typedef struct particles {
     uint32_t *src; /* leaf order -> index in the lc_particles_desc (projections pair sets by it) */
     pthread_mutex_t cs_mu; /* guards cs */
     lci_vcache_entry *cs;  /* an lci_pcstep: the recurrence ratios for the last step (particles_cstep.c) */
+    size_t global_count;   /* a part of a data-parallel load: the whole set's count (lci_particles_set_global) */
+    void *part;            /* and what host/mpi/ keeps with it (its region, tree, ghost reach) */
+    void (*part_free)(void *);
 } particles;
 
 /* A support radius grown so float round-off never leaves out a cell a sample
@@ -66,6 +69,7 @@ static void destroy(lc_volume *v)
     free(p->kn);
     free(p->field);
     free(p->src);
+    if (p->part_free) p->part_free(p->part);
     free(p);
 }
 
@@ -538,7 +542,7 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
     /* a quarter of the smallest radius resolves every Gaussian; an SPH
        kernel's support is its radius, its core about half of it: an eighth */
     const lci_sph_kernel *sk = lci_sph_kernel_get(p->info.params.kernel);
-    out->default_dt = p->info.count ? (sk ? 0.125f : 0.25f) * p->info.min_radius : 1.0f;
+    out->default_dt = p->info.count || p->global_count ? (sk ? 0.125f : 0.25f) * p->info.min_radius : 1.0f;
     /* a particle's own peak is kappa k_i (SPH kernels: kappa k_i norm / H^3):
        the range spans them and 0, so values such as B-factors or charges (and
        a negative kappa) map onto the TF rather than past it; unit values and
@@ -635,6 +639,11 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %d does not apply to particles (coherent or direct)",
                          (int)d->method);
     const particles *p = (const particles *)v;
+    if (p->part && !frame->has_region)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "lc_render: these %zu particles are one rank's part of %zu (lc_mpi_volume_load): render them "
+                         "with lc_mpi_render",
+                         p->info.count, p->global_count);
     /* the normalised interpolant divides per sample: the direct method's
        gather (the coherent deposits carry one sum), no node marked clear */
     const int norm = p->info.params.normalise && p->kn;
@@ -728,4 +737,38 @@ lc_status lci_particles_centres(const lc_volume *v, size_t *n, const float **x, 
     if (!p) return LC_ERROR_INVALID_ARGUMENT;
     *n = p->info.count, *x = p->px, *y = p->py, *z = p->pz;
     return LC_OK;
+}
+
+const char *lci_particles_invalid(const lc_particles_desc *d, size_t i, int nfields) { return invalid(d, i, nfields); }
+
+void lci_particles_extremes(const lc_volume *v, lci_particles_global *g)
+{
+    const particles *p = (const particles *)v;
+    const lc_particles_info *in = &p->info;
+    g->count = in->count;
+    g->bounds = in->bounds, g->min_radius = in->min_radius, g->max_radius = in->max_radius;
+    if (!in->count) { /* measure's zeros would join the reductions: the neutral values instead */
+        g->bounds = (lc_box3){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+        g->min_radius = INFINITY, g->max_radius = 0.0f;
+    }
+    g->kmin = p->kmin, g->kmax = p->kmax, g->kh3min = p->kh3min, g->kh3max = p->kh3max;
+}
+
+void lci_particles_set_global(lc_volume *v, const lci_particles_global *g, void *part, void (*part_free)(void *))
+{
+    particles *p = (particles *)v;
+    p->global_count = g->count;
+    if (g->count) {
+        p->info.bounds = g->bounds;
+        p->info.min_radius = g->min_radius, p->info.max_radius = g->max_radius;
+    }
+    p->kmin = g->kmin, p->kmax = g->kmax, p->kh3min = g->kh3min, p->kh3max = g->kh3max;
+    if (p->part_free) p->part_free(p->part);
+    p->part = part, p->part_free = part_free;
+    field_bounds(p); /* its cells follow the bounds and the largest radius */
+}
+
+void *lci_particles_part(const lc_volume *v)
+{
+    return lc_volume_kind(v) == LC_KIND_PARTICLES ? ((const particles *)v)->part : NULL;
 }

@@ -26,6 +26,7 @@ static void destroy(lc_volume *v)
     lci_octree_free(&p->oct);
     free(p->cx), free(p->cy), free(p->cz), free(p->r2), free(p->nis), free(p->w), free(p->R);
     free(p->node_wsum), free(p->node_hi), free(p->field0);
+    if (p->part_free) p->part_free(p->part);
     free(p);
 }
 
@@ -131,7 +132,7 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
        the constant bias needs no resolution, 1/256 of the domain's diagonal */
     float dx = b->hi.x - b->lo.x, dy = b->hi.y - b->lo.y, dz = b->hi.z - b->lo.z;
     float diag = sqrtf(dx * dx + dy * dy + dz * dz);
-    out->default_dt = p->info.count ? 0.25f * p->info.min_width : diag > 0.0f ? diag / 256.0f : 1.0f;
+    out->default_dt = p->info.count || p->global_count ? 0.25f * p->info.min_width : diag > 0.0f ? diag / 256.0f : 1.0f;
     /* the TF maps from the bias, the set's background (an encoded volume's empty
        space), to the largest value at the centres, so the background is
        transparent by default; a set of only negative terms maps from its
@@ -233,6 +234,11 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
                          "method %s does not apply to RBF sets (coherent, bvh or brute)",
                          (int)m >= 0 && (int)m < 5 ? names[m] : "(unknown)");
     const rbf *p = (const rbf *)v;
+    if (p->part && !frame->has_region)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "lc_render: these %zu RBFs are one rank's part of %zu (lc_mpi_volume_load): render them with "
+                         "lc_mpi_render",
+                         p->info.count, p->global_count);
     if (m == LC_METHOD_DEFAULT && p->info.accel == LC_RBF_ACCEL_COHERENT) m = LC_METHOD_COHERENT;
     /* no term: the field is w0 on the domain, which the particle kernel (it
        renders nothing without a node) leaves to the BVH method */
@@ -307,3 +313,25 @@ lc_status lci_rbf_centres(const lc_volume *v, size_t *n, const float **x, const 
     *n = p->info.count, *x = p->cx, *y = p->cy, *z = p->cz;
     return LC_OK;
 }
+
+void lci_rbf_global_of(const lc_volume *v, lci_rbf_global *g)
+{
+    const rbf *p = (const rbf *)v;
+    g->count = p->info.count;
+    g->peak[0] = p->peak[0], g->peak[1] = p->peak[1];
+    g->min_width = p->info.min_width, g->max_width = p->info.max_width, g->max_support = p->info.max_support;
+    g->range[0] = p->info.range[0], g->range[1] = p->info.range[1];
+}
+
+void lci_rbf_set_global(lc_volume *v, const lci_rbf_global *g, void *part, void (*part_free)(void *))
+{
+    rbf *p = (rbf *)v;
+    p->global_count = g->count;
+    p->peak[0] = g->peak[0], p->peak[1] = g->peak[1];
+    p->info.min_width = g->min_width, p->info.max_width = g->max_width, p->info.max_support = g->max_support;
+    p->info.range[0] = g->range[0], p->info.range[1] = g->range[1];
+    if (p->part_free) p->part_free(p->part);
+    p->part = part, p->part_free = part_free;
+}
+
+void *lci_rbf_part(const lc_volume *v) { return lc_volume_kind(v) == LC_KIND_RBF ? ((const rbf *)v)->part : NULL; }

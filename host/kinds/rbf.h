@@ -21,6 +21,9 @@ typedef struct rbf {
        which decides the transparent nodes of a dvr frame; field ids, all 0 */
     float *node_wsum, *node_hi;
     uint8_t *field0;
+    size_t global_count; /* a part of a data-parallel load: the whole set's count (lci_rbf_set_global) */
+    void *part;          /* and what host/mpi/ keeps with it */
+    void (*part_free)(void *);
 } rbf;
 
 /* 1 when all six bounds are 0 (no domain given). */

@@ -10,6 +10,7 @@
 #include <stdint.h>
 #include "host/internal.h"
 #include "kernels/shared/kframe.h"
+#include "host/kinds/kind.h"
 
 /* A kd-tree of nleaves regions over a box: node 0 is the root; a node with
  * leaf >= 0 is region `leaf`, else it splits at `split` on `axis` into
@@ -40,6 +41,14 @@ typedef struct lci_kdtree {
 lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x, const float *y,
                        const float *z, const int cells[3], lci_kdtree *out);
 void lci_kd_release(lci_kdtree *t);
+/* The same tree when the n points are this holder's share of points spread
+ * over several: sum(user, v, k) replaces k counts by their sums over every
+ * holder (all call it alike); each split is the same float lci_kd_build
+ * gives for all the points together (dist_select in partition.c). */
+lc_status lci_kd_build_dist(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x,
+                            const float *y, const float *z, lc_status (*sum)(void *, uint64_t *, int), void *user,
+                            lci_kdtree *out);
+lc_status lci_kd_copy(lc_device *dev, const lci_kdtree *t, lci_kdtree *out);
 
 /* The regions front to back as seen by the camera (SPEC.md "Regions"):
  * perspective from the eye (inside the data or a region too), orthographic
@@ -177,5 +186,56 @@ lc_status lci_dp_grid_create(lc_device *dev, const lc_grid_desc *shape, const lc
  * it holds the nodes desc's step needs (LC_ERROR_INVALID_ARGUMENT else);
  * LC_OK for a whole grid or another kind. */
 lc_status lci_dp_grid_check(lc_device *dev, const lc_render_desc *d, int P, int leaf);
+
+/* ---------------------------------------------------------------- particle parts (pwindow.c) */
+
+/* What a rank's part of a particle set keeps (lci_particles_part): the
+ * kd-tree its load built over the whole set (the render's partition), its
+ * region, and the reach its ghosts were chosen for: every particle whose
+ * support grown by `reach_dt` (two steps: iso and pre-integration take the
+ * sample before a region's first) in units of `support` radii reaches the
+ * region's cell. */
+typedef struct lci_dp_ppart {
+    lci_kdtree tree;
+    int parts, part;
+    float support; /* sigma (Gaussian) or 1 (SPH kernels: H = r_i) */
+    float dt;      /* the longest step the ghosts serve */
+} lci_dp_ppart;
+
+/* pp on the heap, its tree moved there (NULL: out of memory, the tree
+ * released), and its free function (a part's part_free). */
+lci_dp_ppart *lci_dp_ppart_keep(lc_device *dev, lci_dp_ppart *pp);
+void lci_dp_ppart_free(void *pp);
+/* The reach of a particle of radius r around its centre: its grown support
+ * and two steps of dt. */
+float lci_dp_reach(float support, float r, float dt);
+/* Calls add(user, leaf) once for every region whose cell the cube of half
+ * side reach around (x, y, z) meets (the owner among them). */
+void lci_dp_regions_near(const lci_kdtree *t, float x, float y, float z, float reach, void (*add)(void *, int),
+                         void *user);
+/* The frame bounds of a particle set (host/kinds/particles.c's grown
+ * bounds: the centres' box grown by support * the largest radius). */
+lc_box3 lci_dp_particle_bounds(const lci_particles_global *g, float support);
+/* Makes v (a particle volume of a part's particles: owners and ghosts,
+ * nfields the whole set's) the whole set g to the frame, keeping pp (its
+ * tree moves into v). */
+lc_status lci_dp_particles_attach(lc_device *dev, lc_volume *v, const lci_particles_global *g, lci_dp_ppart *pp);
+/* lc_particles_create of d, then lci_dp_particles_attach (pp's tree is
+ * released on failure). */
+lc_status lci_dp_particles_create(lc_device *dev, const lc_particles_desc *d, const lci_particles_global *g,
+                                  lci_dp_ppart *pp, lc_volume **out);
+/* The particles of whole whose reach meets region leaf's cell (reach scaled
+ * by margin: 1 for rendering; tests pass less to see the image break), as a
+ * desc over malloc'ed arrays (lci_dp_particles_free). For tests and rank 0
+ * of a scatter in one process. */
+lc_status lci_dp_particles_cut(lc_device *dev, const lc_particles_desc *whole, const lci_kdtree *t, int leaf,
+                               float support, float dt, float margin, lc_particles_desc *out);
+void lci_dp_particles_free(lc_particles_desc *d);
+/* The part a particle or RBF volume is (NULL: a whole set, or a grid). */
+const lci_dp_ppart *lci_dp_part_of(const lc_volume *v);
+/* A particle or RBF part renders only its region of the partition it was
+ * loaded for, with no larger support and no longer step than its ghosts
+ * serve; LC_OK for a whole set or a grid. */
+lc_status lci_dp_particles_check(lc_device *dev, const lc_render_desc *d, int P, int leaf);
 
 #endif

@@ -28,6 +28,10 @@ lc_status lc_mpi_agree(lc_device *dev, MPI_Comm comm, lc_status s)
     MPI_Bcast(msg, (int)sizeof msg, MPI_CHAR, who, comm);
     msg[sizeof msg - 1] = 0;
     if (rank == who) return s; /* its own message stands */
+    /* a failure agreed on before (steps that agree again on the way out):
+       its message already names the rank it came from */
+    int from = -1, at = 0;
+    if (sscanf(msg, "rank %d: %n", &from, &at) == 1 && at > 0) return lci_error(dev, (lc_status)code, "%s", msg);
     return lci_error(dev, (lc_status)code, "rank %d: %s", who, msg);
 }
 

@@ -23,4 +23,19 @@ typedef struct lci_mpi_cstats {
 lc_status lci_mpi_composite(lc_device *dev, MPI_Comm comm, int root, int op, lci_cimage *img, const int *order,
                             float *rgba, lci_mpi_cstats *cs);
 
+/* lc_mpi_volume_load of a particle file (host/mpi/mpi_pload.c): this
+ * rank's part (dp.h "Particle parts"). Collective. */
+lc_status lci_mpi_load_particles(lc_device *dev, MPI_Comm comm, const char *path, const lc_load_desc *ld,
+                                 const char *format, float dt, lc_volume **out);
+/* lc_mpi_volume_load of an RBF file (host/mpi/mpi_rload.c). Collective. */
+lc_status lci_mpi_load_rbf(lc_device *dev, MPI_Comm comm, const char *path, const lc_load_desc *ld, float dt,
+                           lc_volume **out);
+/* Sends each of the n items (*items: nf floats each, x y z first; freed
+ * here once packed, *items = NULL) to every rank whose region's cell the
+ * cube of half side reach[i] around it meets (tree t); *recv (malloc'ed)
+ * gets the *nrecv items sent to this rank, by sending rank in order.
+ * Collective. */
+lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, size_t n, float **items, int nf,
+                           const float *reach, float **recv, size_t *nrecv);
+
 #endif

@@ -4,8 +4,8 @@
  * else read whole by rank 0 and cut into every rank's part (HDF5 grids and
  * frames past the first of other files: read whole by every rank); the BVH's leaf
  * ranges are united by an allreduce, so every rank's tree is the whole
- * grid's, and histograms (lc_tf_auto) are summed over ranks. Other kinds:
- * every rank reads the whole file. Every step ends in an agreement
+ * grid's, and histograms (lc_tf_auto) are summed over ranks. Particle and
+ * RBF sets: mpi_pload.c and mpi_rload.c. Every step ends in an agreement
  * (lc_mpi_agree), so a rank that fails stops all with its message. */
 #include <mpi.h>
 #include <stdlib.h>
@@ -14,6 +14,7 @@
 #include "host/formats/volume_data.h"
 #include "host/kinds/grid.h"
 #include "host/mpi/dp.h"
+#include "host/mpi/mpi_internal.h"
 #include "lanecast/lanecast_mpi.h"
 
 static lc_status sum_counts(void *user, uint64_t *counts, int n)
@@ -232,9 +233,12 @@ lc_status lc_mpi_volume_load(lc_device *dev, MPI_Comm comm, const char *path, co
         if (s != LC_OK && *out) lc_volume_destroy(*out), *out = NULL;
         return s;
     }
-    /* particles and RBF sets: every rank reads the whole file */
-    s = lc_volume_load(dev, path, ld, out);
-    s = lc_mpi_agree(dev, comm, s);
+    if (fi.kind == LC_KIND_PARTICLES) {
+        s = lci_mpi_load_particles(dev, comm, path, ld, fi.format, dt, out);
+        if (s != LC_OK && *out) lc_volume_destroy(*out), *out = NULL;
+        return s;
+    }
+    s = lci_mpi_load_rbf(dev, comm, path, ld, dt, out);
     if (s != LC_OK && *out) lc_volume_destroy(*out), *out = NULL;
     return s;
 }

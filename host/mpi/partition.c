@@ -13,7 +13,64 @@ typedef struct kd_build {
     float *key;         /* scratch: the coordinates being split */
     int cells[3];
     double origin[3], cellw[3]; /* grid cells: the plane of cell boundary c on axis a */
+    /* points spread over ranks: sums a vector of counts over them (NULL: one holder) */
+    lc_status (*sum)(void *user, uint64_t *v, int n);
+    void *user;
+    uint32_t *ukey;     /* scratch for the distributed selection */
+    int failed;
 } kd_build;
+
+static uint64_t kd_sum1(kd_build *k, uint64_t v)
+{
+    if (k->sum && k->sum(k->user, &v, 1) != LC_OK) k->failed = 1;
+    return v;
+}
+
+/* A float's bits as an unsigned key in the floats' order (-0 just below +0). */
+static uint32_t fkey(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    return u & 0x80000000u ? ~u : u | 0x80000000u;
+}
+
+static float fkey_value(uint32_t u)
+{
+    u = u & 0x80000000u ? u & 0x7fffffffu : ~u;
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The m-th smallest coordinate (0-based) of the points of idx[i0 .. i1) over
+ * every holder: the smallest key with at least m + 1 keys at or below it,
+ * found by bisection of the 32-bit key range, one summed count a step; the
+ * value of one of the points, the same float the one-holder sort gives. */
+static float dist_select(kd_build *k, int axis, size_t i0, size_t i1, uint64_t m)
+{
+    size_t cnt = i1 - i0;
+    for (size_t i = i0; i < i1; i++) k->ukey[i - i0] = fkey(k->xyz[axis][k->idx[i]]);
+    if (cnt > 1) qsort(k->ukey, cnt, sizeof(uint32_t), cmp_u32);
+    uint64_t lo = 0, hi = UINT32_MAX;
+    while (lo < hi) {
+        uint64_t mid = lo + (hi - lo) / 2;
+        size_t a = 0, b = cnt; /* local keys <= mid: upper bound */
+        while (a < b) {
+            size_t c = a + (b - a) / 2;
+            if ((uint64_t)k->ukey[c] <= mid) a = c + 1;
+            else b = c;
+        }
+        if (kd_sum1(k, (uint64_t)a) >= m + 1) hi = mid;
+        else lo = mid + 1;
+    }
+    return fkey_value((uint32_t)lo);
+}
 
 static int cmp_float(const void *a, const void *b)
 {
@@ -32,7 +89,7 @@ static int build_node(kd_build *k, lc_box3 b, const int c0[3], const int c1[3], 
     if (nl == 1) {
         n->axis = -1, n->leaf = leaf0, n->child[0] = n->child[1] = -1, n->split = 0.0f;
         t->box[leaf0] = b;
-        if (k->xyz[0]) t->weight[leaf0] = (uint64_t)(i1 - i0);
+        if (k->xyz[0]) t->weight[leaf0] = kd_sum1(k, (uint64_t)(i1 - i0));
         else t->weight[leaf0] = (uint64_t)(c1[0] - c0[0]) * (uint64_t)(c1[1] - c0[1]) * (uint64_t)(c1[2] - c0[2]);
         if (t->crange)
             for (int a = 0; a < 3; a++) t->crange[6 * leaf0 + a] = c0[a], t->crange[6 * leaf0 + 3 + a] = c1[a];
@@ -47,9 +104,13 @@ static int build_node(kd_build *k, lc_box3 b, const int c0[3], const int c1[3], 
     size_t im = i0;
     int cl[3] = {c0[0], c0[1], c0[2]}, cr[3] = {c1[0], c1[1], c1[2]};
     if (k->xyz[0]) {
-        size_t cnt = i1 - i0, m = (size_t)((double)cnt * nleft / nl);
+        uint64_t cnt = kd_sum1(k, (uint64_t)(i1 - i0)), m = (uint64_t)((double)cnt * nleft / nl);
         if (cnt == 0) {
             split = lo[axis] + (hi[axis] - lo[axis]) * (float)nleft / (float)nl;
+        } else if (k->sum) {
+            split = dist_select(k, axis, i0, i1, m);
+            if (split > hi[axis]) split = hi[axis];
+            if (split < lo[axis]) split = lo[axis];
         } else {
             for (size_t i = i0; i < i1; i++) k->key[i - i0] = k->xyz[axis][k->idx[i]];
             qsort(k->key, cnt, sizeof(float), cmp_float);
@@ -102,8 +163,9 @@ static void cells_of(lci_kdtree *t, int id, lc_kregion c)
     cells_of(t, n->child[1], r);
 }
 
-lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x, const float *y,
-                       const float *z, const int cells[3], lci_kdtree *out)
+static lc_status kd_build_any(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x,
+                              const float *y, const float *z, const int cells[3],
+                              lc_status (*sum)(void *, uint64_t *, int), void *user, lci_kdtree *out)
 {
     memset(out, 0, sizeof *out);
     if (nleaves < 1 || nleaves > 65536)
@@ -119,13 +181,15 @@ lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_
     kd_build k;
     memset(&k, 0, sizeof k);
     k.t = out;
+    k.sum = sum, k.user = user;
     if (x && n > 0) {
         k.idx = malloc(n * sizeof *k.idx);
         k.key = malloc(n * sizeof *k.key);
+        if (sum) k.ukey = malloc(n * sizeof *k.ukey);
     }
     if (!out->node || !out->cell || !out->box || !out->weight || (!x && !out->crange) ||
-        (x && n > 0 && (!k.idx || !k.key))) {
-        free(k.idx), free(k.key);
+        (x && n > 0 && (!k.idx || !k.key || (sum && !k.ukey)))) {
+        free(k.idx), free(k.key), free(k.ukey);
         lci_kd_release(out);
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "kd-tree: out of memory for %d regions", nleaves);
     }
@@ -148,6 +212,49 @@ lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_
     cells_of(out, 0, all);
     free(k.idx);
     free(k.key);
+    free(k.ukey);
+    if (k.failed) {
+        lci_kd_release(out);
+        return lci_error(dev, LC_ERROR_INTERNAL, "kd-tree: summing the counts over the ranks failed");
+    }
+    return LC_OK;
+}
+
+lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x, const float *y,
+                       const float *z, const int cells[3], lci_kdtree *out)
+{
+    return kd_build_any(dev, bounds, nleaves, n, x, y, z, cells, NULL, NULL, out);
+}
+
+lc_status lci_kd_build_dist(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x,
+                            const float *y, const float *z, lc_status (*sum)(void *, uint64_t *, int), void *user,
+                            lci_kdtree *out)
+{
+    static const float none = 0.0f; /* a holder of no points still takes every step */
+    if (!x && n > 0) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "kd-tree: %zu points without coordinates", n);
+    if (!x) x = y = z = &none;
+    return kd_build_any(dev, bounds, nleaves, n, x, y, z, NULL, sum, user, out);
+}
+
+lc_status lci_kd_copy(lc_device *dev, const lci_kdtree *t, lci_kdtree *out)
+{
+    memset(out, 0, sizeof *out);
+    size_t L = (size_t)t->nleaves, N = (size_t)t->nnodes;
+    out->nleaves = t->nleaves, out->nnodes = t->nnodes;
+    out->node = malloc(N * sizeof *out->node);
+    out->cell = malloc(L * sizeof *out->cell);
+    out->box = malloc(L * sizeof *out->box);
+    out->weight = malloc(L * sizeof *out->weight);
+    if (t->crange) out->crange = malloc(6 * L * sizeof *out->crange);
+    if (!out->node || !out->cell || !out->box || !out->weight || (t->crange && !out->crange)) {
+        lci_kd_release(out);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "kd-tree: out of memory for a copy");
+    }
+    memcpy(out->node, t->node, N * sizeof *out->node);
+    memcpy(out->cell, t->cell, L * sizeof *out->cell);
+    memcpy(out->box, t->box, L * sizeof *out->box);
+    memcpy(out->weight, t->weight, L * sizeof *out->weight);
+    if (t->crange) memcpy(out->crange, t->crange, 6 * L * sizeof *out->crange);
     return LC_OK;
 }
 

@@ -46,6 +46,13 @@ lc_status lci_dp_partition(lc_device *dev, const lc_render_desc *d, int P, lci_k
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "data-parallel render: unknown volume kind");
     }
     if (s != LC_OK) return s;
+    const lci_dp_ppart *pp = lci_dp_part_of(v);
+    if (pp) { /* a part: the tree its load built over the whole set */
+        if (pp->parts != P)
+            return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                             "data-parallel render: this part was loaded for %d regions, not %d", pp->parts, P);
+        return lci_kd_copy(dev, &pp->tree, t);
+    }
     return lci_kd_build(dev, &info.bounds, P, n, x, y, z, x ? NULL : cells, t);
 }
 
@@ -74,6 +81,7 @@ lc_status lci_dp_render_region(lc_device *dev, const lc_render_desc *d, const lc
     const float probe = 0.0f; /* lci_render_check asks for an image pointer; img's come below */
     lc_status s = lci_render_check(dev, d, &probe, "data-parallel render");
     if (s == LC_OK) s = lci_dp_grid_check(dev, d, t->nleaves, leaf);
+    if (s == LC_OK) s = lci_dp_particles_check(dev, d, t->nleaves, leaf);
     if (s != LC_OK) return s;
     if (d->pixel_scale > 1)
         return lci_error(dev, LC_ERROR_UNSUPPORTED, "data-parallel render: pixel_scale %d (previews are one process's)",

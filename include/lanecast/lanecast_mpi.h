@@ -66,7 +66,16 @@ LC_API lc_status lc_mpi_render(lc_device *device, MPI_Comm comm, int root, const
  * bounds, value range, BVH) and renders only its region under
  * lc_mpi_render; lc_grid_histogram (and so lc_tf_auto) becomes collective
  * on comm and returns the whole grid's counts. Destroy it before
- * MPI_Finalize. Particles and RBF sets: every rank reads the whole file. */
+ * MPI_Finalize. Particles: raw float32 files are read as one share of rows
+ * per rank, other formats by rank 0; the kd-tree is built over the shares
+ * (balanced by count, the splits one process's), and each rank keeps the
+ * particles whose support (sigma r_i, or H = r_i for SPH kernels; load
+ * option `sigma` for another sigma than the default 2) grown by two steps
+ * dt reaches its region: a particle volume with the whole set's bounds,
+ * radii and value range, rendered only under lc_mpi_render (a larger sigma
+ * or a longer step is refused). RBF sets: rank 0 reads the file, each rank
+ * keeps the terms whose support R_i grown by two steps reaches its region
+ * (the whole set's eps, domain and default range). */
 LC_API lc_status lc_mpi_volume_load(lc_device *device, MPI_Comm comm, const char *path, const lc_load_desc *desc,
                                     float dt, lc_volume **out);
 
