@@ -198,21 +198,27 @@ def lanecast(exe, snap, size, box, work):
 
 
 def splash_column(snap, work):
-    menu = run(["splash", "-f", "gadget", snap], cwd=work, stdin="q\n")
+    """The density column of SPLASH's menu, and its own settings files saved (S) for splash() to edit."""
+    for f in ("splash.defaults", "splash.limits"):
+        if os.path.exists(os.path.join(work, f)):
+            os.remove(os.path.join(work, f))
+    menu = run(["splash", "-f", "gadget", snap], cwd=work, stdin="S\nq\n")
     m = re.search(r"(\d+)\)\s*density", menu["out"], re.I)
-    return m.group(1) if m else None
+    ok = all(os.path.exists(os.path.join(work, f)) for f in ("splash.defaults", "splash.limits"))
+    return m.group(1) if m and ok else None
 
 
 def splash(snap, size, box, col, work):
     """SPLASH's column-density map over x, y in [0, box] (rows top to bottom): the pixel count
-    in splash.defaults (npixx), the frame in splash.limits (min and max of each column)."""
+    is NPIX of its saved splash.defaults, the frame the first two lines (x, y) of splash.limits."""
     for f in glob.glob(os.path.join(work, "*.pix")):
         os.remove(f)
-    with open(os.path.join(work, "splash.defaults"), "w") as f:
-        f.write(" &renderopts\n npix = %d,\n /\n" % size)
-    with open(os.path.join(work, "splash.limits"), "w") as f:
-        for i in range(3):
-            f.write("%.9g %.9g\n" % (0.0, box))
+    dpath, lpath = os.path.join(work, "splash.defaults"), os.path.join(work, "splash.limits")
+    d = re.sub(r"NPIX=\s*\d+", "NPIX=%d" % size, open(dpath).read())
+    open(dpath, "w").write(d)
+    lines = open(lpath).read().splitlines()
+    lines[0] = lines[1] = "%.9g %.9g" % (0.0, box)
+    open(lpath, "w").write("\n".join(lines) + "\n")
     r = run(["splash", "-f", "gadget", snap, "-r", col, "-dev", "/null", "-o", "ascii"], cwd=work)
     pix = sorted(glob.glob(os.path.join(work, "*.pix")))
     if r["rc"] or not pix:

@@ -156,22 +156,23 @@ static void jacobi(int n, double *a, double *v, double *d)
  * separable form's marginal up to rounding. */
 static int tables(lci_column *c, int rank, const double *cum, const double *phi, int ld)
 {
-    enum { NT = LCI_COL_NT };
+    enum { NT = LCI_COL_NT, NK = LCI_COL_NK, ST = LCI_COL_NT / LCI_COL_NK };
     int kp = (rank + LC_KPROJ_KPAD - 1) / LC_KPROJ_KPAD * LC_KPROJ_KPAD;
-    c->tab = calloc((size_t)(NT + 1) * 2 * (size_t)kp, sizeof(double));
-    c->marg = malloc(sizeof(double) * 2 * (NT + 1));
+    c->tab = calloc((size_t)(NK + 1) * 2 * (size_t)kp, sizeof(double));
+    c->marg = malloc(sizeof(double) * 2 * (NK + 1));
     if (!c->tab || !c->marg) return 0;
-    for (int j = 0; j <= NT; j++) {
+    for (int n = 0; n <= NK; n++) {
+        int j = n * ST;
         double m = 0.0, dm = 0.0;
         for (int k = 0; k < rank; k++) {
-            c->tab[(size_t)j * 2 * kp + k] = cum[j * ld + k];
-            c->tab[(size_t)j * 2 * kp + kp + k] = phi[j * ld + k] / NT;
+            c->tab[(size_t)n * 2 * kp + k] = cum[j * ld + k];
+            c->tab[(size_t)n * 2 * kp + kp + k] = phi[j * ld + k] / NK;
             m += 2.0 * c->mu[k] * cum[NT * ld + k] * cum[j * ld + k];
-            dm += 2.0 * c->mu[k] * cum[NT * ld + k] * phi[j * ld + k] / NT;
+            dm += 2.0 * c->mu[k] * cum[NT * ld + k] * phi[j * ld + k] / NK;
         }
-        c->marg[2 * j] = m, c->marg[2 * j + 1] = dm;
+        c->marg[2 * n] = m, c->marg[2 * n + 1] = dm;
     }
-    c->kt = (lc_kproj_table){.rank = rank, .kpad = kp, .nt = NT, .tab = c->tab, .mu = c->mu, .marg = c->marg};
+    c->kt = (lc_kproj_table){.rank = rank, .kpad = kp, .nt = NK, .tab = c->tab, .mu = c->mu, .marg = c->marg};
     return 1;
 }
 

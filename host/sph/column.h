@@ -32,7 +32,10 @@
 #include "lanecast/lanecast.h"
 #include "kernels/sph_project.h"
 
-#define LCI_COL_NT 1024   /* nodes - 1 of the cumulative tables on [0, 1] */
+#define LCI_COL_NT 1024   /* nodes - 1 on [0, 1] where A_k and phi_k are computed */
+#ifndef LCI_COL_NK
+#define LCI_COL_NK 256    /* nodes - 1 of the lookup tables (every LCI_COL_NT / LCI_COL_NK-th node) */
+#endif
 #define LCI_COL_KMAX 48   /* largest rank kept */
 #define LCI_COL_NQ 4096   /* entries - 1 of the centre-sampling table over q = b^2 */
 #define LCI_COL_NZ 256    /* slab tables: nodes - 1 per axis */
@@ -45,8 +48,8 @@ typedef struct lci_column {
     int rank;             /* K terms kept */
     double err;           /* largest |g - g_K| over a check grid, relative to F(0) */
     double mu[LCI_COL_KMAX];
-    double *tab;          /* (LCI_COL_NT + 1) nodes x 2 kpad: A_k(u_j) (k < kpad, 0 beyond rank), then phi_k(u_j) / LCI_COL_NT */
-    double *marg;         /* (LCI_COL_NT + 1) x 2: M(u_j) = int_0^u_j int_-1^1 g = 2 sum_k mu_k A_k(1) A_k(u_j), M' / LCI_COL_NT */
+    double *tab;          /* (LCI_COL_NK + 1) nodes x 2 kpad: A_k(u_j) (k < kpad, 0 beyond rank), then phi_k(u_j) / LCI_COL_NK */
+    double *marg;         /* (LCI_COL_NK + 1) x 2: M(u_j) = int_0^u_j int_-1^1 g = 2 sum_k mu_k A_k(1) A_k(u_j), M' / LCI_COL_NK */
     lc_kproj_table kt;    /* the kernels' view of tab, mu and marg (kernels/sph_project.h) */
     float *fq;            /* F at q = b^2 = i / LCI_COL_NQ, i = 0 .. LCI_COL_NQ + 1 (the last two 0) */
     /* slabs: the partial column T(b, s) = norm int_0^{s c(b)} f(sqrt(b^2 + z^2)) dz
