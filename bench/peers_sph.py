@@ -17,7 +17,8 @@ that bench/peers_splash.py writes), and a generated one of N_GENERATED
 with the same HSML and RHO rules. Each program projects the whole box along
 z onto SIZE^2 pixels (SIZES default 1024,2048) with the M4 kernel (support
 HSML), all over the same frame (x, y in [0, box]): lanecast's exact pixel
-averages; SPLASH's default column-density render (pixel centres, h floor),
+averages of --value rho (with an SPH kernel the SPH interpolant of rho, whose
+column is sum m W: the surface density); SPLASH's default column-density render (pixel centres, h floor),
 framed by a splash.limits file and dumped as a pixel map (-o ascii); yt's
 ProjectionPlot of ("gas", "density"). Recorded per map: the median wall time
 of each program's whole run (every run's too) and its peak resident memory,
@@ -143,18 +144,18 @@ def write(path, pos, mass, hsml, rho, template_hdr):
 
 
 def run(args, cwd=None, stdin=None):
-    """Wall time, exit code, output and the peak resident memory (MB) of this child alone (wait4)."""
+    """Wall time, exit code, output and the peak resident memory (MB) of the program: through
+    /usr/bin/time (-f %M), since a child forked from this (large) Python keeps its parent's
+    high-water mark across exec in wait4's ru_maxrss."""
     import tempfile
-    with tempfile.TemporaryFile("w+") as fo, tempfile.TemporaryFile("w+") as fe, tempfile.TemporaryFile("w+") as fi:
-        fi.write(stdin or "")
-        fi.seek(0)
+    with tempfile.NamedTemporaryFile("w+", suffix=".rss") as fr:
         t0 = time.perf_counter()
-        p = subprocess.Popen(args, stdin=fi, stdout=fo, stderr=fe, text=True, cwd=cwd)
-        _, status, ru = os.wait4(p.pid, 0)
+        p = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", fr.name] + args, capture_output=True, text=True, cwd=cwd,
+                           input=stdin or "", timeout=3600)
         wall = time.perf_counter() - t0
-        p.returncode = os.waitstatus_to_exitcode(status)
-        fo.seek(0), fe.seek(0)
-        return {"wall": wall, "rc": p.returncode, "out": fo.read(), "err": fe.read(), "rss_mb": ru.ru_maxrss / 1024}
+        fr.seek(0)
+        kb = re.findall(r"^(\d+)\s*$", fr.read(), re.M)
+    return {"wall": wall, "rc": p.returncode, "out": p.stdout, "err": p.stderr, "rss_mb": int(kb[-1]) / 1024 if kb else None}
 
 
 def median(fn, reps):
@@ -183,7 +184,7 @@ def lanecast(exe, snap, size, box, work):
     """The map over x, y in [0, box] (rows top to bottom), down -z."""
     out = os.path.join(work, "lc_%d.npy" % size)
     c = box / 2
-    r = run([exe, "render", snap, "--types", "0", "--mode", "project", "--kernel", "m4", "--size",
+    r = run([exe, "render", snap, "--types", "0", "--mode", "project", "--kernel", "m4", "--value", "rho", "--size",
              "%dx%d" % (size, size), "--at", "%r,%r,%r" % (c, c, c), "--eye", "%r,%r,%r" % (c, c, 3 * box + 1),
              "--up", "0,1,0", "--ortho", "%r" % box, "-o", out, "--stats", "--threads", "2"])
     if r["rc"]:
@@ -294,21 +295,17 @@ def main():
                 rec.update(base_wall_s=b["wall"], base_walls=b["walls"], base_project_s=b["project"],
                            base_rss_mb=b["rss_mb"], base_vs_lanecast_max=float(np.max(np.abs(b["map"] - m)) / m.max()))
             maps = {}
+            peers = [("yt", lambda: yt_project(snap, size, bx, work))]
             if col:
-                sp = median(lambda: splash(snap, size, bx, col, work), reps)
-                if "wall" in sp:
-                    maps["splash"] = sp["map"]
-                    rec.update(splash_wall_s=sp["wall"], splash_walls=sp["walls"], splash_rss_mb=sp["rss_mb"],
-                               splash_mass=float(sp["map"].sum() * (bx / size) ** 2))
-                else:
-                    rec["splash_error"] = sp["error"]
-            yt = median(lambda: yt_project(snap, size, bx, work), reps)
-            if "wall" in yt:
-                maps["yt"] = yt["map"]
-                rec.update(yt_wall_s=yt["wall"], yt_walls=yt["walls"], yt_rss_mb=yt["rss_mb"],
-                           yt_mass=float(yt["map"].sum() * (bx / size) ** 2))
-            else:
-                rec["yt_error"] = yt["error"]
+                peers.insert(0, ("splash", lambda: splash(snap, size, bx, col, work)))
+            for peer, fn in peers:
+                pr = median(fn, reps)
+                if "wall" not in pr:
+                    rec[peer + "_error"] = pr["error"]
+                    continue
+                maps[peer] = pr["map"]
+                rec.update({peer + "_wall_s": pr["wall"], peer + "_walls": pr["walls"], peer + "_rss_mb": pr["rss_mb"],
+                            peer + "_mass": float(pr["map"].sum() * (bx / size) ** 2)})
             for peer, pm in maps.items():
                 if pm.shape == m.shape:
                     med, p99 = agreement(m, pm)
