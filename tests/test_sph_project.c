@@ -28,106 +28,7 @@
 #include "check.h"
 #include "lanecast/lanecast.h"
 
-/* ---------------------------------------------------------------- kernel shapes (SPEC.md) */
-
-static double pos(double x) { return x > 0.0 ? x : 0.0; }
-static double p3(double x) { return x * x * x; }
-static double p4(double x) { return x * x * x * x; }
-static double p5(double x) { return x * x * x * x * x; }
-/* w(u) in the support-radius convention, normalised in 3-D */
-static double shape(lc_kernel k, double u)
-{
-    if (u >= 1.0) return 0.0;
-    switch (k) {
-    case LC_KERNEL_M4: return 8.0 / M_PI * (u <= 0.5 ? 1 - 6 * u * u + 6 * u * u * u : 2 * p3(1 - u));
-    case LC_KERNEL_M5: {
-        double q = 2.5 * u;
-        return 15.625 / (20 * M_PI) * (p4(pos(2.5 - q)) - 5 * p4(pos(1.5 - q)) + 10 * p4(pos(0.5 - q)));
-    }
-    case LC_KERNEL_M6: {
-        double q = 3 * u;
-        return 27.0 / (120 * M_PI) * (p5(pos(3 - q)) - 6 * p5(pos(2 - q)) + 15 * p5(pos(1 - q)));
-    }
-    case LC_KERNEL_WENDLAND_C2: return 21 / (2 * M_PI) * p4(1 - u) * (1 + 4 * u);
-    case LC_KERNEL_WENDLAND_C4: return 495 / (32 * M_PI) * p3(1 - u) * p3(1 - u) * (1 + 6 * u + 35 * u * u / 3);
-    case LC_KERNEL_WENDLAND_C6: return 1365 / (64 * M_PI) * p4(1 - u) * p4(1 - u) * (1 + 8 * u + 25 * u * u + 32 * u * u * u);
-    default: return 0.0;
-    }
-}
-static int kinks(lc_kernel k, double *r)
-{
-    if (k == LC_KERNEL_M4) return r[0] = 0.5, 1;
-    if (k == LC_KERNEL_M5) return r[0] = 0.2, r[1] = 0.6, 2;
-    if (k == LC_KERNEL_M6) return r[0] = 1.0 / 3, r[1] = 2.0 / 3, 2;
-    return 0;
-}
-
-/* Gauss-Legendre nodes on [0, 1] */
-#define NG 20
-static double gx[NG], gw[NG];
-static void gl_init(void)
-{
-    for (int i = 0; i < NG; i++) {
-        double z = cos(M_PI * (i + 0.75) / (NG + 0.5)), dp = 1;
-        for (int it = 0; it < 100; it++) {
-            double p0 = 1, p1 = z;
-            for (int k = 2; k <= NG; k++) {
-                double p2 = ((2.0 * k - 1) * z * p1 - (k - 1.0) * p0) / k;
-                p0 = p1, p1 = p2;
-            }
-            dp = NG * (z * p1 - p0) / (z * z - 1);
-            double d = p1 / dp;
-            z -= d;
-            if (fabs(d) < 1e-16) break;
-        }
-        gx[i] = 0.5 * (1 - z), gw[i] = 1 / ((1 - z * z) * dp * dp);
-    }
-}
-/* int_a^b g over pieces split at the sorted cuts inside (a, b), each piece in `panels` parts */
-typedef double (*fn1)(const void *ctx, double x);
-static double integrate(fn1 g, const void *ctx, double a, double b, const double *cuts, int nc, int panels)
-{
-    double pts[16];
-    int n = 0;
-    pts[n++] = a;
-    for (int i = 0; i < nc; i++)
-        if (cuts[i] > a && cuts[i] < b) pts[n++] = cuts[i];
-    pts[n++] = b;
-    for (int i = 1; i < n; i++) /* sort */
-        for (int j = i; j > 0 && pts[j] < pts[j - 1]; j--) {
-            double t = pts[j];
-            pts[j] = pts[j - 1], pts[j - 1] = t;
-        }
-    double sum = 0;
-    for (int p = 0; p + 1 < n; p++)
-        for (int q = 0; q < panels; q++) {
-            double lo = pts[p] + (pts[p + 1] - pts[p]) * q / panels, h = (pts[p + 1] - pts[p]) / panels, s = 0;
-            for (int i = 0; i < NG; i++) s += gw[i] * g(ctx, lo + h * gx[i]);
-            sum += h * s;
-        }
-    return sum;
-}
-
-typedef struct col_ctx {
-    lc_kernel k;
-    double b;
-} col_ctx;
-static double col_integrand(const void *c, double z)
-{
-    const col_ctx *cc = c;
-    return shape(cc->k, sqrt(cc->b * cc->b + z * z));
-}
-/* F(b) = 2 int_0^sqrt(1 - b^2) w(sqrt(b^2 + z^2)) dz, in units of 1 / H^2 */
-static double column_ref(lc_kernel k, double b)
-{
-    if (b >= 1) return 0;
-    double r[2], cuts[2];
-    int nk = kinks(k, r), nc = 0;
-    for (int i = 0; i < nk; i++)
-        if (r[i] > b) cuts[nc++] = sqrt(r[i] * r[i] - b * b);
-    col_ctx c = {k, b};
-    return 2 * integrate(col_integrand, &c, 0, sqrt(1 - b * b), cuts, nc, 1);
-}
+#include "test_sph_project_ref.h"
 
 /* The M4 column in closed form, h units: F(b) h^2 = (2 / pi) int_0^inf w(sqrt(b^2 + t^2)) dt
  * with w = 1 - 1.5 q^2 + 0.75 q^3 (q < 1), 0.25 (2 - q)^3 (q < 2). */
@@ -150,53 +51,6 @@ static double m4_closed(double b)
     return 2 / M_PI * s;
 }
 
-/* ---------------------------------------------------------------- pixel averages */
-
-typedef struct pix_ctx {
-    lc_kernel k;
-    double y;         /* inner: fixed y (units of H) */
-    double x0, x1;    /* inner range */
-} pix_ctx;
-static double inner(const void *c, double x)
-{
-    const pix_ctx *p = c;
-    return column_ref(p->k, sqrt(x * x + p->y * p->y));
-}
-static double outer(const void *c, double y)
-{
-    const pix_ctx *p0 = c;
-    pix_ctx p = *p0;
-    p.y = y;
-    double r[3], cuts[7];
-    int nk = kinks(p.k, r), nc = 0;
-    r[nk++] = 1.0;
-    cuts[nc++] = 0.0; /* the centre: odd powers of u (M4, Wendland) make F(b) not smooth at b = 0 */
-    for (int i = 0; i < nk; i++)
-        if (r[i] > fabs(y)) {
-            double x = sqrt(r[i] * r[i] - y * y);
-            cuts[nc++] = x, cuts[nc++] = -x;
-        }
-    return integrate(inner, &p, p.x0, p.x1, cuts, nc, 1);
-}
-/* int over [x0, x1] x [y0, y1] of F(sqrt(x^2 + y^2)) (units of H) */
-static double pixel_ref(lc_kernel k, double x0, double x1, double y0, double y1)
-{
-    x0 = fmax(x0, -1), x1 = fmin(x1, 1), y0 = fmax(y0, -1), y1 = fmin(y1, 1);
-    if (x0 >= x1 || y0 >= y1) return 0;
-    if (k == LC_KERNEL_GAUSSIAN) { /* cube-cut at 5 sigma: S = 5 r, u = x / S */
-        double e = erf(5 / sqrt(2.0));
-        return (erf(5 * x1 / sqrt(2.0)) - erf(5 * x0 / sqrt(2.0))) * (erf(5 * y1 / sqrt(2.0)) - erf(5 * y0 / sqrt(2.0))) /
-               (4 * e * e);
-    }
-    double r[3], cuts[7];
-    int nk = kinks(k, r), nc = 0;
-    r[nk++] = 1.0;
-    cuts[nc++] = 0.0;
-    for (int i = 0; i < nk; i++) cuts[nc++] = r[i], cuts[nc++] = -r[i];
-    pix_ctx p = {k, 0, x0, x1};
-    return integrate(outer, &p, y0, y1, cuts, nc, 1);
-}
-
 /* ---------------------------------------------------------------- helpers */
 
 static lc_device *dev;
@@ -209,24 +63,6 @@ static lc_volume *make_set(size_t n, const float *xyz, const float *r, const flo
     if (lc_particles_create(dev, &d, &v) != LC_OK) printf("create: %s\n", lc_last_error());
     return v;
 }
-
-/* A view down -z of the square [-half, half]^2 around the origin, N pixels a side. */
-static lc_project_desc view(int N, double half, lc_project_sample s)
-{
-    lc_project_desc d = {.width = N, .height = N, .sample = s};
-    d.camera = (lc_camera){LC_ORTHOGRAPHIC, {0, 0, 100}, {0, 0, 0}, {0, 1, 0}, 0, (float)(2 * half)};
-    return d;
-}
-
-static double map_mass(const float *map, int N, double pix)
-{
-    double s = 0;
-    for (int i = 0; i < N * N; i++) s += map[i];
-    return s * pix * pix;
-}
-
-static const lc_kernel all_kernels[] = {LC_KERNEL_M4, LC_KERNEL_M5, LC_KERNEL_M6, LC_KERNEL_WENDLAND_C2,
-                                        LC_KERNEL_WENDLAND_C4, LC_KERNEL_WENDLAND_C6, LC_KERNEL_GAUSSIAN};
 
 static void test_closed_forms(void)
 {
@@ -267,13 +103,17 @@ static void test_closed_forms(void)
     }
 }
 
+/* Devices of every target this machine runs (targets[0] is the default device). */
+static lc_device *tdev[LC_TARGET_COUNT];
+static int ntdev;
+
 static void test_pixel_averages(void)
 {
     const double ratios[] = {0.01, 0.1, 0.37, 1.0, 3.3, 10.0, 100.0};
     int brk = getenv("LANECAST_TEST_BREAK") && atoi(getenv("LANECAST_TEST_BREAK")) == 1;
     for (size_t kk = 0; kk < sizeof all_kernels / sizeof all_kernels[0]; kk++) {
         lc_kernel k = all_kernels[kk];
-        double worst_all = 0;
+        double worst_all[LC_TARGET_COUNT] = {0};
         for (size_t ri = 0; ri < sizeof ratios / sizeof ratios[0]; ri++) {
             double ratio = ratios[ri]; /* support S / pixel */
             double S = 1.0, pix = S / ratio;
@@ -284,47 +124,52 @@ static void test_pixel_averages(void)
             float xyz[3] = {(float)(0.2137 * pix), (float)(-0.3311 * pix), 0.0f};
             if (ratio < 0.05) xyz[0] = (float)(0.5 * pix - 0.003 * pix), xyz[1] = (float)(0.5 * pix - 0.004 * pix); /* across a corner */
             float r = (float)(k == LC_KERNEL_GAUSSIAN ? S / 5 : S), m = 1.0f;
-            lc_volume *v = make_set(1, xyz, &r, &m, k);
-            lc_project_desc d = view(N, half, LC_PROJECT_EXACT);
-            float *map = calloc((size_t)N * N, sizeof *map);
-            lc_status s = lc_particles_project(dev, v, &d, map, NULL);
-            if (s != LC_OK) printf("project: %s\n", lc_last_error());
-            /* pixels to check: all for small footprints, a sample (every 7th row and column, and the centre row) for large */
-            double worst = 0, peak = 0;
+            /* pixels to check: all for small footprints, a sample (every 15th row and column, and the centre row) for large */
+            double *ref = malloc(sizeof(double) * N * N), peak = 0;
             int step = N > 60 ? 15 : 1;
             for (int j = 0; j < N; j++)
                 for (int i = 0; i < N; i++) {
+                    ref[j * N + i] = NAN;
                     if (step > 1 && (j % step) && j != N / 2) continue;
                     if (step > 1 && (i % step) && i != N / 2 + 1) continue;
                     double x0 = -half + i * pix, y1 = half - j * pix; /* row 0 at the top */
                     double u0 = (x0 - xyz[0]) / S, u1 = (x0 + pix - xyz[0]) / S;
                     double v0 = (y1 - pix - xyz[1]) / S, v1 = (y1 - xyz[1]) / S;
                     if (brk && i == N / 2 && j == N / 2) u0 += 1e-4 / S * pix;
-                    double ref = m * pixel_ref(k, u0, u1, v0, v1) / (pix * pix);
-                    peak = fmax(peak, ref);
-                    worst = fmax(worst, fabs(map[j * N + i] - ref));
+                    ref[j * N + i] = m * pixel_ref(k, u0, u1, v0, v1) / (pix * pix);
+                    peak = fmax(peak, ref[j * N + i]);
                 }
-            worst /= peak;
-            worst_all = fmax(worst_all, worst);
-            CHECK_QUIET(worst <= 1e-6 && s == LC_OK, "%s H/pixel %g: largest difference %.2e of the peak pixel",
-                        lc_kernel_name(k), ratio, worst);
-            /* mass of a particle inside the image */
-            if (ratio >= 0.05) {
-                double mass = map_mass(map, N, pix);
-                CHECK_QUIET(fabs(mass - 1) < 1e-6, "%s H/pixel %g: mass %.9f", lc_kernel_name(k), ratio, mass);
+            for (int t = 0; t < ntdev; t++) {
+                dev = tdev[t];
+                const char *tn = dev_target_name(dev);
+                lc_volume *v = make_set(1, xyz, &r, &m, k);
+                lc_project_desc d = view(N, half, LC_PROJECT_EXACT);
+                float *map = calloc((size_t)N * N, sizeof *map);
+                lc_status s = lc_particles_project(dev, v, &d, map, NULL);
+                if (s != LC_OK) printf("project: %s\n", lc_last_error());
+                double worst = 0;
+                for (int i = 0; i < N * N; i++)
+                    if (!isnan(ref[i])) worst = fmax(worst, fabs(map[i] - ref[i]));
+                worst /= peak;
+                worst_all[t] = fmax(worst_all[t], worst);
+                CHECK_QUIET(worst <= 1e-6 && s == LC_OK, "%s %s H/pixel %g: largest difference %.2e of the peak pixel", tn,
+                            lc_kernel_name(k), ratio, worst);
+                /* mass of a particle inside the image */
+                if (ratio >= 0.05) {
+                    double mass = map_mass(map, N, pix);
+                    CHECK_QUIET(fabs(mass - 1) < 1e-6, "%s %s H/pixel %g: mass %.9f", tn, lc_kernel_name(k), ratio, mass);
+                }
+                free(map);
+                lc_volume_destroy(v);
             }
-            free(map);
-            lc_volume_destroy(v);
+            free(ref);
         }
-        CHECK(worst_all <= 1e-6, "%s: pixel averages for H/pixel 0.01..100 against 2-D quadrature: largest difference %.2e "
-              "of the peak pixel", lc_kernel_name(k), worst_all);
+        for (int t = 0; t < ntdev; t++)
+            CHECK(worst_all[t] <= 1e-6, "%s %s: pixel averages for H/pixel 0.01..100 against 2-D quadrature: largest "
+                  "difference %.2e of the peak pixel", dev_target_name(tdev[t]), lc_kernel_name(k),
+                  worst_all[t]);
     }
-}
-
-static double urand(unsigned *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return (*s >> 8) / 16777216.0;
+    dev = tdev[0];
 }
 
 static void test_mass_blocks(void)
@@ -514,6 +359,7 @@ int main(void)
     gl_init();
     lc_device_desc dd = {.threads = threads_env};
     if (lc_device_create(&dd, &dev) != LC_OK) return printf("device: %s\n", lc_last_error()), 1;
+    ntdev = open_targets(dev, threads_env, tdev);
     void (*tests[])(void) = {test_closed_forms, test_pixel_averages, test_mass_blocks, test_plummer,
                              test_slab_weight_errors};
     for (size_t t = 0; t < sizeof tests / sizeof tests[0]; t++) {
@@ -531,6 +377,7 @@ int main(void)
         CHECK(lc_particles_project(dev, v, &d, map, NULL) == LC_CANCELLED, "cancel: %s", lc_last_error());
         lc_volume_destroy(v);
     }
+    for (int t = 1; t < ntdev; t++) lc_device_destroy(tdev[t]);
     lc_device_destroy(dev);
     return check_summary("test_sph_project");
 }

@@ -17,7 +17,8 @@ const char cli_project_help[] =
     "projections (--mode project; particle data):\n"
     "  The column of each pixel: sum_i kappa k_i W_i integrated along the line of sight, with the\n"
     "  particles' kernel (--kernel; SPH kernels with support H = the particle radius, e.g. GADGET's\n"
-    "  HSML), k_i the --value (GADGET and HDF5 default to mass here: a column-density map).\n"
+    "  HSML), k_i the --value (GADGET and HDF5 default to a column-density map: mass, or with an\n"
+    "  SPH kernel rho, whose SPH interpolant sum m / rho rho W integrates to sum m W).\n"
     "  Exact pixel averages by default: every particle puts exactly its amount into the pixels it\n"
     "  covers, at any size from 0.01 to 100 pixels and beyond (no smoothing-length floor).\n"
     "  Orthographic views only (default: down -z framing the particles' x, y extent; --view\n"
@@ -104,6 +105,15 @@ static const char *value_name(const ropts *o)
     return NULL;
 }
 
+/* An SPH kernel asked of the loaders (load option kernel): their weights are then
+ * m / rho A (the SPH interpolant of A). */
+static int sph_weights(const ropts *o)
+{
+    for (int i = 0; i < o->load.n; i++)
+        if (!strcmp(o->load.opt[i].key, "kernel")) return strcmp(o->load.val[i], "gaussian") != 0;
+    return 0;
+}
+
 static lc_tf *colours(ropts *o, lc_device *dev)
 {
     lc_tf *tf = NULL;
@@ -141,9 +151,10 @@ static lc_status write_out(ropts *o, lc_device *dev, const float *map, const lc_
         snprintf(quantity, sizeof quantity, "%s weighted by %s along the line of sight", val ? val : "value", o->pj.weight);
     else
         snprintf(quantity, sizeof quantity, "column of %s%s", val ? val : "value",
-                 val && !strcmp(val, "mass") ? " (surface density)" : "");
+                 val && (!strcmp(val, "mass") || (!strcmp(val, "rho") && sph_weights(o))) ? " (surface density)" : "");
+    int sigma = !o->pj.weight && val && !strcmp(val, "rho") && sph_weights(o); /* rho times a length */
     snprintf(units, sizeof units, o->pj.weight ? "the file's units of %s" : "the file's units of %s per length^2",
-             val ? val : "value");
+             sigma ? "mass" : val ? val : "value");
     int W = o->rd.width, H = o->rd.height;
     if (lc_map_format(o->output)) {
         lc_map_desc md = {W, H, map, quantity, units, kname, o->pj.sample == LC_PROJECT_CENTRE ? "centre" : "exact",
@@ -167,14 +178,17 @@ static lc_status write_out(ropts *o, lc_device *dev, const float *map, const lc_
     return s;
 }
 
-/* GADGET and HDF5 snapshots project their masses unless --value says otherwise. */
+/* GADGET and HDF5 snapshots project their surface density unless --value says
+ * otherwise: their masses, or with an SPH kernel the interpolant of rho
+ * (sum_j m_j / rho_j rho_j W_j = sum_j m_j W_j; --value mass would be
+ * sum_j m_j^2 / rho_j W_j). */
 static int default_value(ropts *o, lc_device *dev)
 {
     lc_file_info fi;
     lc_load_desc ld = {.format = o->load.format, .options = o->load.opt, .noptions = o->load.n};
     if (value_name(o) || lc_file_probe(dev, o->input, &ld, &fi) != LC_OK) return 0;
     if (strcmp(fi.format, "gadget") && strcmp(fi.format, "hdf5")) return 0;
-    return cli_load_add(&o->load, o->cmd, "value", "mass");
+    return cli_load_add(&o->load, o->cmd, "value", sph_weights(o) ? "rho" : "mass");
 }
 
 int cli_project_run(ropts *o, lc_device *dev, const cli_kind *kind)

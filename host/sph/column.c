@@ -150,6 +150,32 @@ static void jacobi(int n, double *a, double *v, double *d)
     for (int i = 0; i < n; i++) d[i] = a[i * n + i];
 }
 
+/* The kernels' tables from A_k and phi_k on the fine nodes (cum[j * ld + k],
+ * phi[j * ld + k]): tab padded to kpad terms, the marginal M and its
+ * derivative as the same combination of A_k and phi_k, so that M is the
+ * separable form's marginal up to rounding. */
+static int tables(lci_column *c, int rank, const double *cum, const double *phi, int ld)
+{
+    enum { NT = LCI_COL_NT, NK = LCI_COL_NK, ST = LCI_COL_NT / LCI_COL_NK };
+    int kp = (rank + LC_KPROJ_KPAD - 1) / LC_KPROJ_KPAD * LC_KPROJ_KPAD;
+    c->tab = calloc((size_t)(NK + 1) * 2 * (size_t)kp, sizeof(double));
+    c->marg = malloc(sizeof(double) * 2 * (NK + 1));
+    if (!c->tab || !c->marg) return 0;
+    for (int n = 0; n <= NK; n++) {
+        int j = n * ST;
+        double m = 0.0, dm = 0.0;
+        for (int k = 0; k < rank; k++) {
+            c->tab[(size_t)n * 2 * kp + k] = cum[j * ld + k];
+            c->tab[(size_t)n * 2 * kp + kp + k] = phi[j * ld + k] / NK;
+            m += 2.0 * c->mu[k] * cum[NT * ld + k] * cum[j * ld + k];
+            dm += 2.0 * c->mu[k] * cum[NT * ld + k] * phi[j * ld + k] / NK;
+        }
+        c->marg[2 * n] = m, c->marg[2 * n + 1] = dm;
+    }
+    c->kt = (lc_kproj_table){.rank = rank, .kpad = kp, .nt = NK, .tab = c->tab, .mu = c->mu, .marg = c->marg};
+    return 1;
+}
+
 /* The separable tables: Nystrom eigenpairs of g on [0, 1]^2, the Nystrom
  * interpolants phi_k and A_k on the fine nodes, the rank and the mass. */
 static int build_separable(lci_column *c, const ftab *ft)
@@ -222,19 +248,12 @@ static int build_separable(lci_column *c, const ftab *ft)
         double mass = 0.0;
         for (int k = 0; k < rank; k++) mass += 4.0 * c->mu[k] * cum[NT * K + k] * cum[NT * K + k];
         c->mu[0] += (1.0 - mass) / (4.0 * cum[NT * K] * cum[NT * K]);
-        c->tab = malloc(sizeof(double) * (NT + 1) * (size_t)rank * 2);
-        ok = c->tab != NULL;
-        for (int j = 0; ok && j <= NT; j++)
-            for (int k = 0; k < rank; k++) {
-                c->tab[(j * rank + k) * 2] = cum[j * K + k];
-                c->tab[(j * rank + k) * 2 + 1] = phi[j * K + k] / NT;
-            }
+        for (int k = rank; k < LCI_COL_KMAX; k++) c->mu[k] = 0.0;
+        ok = tables(c, rank, cum, phi, K);
     }
     free(a), free(v), free(phi), free(cum), free(gn), free(g1);
     return ok;
 }
-
-void lci_column_cumulative(const lci_column *c, double u, double *out) { lci_column_cumulative_inline(c, u, out); }
 
 /* rho(t) = 2 pi norm int_|t|^1 f(u) u du: the kernel's mass per unit height
  * at height t, split at the kinks. */
@@ -359,15 +378,18 @@ static int build_gauss(lci_column *c)
     c->err = 0.0;
     c->norm = pow(G / (sqrt(2.0 * M_PI) * e), 3.0);
     c->f0 = G * G / (2.0 * M_PI * e * e);
-    c->tab = malloc(sizeof(double) * 2 * (LCI_COL_NT + 1));
     c->fq = malloc(sizeof(float) * (LCI_COL_NQ + 2));
     c->mz = malloc(sizeof(double) * 2 * (2 * LCI_COL_NZ + 1));
-    if (!c->tab || !c->fq || !c->mz) return 0;
-    for (int j = 0; j <= LCI_COL_NT; j++) {
+    double *cum = malloc(sizeof(double) * (LCI_COL_NT + 1)), *phi = malloc(sizeof(double) * (LCI_COL_NT + 1));
+    int ok = c->fq && c->mz && cum && phi;
+    for (int j = 0; ok && j <= LCI_COL_NT; j++) {
         double u = (double)j / LCI_COL_NT;
-        c->tab[2 * j] = erf(G * u / sqrt(2.0)) / (2.0 * e);
-        c->tab[2 * j + 1] = G * exp(-0.5 * G * G * u * u) / (sqrt(2.0 * M_PI) * e) / LCI_COL_NT;
+        cum[j] = erf(G * u / sqrt(2.0)) / (2.0 * e);
+        phi[j] = G * exp(-0.5 * G * G * u * u) / (sqrt(2.0 * M_PI) * e);
     }
+    ok = ok && tables(c, 1, cum, phi, 1);
+    free(cum), free(phi);
+    if (!ok) return 0;
     /* centre sampling: the radial 2-D Gaussian (the corners of the square are beyond b = 1 and below 4e-6 of the peak) */
     for (int i = 0; i <= LCI_COL_NQ; i++) c->fq[i] = (float)(c->f0 * exp(-0.5 * G * G * (double)i / LCI_COL_NQ));
     c->fq[LCI_COL_NQ] = 0.0f, c->fq[LCI_COL_NQ + 1] = 0.0f;
@@ -405,7 +427,7 @@ static lci_column *build(lc_kernel kernel)
     return c;
 fail:
     free(ft);
-    free(c->fq), free(c->tab), free(c->slab), free(c->mz);
+    free(c->fq), free(c->tab), free(c->marg), free(c->slab), free(c->mz);
     free(c);
     return NULL;
 }

@@ -11,7 +11,8 @@
  * Gauss-Legendre nodes, Jacobi rotations), so
  *     Q(u1..u0, v1..v0) = sum_k mu_k [A_k(u1) - A_k(u0)] [A_k(v1) - A_k(v0)],
  * A_k(u) = int_0^u phi_k (odd in u), tabulated with phi_k on LCI_COL_NT + 1
- * nodes of [0, 1] for cubic Hermite lookups in double. The four-lookup
+ * nodes of [0, 1] for cubic Hermite lookups in double (kernels/sph_project.c
+ * does the lookups and the pixels, once per target). The four-lookup
  * difference then factorises into one 1-D difference per pixel column and
  * row of a particle's footprint and a rank-K dot product per pixel. mu_0
  * carries the truncated components' mass, so a particle's pixels sum to m to
@@ -29,8 +30,12 @@
 #define LC_SPH_COLUMN_H
 
 #include "lanecast/lanecast.h"
+#include "kernels/sph_project.h"
 
-#define LCI_COL_NT 1024   /* nodes - 1 of the cumulative tables on [0, 1] */
+#define LCI_COL_NT 1024   /* nodes - 1 on [0, 1] where A_k and phi_k are computed */
+#ifndef LCI_COL_NK
+#define LCI_COL_NK 256    /* nodes - 1 of the lookup tables (every LCI_COL_NT / LCI_COL_NK-th node) */
+#endif
 #define LCI_COL_KMAX 48   /* largest rank kept */
 #define LCI_COL_NQ 4096   /* entries - 1 of the centre-sampling table over q = b^2 */
 #define LCI_COL_NZ 256    /* slab tables: nodes - 1 per axis */
@@ -43,7 +48,9 @@ typedef struct lci_column {
     int rank;             /* K terms kept */
     double err;           /* largest |g - g_K| over a check grid, relative to F(0) */
     double mu[LCI_COL_KMAX];
-    double *tab;          /* (LCI_COL_NT + 1) x rank x 2: A_k(u_j), phi_k(u_j) / LCI_COL_NT */
+    double *tab;          /* (LCI_COL_NK + 1) nodes x 2 kpad: A_k(u_j) (k < kpad, 0 beyond rank), then phi_k(u_j) / LCI_COL_NK */
+    double *marg;         /* (LCI_COL_NK + 1) x 2: M(u_j) = int_0^u_j int_-1^1 g = 2 sum_k mu_k A_k(1) A_k(u_j), M' / LCI_COL_NK */
+    lc_kproj_table kt;    /* the kernels' view of tab, mu and marg (kernels/sph_project.h) */
     float *fq;            /* F at q = b^2 = i / LCI_COL_NQ, i = 0 .. LCI_COL_NQ + 1 (the last two 0) */
     /* slabs: the partial column T(b, s) = norm int_0^{s c(b)} f(sqrt(b^2 + z^2)) dz
        (c(b) = sqrt(1 - b^2)) on (LCI_COL_NZ + 1)^2 nodes of b, s in [0, 1], and the
@@ -74,27 +81,6 @@ static inline float lci_column_fq(const lci_column *c, float q)
     return c->fq[i] + t * (c->fq[i + 1] - c->fq[i]);
 }
 
-/* A_k(u) for every k (out[rank]), u clamped to [-1, 1]: cubic Hermite
- * between the nodes (inline, so that project_dot.c compiles it per target). */
-static inline void lci_column_cumulative_inline(const lci_column *c, double u, double *out)
-{
-    int K = c->rank;
-    double sg = u < 0.0 ? -1.0 : 1.0, x = u < 0.0 ? -u : u;
-    if (!(x < 1.0)) { /* outside the support: +-A_k(1) */
-        const double *t = c->tab + (size_t)LCI_COL_NT * K * 2;
-        for (int k = 0; k < K; k++) out[k] = sg * t[2 * k];
-        return;
-    }
-    x *= LCI_COL_NT;
-    int j = (int)x;
-    double r = x - j, r2 = r * r, r3 = r2 * r;
-    double h00 = sg * (2 * r3 - 3 * r2 + 1), h10 = sg * (r3 - 2 * r2 + r), h01 = sg * (-2 * r3 + 3 * r2),
-           h11 = sg * (r3 - r2);
-    const double *t0 = c->tab + (size_t)j * K * 2, *t1 = t0 + K * 2;
-    for (int k = 0; k < K; k++)
-        out[k] = h00 * t0[2 * k] + h10 * t0[2 * k + 1] + h01 * t1[2 * k] + h11 * t1[2 * k + 1];
-}
-void lci_column_cumulative(const lci_column *c, double u, double *out);
 
 /* The mass fraction of the kernel between heights z0 < z1 (units of S). */
 double lci_column_slab_mass(const lci_column *c, double z0, double z1);

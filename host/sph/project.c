@@ -4,9 +4,9 @@
  * device's pool that deposits, in the particles' own order, every particle
  * reaching it into a double accumulator, so a map's bytes do not depend on
  * the thread count. A particle's exact pixel averages come from the
- * separable cumulative table of its kernel (column.h): one 1-D difference of
- * A_k per pixel column and row of its footprint, then a rank-K dot product
- * per pixel (project_dot.c, vectorised per target). */
+ * separable cumulative table of its kernel (column.h) through the target's
+ * projection kernel (kernels/sph_project.c): one 1-D difference of A_k per
+ * pixel column and row of its footprint, then their rank-K matrix product. */
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -34,8 +34,7 @@ typedef struct ctx {
     const uint32_t *list;        /* particle indices per band */
     const size_t *start;         /* band b: list[start[b] .. start[b + 1]) */
     float *map;
-    lci_dot_fn dot;
-    lci_cum_fn cum;
+    const lc_kproj *kp;
     char *scratch;               /* per worker */
     size_t scratch_bytes;
     double *band_mass;
@@ -50,33 +49,24 @@ typedef struct ctx {
 
 typedef struct scratch {
     double *num, *den;  /* BAND x W accumulators */
-    float *colc;        /* K x (W + 8) column differences */
-    float *rowc;        /* BAND x K row differences times mu_k */
-    float *tmp;         /* W + 8 */
-    double *ae, *ap;    /* K: A_k at the current and previous edge */
+    float *tmp;         /* W + 8: a row of centre samples */
+    void *kernel;       /* the projection kernel's (lc_kproj_scratch_bytes) */
 } scratch;
+
+static size_t acc_bytes(int W) { return (sizeof(double) * 2 * BAND * (size_t)W + sizeof(float) * ((size_t)W + 8) + 63) & ~(size_t)63; }
 
 static scratch carve(const ctx *c, int worker)
 {
     char *b = c->scratch + (size_t)worker * c->scratch_bytes;
-    size_t W = (size_t)c->W, K = (size_t)c->K;
+    size_t W = (size_t)c->W;
     scratch s;
-    s.num = (double *)b, b += sizeof(double) * BAND * W;
-    s.den = (double *)b, b += sizeof(double) * BAND * W;
-    s.ae = (double *)b, b += sizeof(double) * K;
-    s.ap = (double *)b, b += sizeof(double) * K;
-    s.colc = (float *)b, b += sizeof(float) * K * (W + 8);
-    s.rowc = (float *)b, b += sizeof(float) * BAND * K;
-    s.tmp = (float *)b;
+    s.num = (double *)b, s.den = s.num + BAND * W;
+    s.tmp = (float *)(s.den + BAND * W);
+    s.kernel = b + acc_bytes(c->W);
     return s;
 }
 
-static size_t scratch_size(int W, int K)
-{
-    size_t w = (size_t)W, k = (size_t)K;
-    size_t b = sizeof(double) * (2 * BAND * w + 2 * k) + sizeof(float) * (k * (w + 8) + BAND * k + w + 8);
-    return (b + 63) & ~(size_t)63;
-}
+static size_t scratch_size(int W, int kpad) { return acc_bytes(W) + lc_kproj_scratch_bytes(W, BAND, kpad); }
 
 /* floor and ceil as ints, clamped first: a particle far larger than the
  * image has edges far outside int (callers clip to the image). */
@@ -99,55 +89,10 @@ static void add_row(const ctx *c, scratch *s, int r, int i0, int n, const float 
 static uint64_t deposit_exact(const ctx *c, scratch *s, size_t p, int b0, int b1, double frac)
 {
     const prep *pp = c->pp;
-    double X = pp->X[p], Y = pp->Y[p], sp = pp->s[p], inv = 1.0 / sp;
-    double a = pp->a[p] * frac, w = c->weighted ? pp->w[p] * frac : 0.0;
-    int fx0 = ifloor(X - sp), fx1 = ifloor(X + sp), fy0 = ifloor(Y - sp), fy1 = ifloor(Y + sp);
-    int i0 = fx0 < 0 ? 0 : fx0, i1 = fx1 >= c->W ? c->W - 1 : fx1;
-    int j0 = fy0 < b0 ? b0 : fy0, j1 = fy1 >= b1 ? b1 - 1 : fy1;
-    if (i0 > i1 || j0 > j1) return 0;
-    if (fx0 == fx1 && fy0 == fy1) { /* the whole support inside one pixel */
-        s->num[(size_t)(j0 - b0) * c->W + i0] += a;
-        if (c->weighted) s->den[(size_t)(j0 - b0) * c->W + i0] += w;
-        return 1;
-    }
-    int K = c->K, nc = i1 - i0 + 1;
-    size_t stride = (size_t)c->W + 8;
-    const double *mu = c->col->mu;
-    c->cum(c->col, (i0 - X) * inv, s->ap);
-    for (int i = i0; i <= i1; i++) {
-        c->cum(c->col, (i + 1 - X) * inv, s->ae);
-        for (int k = 0; k < K; k++) {
-            s->colc[(size_t)k * stride + (size_t)(i - i0)] = (float)(s->ae[k] - s->ap[k]);
-            s->ap[k] = s->ae[k];
-        }
-    }
-    c->cum(c->col, (j0 - Y) * inv, s->ap);
-    for (int j = j0; j <= j1; j++) {
-        c->cum(c->col, (j + 1 - Y) * inv, s->ae);
-        for (int k = 0; k < K; k++) {
-            s->rowc[(j - j0) * K + k] = (float)(mu[k] * (s->ae[k] - s->ap[k]));
-            s->ap[k] = s->ae[k];
-        }
-    }
-    uint64_t evals = 0;
-    for (int j = j0; j <= j1; j++) {
-        int ia = i0, ib = i1;
-        if (!c->square) { /* the columns whose pixels meet the disk in this row */
-            double vl = (j - Y) * inv, vh = (j + 1 - Y) * inv;
-            double vmin = vl <= 0.0 && vh >= 0.0 ? 0.0 : fmin(fabs(vl), fabs(vh));
-            if (vmin >= 1.0) continue;
-            double hw = sp * sqrt(1.0 - vmin * vmin);
-            int l = ifloor(X - hw), r = ifloor(X + hw);
-            ia = l > ia ? l : ia, ib = r < ib ? r : ib;
-            if (ia > ib) continue;
-        }
-        int n = ib - ia + 1;
-        c->dot(K, s->rowc + (j - j0) * K, s->colc + (ia - i0), stride, n, s->tmp);
-        add_row(c, s, j - b0, ia, n, s->tmp, a, w);
-        evals += (uint64_t)n;
-    }
-    (void)nc;
-    return evals;
+    lc_kproj_band band = {.W = c->W, .H = c->H, .b0 = b0, .b1 = b1, .disk = !c->square, .weighted = c->weighted,
+                          .num = s->num, .den = s->den, .scratch = s->kernel};
+    lc_kproj_particle q = {pp->X[p], pp->Y[p], pp->s[p], pp->a[p] * frac, c->weighted ? pp->w[p] * frac : 0.0};
+    return c->kp->deposit(&c->col->kt, &band, &q);
 }
 
 /* Centre sampling of particle p over rows [b0, b1): the column (or, cut by a
@@ -447,13 +392,15 @@ lc_status lc_particles_project(lc_device *dev, const lc_volume *particles, const
     int nb = (d->height + BAND - 1) / BAND, threads = lci_pool_threads(dev->pool);
     ctx c = {.col = col, .square = pv.params.kernel == LC_KERNEL_GAUSSIAN, .W = d->width, .H = d->height,
              .K = col->rank, .weighted = d->weight != NULL, .centre = d->sample == LC_PROJECT_CENTRE, .map = map,
-             .dot = lci_project_dot(dev->target), .cum = lci_project_cum(dev->target), .cancel = d->cancel, .cancel_user = d->cancel_user,
+             .kp = lci_project_kernels(dev->target), .cancel = d->cancel, .cancel_user = d->cancel_user,
              .progress = d->progress, .progress_user = d->progress_user, .nbands = nb};
-    s = prepare(dev, d, &pv, wk, &v, col, &pp);
+    s = c.kp ? prepare(dev, d, &pv, wk, &v, col, &pp)
+             : lci_error(dev, LC_ERROR_UNSUPPORTED, "lc_particles_project: target %s has no projection kernel",
+                         lc_target_name(dev->target));
     if (s == LC_OK) s = bin(dev, &pp, d->height, nb, &list, &start);
     if (s == LC_OK) {
         c.pp = &pp, c.list = list, c.start = start;
-        c.scratch_bytes = scratch_size(d->width, col->rank);
+        c.scratch_bytes = scratch_size(d->width, col->kt.kpad);
         c.scratch = lci_aligned_alloc(64, c.scratch_bytes * (size_t)threads);
         c.band_mass = calloc((size_t)nb, sizeof(double));
         c.band_evals = calloc((size_t)nb, sizeof(uint64_t));
