@@ -63,6 +63,7 @@ bad "bad --kernel" 2 "--kernel: 'cubic'" --mode project --kernel cubic
 bad "bad --depth" 2 "--depth" --mode project --depth -1
 bad "perspective" 1 "--ortho" --mode project --kernel m4 --eye 0,0,50 --at 0,0,0
 bad "unknown --weight field" 1 "nosuch" --mode project --kernel m4 --weight nosuch
+bad "--normalise with a projection" 2 "--normalise applies to the dvr" --mode project --kernel m4 --normalise
 "$exe" render --help | grep -q "projections (--mode project" && echo "ok   --help has the projections section" ||
     { echo "FAIL --help lacks the projections section"; fail=1; }
 exit $fail

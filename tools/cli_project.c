@@ -198,6 +198,12 @@ int cli_project_run(ropts *o, lc_device *dev, const cli_kind *kind)
                 lc_kind_name(kind->kind));
         return CLI_EXIT_USAGE;
     }
+    for (int k = 0; k < o->load.n; k++)
+        if (!strcmp(o->load.opt[k].key, "normalise")) { /* the maps do not read the normalising weights */
+            fprintf(stderr, "%s: --normalise applies to the dvr, mip, iso and slice modes; a projection's normalised "
+                    "form is --weight FIELD (sum w A W / sum w W)\n", o->cmd);
+            return CLI_EXIT_USAGE;
+        }
     if (!lc_map_format(o->output) && lc_image_check(NULL, o->output) != LC_OK) {
         fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
         return CLI_EXIT_FAIL;
