@@ -34,7 +34,8 @@ awk 'BEGIN { s = 12345; print "x,y,z,radius,value";
 
 # render --resample N against render of the grid that resample --dims N wrote
 range=$("$exe" info "$dir/p.csv" | awk '/^range/ { print $2 "," $4 }')
-view="--eye 9,6,12 --at 0.2,0,0 --size 64x64 --tf heat --range $range --quiet"
+# the same TF for both: a preset's tau and the step default by kind, so both are given
+view="--eye 9,6,12 --at 0.2,0,0 --size 64x64 --tf heat --tau 2 --dt 0.05 --range $range --quiet"
 "$exe" resample "$dir/p.csv" -o "$dir/r.nrrd" --dims 32 --quiet
 # shellcheck disable=SC2086
 "$exe" render "$dir/r.nrrd" -o "$dir/file.png" $view
