@@ -46,12 +46,12 @@ static inline void row_add(float *row, int64_t i, int64_t xend, vmask in, vfloat
 }
 
 /* The chord of a row: nodes [*a, *b] of [x0, x1] within sqrt(rem) of cx
- * (one node generous on each side; the d^2 test decides). */
-static inline void chord(const lc_kresample *s, float cx, float rem, int64_t x0, int64_t x1, int64_t *a, int64_t *b)
+ * (one node generous on each side, so a reciprocal of the spacing, inv,
+ * serves: the d^2 test decides). */
+static inline void chord(float ox, double inv, float cx, float rem, int64_t x0, int64_t x1, int64_t *a, int64_t *b)
 {
-    float half = sqrtf(rem);
-    double lo = floor(((double)cx - half - s->origin[0]) / s->spacing[0]) - 1.0;
-    double hi = ceil(((double)cx + half - s->origin[0]) / s->spacing[0]) + 1.0;
+    double half = sqrtf(rem), u = ((double)cx - (double)ox) * inv;
+    double lo = floor(u - half * inv) - 1.0, hi = ceil(u + half * inv) + 1.0;
     *a = lo > (double)x0 ? (int64_t)lo : x0;
     *b = hi < (double)x1 ? (int64_t)hi : x1;
 }
@@ -65,6 +65,7 @@ void LC_KFN(lc_resample_brick)(const lc_kresample *s, lc_kresample_brick *b)
     float *x2 = b->scratch, *ex = x2 + side + 32, *y2 = ex + side + 32, *ey = y2 + side + 32;
     float *z2 = ey + side + 32, *ez = z2 + side + 32;
     uint64_t evals = 0;
+    const double inv = 1.0 / (double)s->spacing[0];
     for (int64_t l = 0; l < b->n; l++) {
         uint32_t p = b->list[l];
         float c[3] = {s->px[p], s->py[p], s->pz[p]}, r = s->r[p];
@@ -88,7 +89,7 @@ void LC_KFN(lc_resample_brick)(const lc_kresample *s, lc_kresample_brick *b)
                 float dyz2 = y2[y - i0[1]] + dz2;
                 if (!(dyz2 < R2)) continue;
                 int64_t xa, xb;
-                chord(s, c[0], R2 - dyz2, i0[0], i1[0], &xa, &xb);
+                chord(s->origin[0], inv, c[0], R2 - dyz2, i0[0], i1[0], &xa, &xb);
                 float *row = s->values + (z * ny + y) * nx;
                 vfloat w = sph ? vf_zero() : vf_set1(kk * (ey[y - i0[1]] * ez[z - i0[2]]));
                 vfloat vdyz2 = vf_set1(dyz2);
