@@ -114,9 +114,14 @@ static inline int skip_base(const lc_kparticles *s, const lc_kframe *f)
 static inline __attribute__((always_inline)) int gather_fields_as(const lc_kparticles *s, vfloat px, vfloat py,
                                                                   vfloat pz, vmask m, int grad, int skip,
                                                                   int32_t *stack, vfloat *phi, vfloat *gx,
-                                                                  vfloat *gy, vfloat *gz, lc_kstats *st, int sph)
+                                                                  vfloat *gy, vfloat *gz, lc_kstats *st, int sph,
+                                                                  int norm)
 {
+    /* norm (a constant, SPH only): the denominators sum kappa kn_i W and their gradients */
+    vfloat den[LC_KMAX_FIELDS], dx[LC_KMAX_FIELDS], dy[LC_KMAX_FIELDS], dz[LC_KMAX_FIELDS];
     for (int fi = 0; fi < s->nfields; fi++) phi[fi] = vf_set1(s->bias), gx[fi] = gy[fi] = gz[fi] = vf_zero();
+    if (norm)
+        for (int fi = 0; fi < s->nfields; fi++) den[fi] = dx[fi] = dy[fi] = dz[fi] = vf_zero();
     if (s->nnodes == 0) return 0;
     int sp = 0, found = 0;
     uint64_t nodes = 0, leaves = 0, evals = 0;
@@ -147,7 +152,18 @@ static inline __attribute__((always_inline)) int gather_fields_as(const lc_kpart
             evals += (uint64_t)vm_popcnt(inside);
             int fi = s->field[i];
             vfloat p, gp = vf_zero();
-            if (sph) {
+            if (sph && norm) { /* one shape evaluation, two amplitudes */
+                sph_consts sc = sph_consts_make(s->r[i], s->kappa * s->kn[i], s->knorm);
+                vfloat gq = vf_zero(), q = sph_term(s->kernel, &sc, d2, inside, grad ? &gq : NULL);
+                float a = s->kn[i] != 0.0f ? s->k[i] / s->kn[i] : 0.0f; /* A_i */
+                p = vf_mul(q, vf_set1(a)), gp = vf_mul(gq, vf_set1(a));
+                den[fi] = vf_add(den[fi], q);
+                if (grad) {
+                    dx[fi] = vf_fma(ex, gq, dx[fi]);
+                    dy[fi] = vf_fma(ey, gq, dy[fi]);
+                    dz[fi] = vf_fma(ez, gq, dz[fi]);
+                }
+            } else if (sph) {
                 sph_consts sc = sph_consts_make(s->r[i], s->kappa * s->k[i], s->knorm);
                 p = sph_term(s->kernel, &sc, d2, inside, grad ? &gp : NULL);
             } else {
@@ -163,6 +179,18 @@ static inline __attribute__((always_inline)) int gather_fields_as(const lc_kpart
         }
     }
     if (st) st->nodes += nodes, st->leaves += leaves, st->kernel_evals += evals;
+    if (norm) /* A = N / D, grad A = (grad N - A grad D) / D; 0 where D = 0 */
+        for (int fi = 0; fi < s->nfields; fi++) {
+            vmask pos = vf_gt(den[fi], vf_zero());
+            vfloat inv = vf_div(vf_set1(1.0f), vf_select(pos, den[fi], vf_set1(1.0f)));
+            vfloat a = vf_select(pos, vf_mul(phi[fi], inv), vf_zero());
+            phi[fi] = a;
+            if (grad) {
+                gx[fi] = vf_select(pos, vf_mul(vf_nmadd(a, dx[fi], gx[fi]), inv), vf_zero());
+                gy[fi] = vf_select(pos, vf_mul(vf_nmadd(a, dy[fi], gy[fi]), inv), vf_zero());
+                gz[fi] = vf_select(pos, vf_mul(vf_nmadd(a, dz[fi], gz[fi]), inv), vf_zero());
+            }
+        }
     return found;
 }
 
@@ -173,14 +201,28 @@ static __attribute__((noinline, unused)) int gather_fields_sph(const lc_kparticl
                                                                int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy,
                                                                vfloat *gz, lc_kstats *st)
 {
-    return gather_fields_as(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st, 1);
+    return gather_fields_as(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st, 1, 0);
+}
+
+/* The normalised SPH interpolant (s->normalise), out of line too; no node
+ * is skipped (the host marks none: a weighted mean is not bounded by the
+ * node sums). */
+static __attribute__((noinline, unused)) int gather_fields_norm(const lc_kparticles *s, vfloat px, vfloat py,
+                                                                vfloat pz, vmask m, int grad, int32_t *stack,
+                                                                vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz,
+                                                                lc_kstats *st)
+{
+    return gather_fields_as(s, px, py, pz, m, grad, 0, stack, phi, gx, gy, gz, st, 1, 1);
 }
 
 static inline int gather_fields(const lc_kparticles *s, vfloat px, vfloat py, vfloat pz, vmask m, int grad,
                                 int skip, int32_t *stack, vfloat *phi, vfloat *gx, vfloat *gy, vfloat *gz, lc_kstats *st)
 {
-    if (s->kernel != LC_KSPH_GAUSSIAN) return gather_fields_sph(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st);
-    return gather_fields_as(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st, 0);
+    if (s->kernel != LC_KSPH_GAUSSIAN) {
+        if (s->normalise) return gather_fields_norm(s, px, py, pz, m, grad, stack, phi, gx, gy, gz, st);
+        return gather_fields_sph(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st);
+    }
+    return gather_fields_as(s, px, py, pz, m, grad, skip, stack, phi, gx, gy, gz, st, 0, 0);
 }
 
 /* The particles' point evaluation for the modes (mode.h mprobe): field fi

@@ -11,6 +11,8 @@ PKGS="$PKGS python3-dev python3-numpy python3-pytest python3-yt python3-mdanalys
 PKGS="$PKGS libgdcm-dev libgdcm-tools python3-pydicom"
 # lanecast view (the viewer feature) and its tests under Xvfb
 PKGS="$PKGS libglfw3-dev libimgui-dev libstb-dev xvfb xauth xdotool"
+# SPLASH, which test sph_splash compares the projections with (skipped without it)
+PKGS="$PKGS splash"
 missing=""
 for p in $PKGS; do
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -122,6 +122,13 @@ check "--builders: exit 0, a case record per builder with its build peak" sh -c 
 "$exe" bench --quick --jobs 3 --scenes grid:24,uniform:500 --targets scalar -o "$tmp/j.jsonl" 2>"$tmp/err"; rc=$?
 check "--jobs: exit 0, a job record per scene" sh -c "[ $rc -eq 0 ] && [ \$(grep -c '\"record\": \"job\"' '$tmp/j.jsonl') -eq 2 ]"
 [ $rc -eq 0 ] || cat "$tmp/err"
+"$exe" bench --quick --imbalance --scenes uniform:500,grid:24 -o "$tmp/im.jsonl" 2>"$tmp/err"; rc=$?
+check "--imbalance: exit 0, P = 2 .. 64 per scene, each slowest region >= the mean" sh -c "[ $rc -eq 0 ] &&
+    [ \$(grep -c '\"bench\": \"mpi_imbalance\"' '$tmp/im.jsonl') -eq 12 ] &&
+    ! grep -q '\"imbalance\": 0\\.' '$tmp/im.jsonl'"
+[ $rc -eq 0 ] || cat "$tmp/err"
+"$exe" bench --composite-sizes 0 2>"$tmp/err"; rc=$?
+check "--composite-sizes 0: exit 2 naming it" sh -c "[ $rc -eq 2 ] && grep -q -- '--composite-sizes' '$tmp/err'"
 "$exe" bench --builders nosuch 2>"$tmp/err"; rc=$?
 check "unknown builder: exit 2 naming it" sh -c "[ $rc -eq 2 ] && grep -q \"unknown builder 'nosuch'\" '$tmp/err'"
 "$exe" bench --quick --scenes grid:24/bricked/brick:2/no-heuristics,grid:24/u16,grid:24/f32,blob:24,rbf:200/octree:8 \

@@ -153,6 +153,14 @@ script)
     view --demo --size 192x160 --script r.txt > out 2> err || bad "script r: $(cat err)"
     "$cmpx" reset.exr home.exr exact > cmp.out && ok "script: key r: the first view again" ||
         bad "script: key r: $(cat cmp.out)"
+    # adaptive navigation quality: after a navigation frame of ms at scale 2, far over --target-ms 1,
+    # the next one jumps to ceil(2 sqrt(ms / 1)) (at least 3, at most 16: viewer/view_action.c)
+    printf 'down 192 192\nmove 200 196\nwait-frame\nstats\nmove 208 200\nwait-frame\nstats\nup\nquit\n' > a.txt
+    view --demo --size 384x384 --target-ms 1 --script a.txt > out 2> err || bad "adaptive: $(cat err)"
+    got=$(awk '/^stats nav 1/ {printf "%s %s ", $5, $11}' out)
+    echo "$got" | awk '{ms = $2; want = int(2 * sqrt(ms)); if (want < 2 * sqrt(ms)) want++; if (want < 3) want = 3;
+        if (want > 16) want = 16; exit !($1 == 2 && $3 == want)}' && ok "adaptive: scale, ms: $got" ||
+        bad "adaptive: scale, ms of two navigation frames: '$got' (the second scale should be ceil(2 sqrt(ms)))"
     ;;
 xinput)
     command -v xdotool > /dev/null || { echo "SKIP test_view xinput: no xdotool (Debian: xdotool)"; exit 77; }

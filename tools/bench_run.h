@@ -48,4 +48,10 @@ int bench_resample_group(const bench_group *g, const lc_render_desc *d, const in
  * record; 0 ok, 1 a read failed, 2 not a trajectory it times. */
 int bench_read(const char *path, int rounds, FILE *out);
 
+/* --composite (under mpiexec), --blend, --imbalance (bench_mpi.c): 0, or 1
+ * after a message. */
+int bench_composite(int rounds, const char *sizes, FILE *out);
+int bench_blend(int rounds, FILE *out);
+int bench_imbalance(int nscenes, char **scenes, const char *data_dir, FILE *out);
+
 #endif

@@ -48,7 +48,11 @@ static const char help[] =
     "                          DCD   the PSF's mass, charge or resid\n"
     "                          CSV   any column (default: value, else mass); LAMMPS any per-atom\n"
     "                                column (c_pe, vx, q); GADGET/HDF5 none (default), mass, u,\n"
-    "                                rho or hsml (u, rho, hsml: gas only)\n"
+    "                                rho, hsml or any block: GADGET a block label (TEMP; format 1:\n"
+    "                                the standard blocks), HDF5 a dataset of the PartTypeN groups\n"
+    "                                (Temperature, ElementAbundance/Oxygen); NAME:K the component K\n"
+    "                                of N x C values (Velocities:0), |NAME| their magnitude;\n"
+    "                                lanecast info lists a snapshot's blocks\n"
     "                        a column the file lacks fails naming the file and the column; a cell\n"
     "                        that is not a number fails naming the line\n"
     "  --knn K               GADGET: radius = distance to the K-th nearest particle of the same type\n"
@@ -74,6 +78,9 @@ static const char help[] =
     "  --hsml-is h|H         GADGET/HDF5: the file's smoothing lengths are h (H = gamma h, gamma the\n"
     "                        kernel's) or H (default: GADGET HSML and AREPO SmoothingLength are H,\n"
     "                        SWIFT SmoothingLengths are h); lanecast info says which was applied\n"
+    "  --normalise           GADGET/HDF5 with an SPH kernel and --value A: the normalised SPH\n"
+    "                        interpolant sum m/rho A W / sum m/rho W (0 where no particle reaches;\n"
+    "                        dvr/mip/iso render with --method direct)\n"
     "  defaults: method coherent, dt a quarter of the smallest radius (SPH kernels: an eighth),\n"
     "  range 0..kappa (SPH kernels: 0..the largest peak kappa k norm / H^3); molecules\n"
     "  (PDB, mmCIF, GRO, XYZ, DCD) with no --fields, --tf, --colormap or --opacity: --fields cpk\n"
@@ -101,12 +108,14 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     static const char *const flags[] = {"--raw-particles", "--radius", "--radius-scale", "--fields", "--drop-invalid",
                                         "--leaf",          "--sigma",  "--kappa",        "--spheres", "--buffer",
                                         "--value",         "--knn",    "--types",        "--select",  "--field-by",
-                                        "--kernel",        "--hsml-is"};
+                                        "--kernel",        "--hsml-is",  "--normalise"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
     if (!*first) *first = a;
     if (!strcmp(a, "--drop-invalid")) return cli_load_add(load, cmd, "drop_invalid", "1") ? -1 : 1;
+    if (!strcmp(a, "--normalise")) /* the kernels divide (params), the loader emits m / rho (load option) */
+        return params.normalise = 1, cli_load_add(load, cmd, "normalise", "1") ? -1 : 1;
     if (!(v = arg_value(cmd, argc, argv, i))) return -1;
     float f;
     int n;
@@ -239,9 +248,10 @@ static void print_stats(const lc_volume *v, double load_seconds, FILE *f)
     if (lc_particles_get_info(v, &pi) != LC_OK) return;
     fprintf(f, "particles     %zu (%zu dropped), %d fields, radius %.4g..%.4g\n", pi.count, pi.dropped, pi.nfields,
             (double)pi.min_radius, (double)pi.max_radius);
-    fprintf(f, "kernel        %s%s\n", lc_kernel_name(pi.params.kernel),
+    fprintf(f, "kernel        %s%s%s\n", lc_kernel_name(pi.params.kernel),
             pi.params.kernel == LC_KERNEL_GAUSSIAN ? " (radius = standard deviation, cut at sigma radii)"
-                                                   : " (radius = support radius H)");
+                                                   : " (radius = support radius H)",
+            pi.params.normalise ? "; normalised: sum m/rho A W / sum m/rho W" : "");
     if (pi.radius_note[0]) fprintf(f, "radii         %s\n", pi.radius_note);
     fprintf(f, "load          %.3f s (reading and BVH build)\n", load_seconds);
     fprintf(f, "bvh           %d nodes, depth %d, %.2f MB, build %.3f s; particle data %.2f MB\n", pi.bvh_nodes,

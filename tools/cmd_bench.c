@@ -69,6 +69,14 @@ static const char help[] =
     "                    same camera, TF and range, and its PSNR against the exact frame\n"
     "  --read FILE       trajectory reading rates instead (record \"read\"; .xtc, .trr, .dcd):\n"
     "                    frames counted, every frame in order, the middle one, frame 0; best of --repeats\n"
+    "  --composite       data-parallel compositing alone, under mpiexec -np P (records \"mpi_composite\"):\n"
+    "                    random full-frame images of each --composite-sizes side (default\n"
+    "                    1,64,128,256,512,1024,2048) composited --repeats times in random orders: median\n"
+    "                    of the slowest rank, steps, bytes and messages per rank against binary swap's\n"
+    "                    S (1 - 1/P), S = 16 W H\n"
+    "  --blend           the compositing's blend and pack throughput at 1024^2 (one process)\n"
+    "  --imbalance       every --scenes scene split into the kd regions of P = 2 .. 64 ranks, each\n"
+    "                    region rendered in turn at 256^2 (one process): slowest against mean\n"
     "\n"
     "examples:\n"
     "  lanecast bench --quick\n"
@@ -80,6 +88,7 @@ static const char help[] =
     "  lanecast bench --jobs 200 --scenes engine,1tw7,uniform:1e6 --sizes 1024 --threads 2 --targets avx2\n"
     "  lanecast bench --profile --scenes engine,grid:512 --sizes 1024 --shading none,phong --targets avx2\n"
     "  lanecast bench --builders embree,sah --scenes uniform:1e6,1tw7 --views far,close --targets avx2\n"
+    "  mpiexec -np 2 lanecast bench --composite --repeats 15\n"
     "  lanecast bench --scenes engine,engine/bricked,engine/no-heuristics,rbf:1e4,rbf:1e4/octree:16\n"
     "  lanecast bench --read adk1000.xtc --repeats 2\n"
     "  lanecast bench --resample 128,256,512 --scenes cluster:1e6,1tw7 --threads 2 --targets avx2 --sizes 1024\n"
@@ -95,8 +104,9 @@ typedef struct opts {
     list scenes, views, sizes, targets, threads, methods, modes, packets, shadings, alphas, sigmas, builders, resample;
     int resample_n[MAXL]; /* --resample: grid sides */
     int warmup, repeats, min_repeats, check_size, quick, roofline, width_study, jobs, ab_rounds, profile;
+    int composite, blend, imbalance;
     double seconds, roof_seconds;
-    const char *out, *data, *baseline, *read;
+    const char *out, *data, *baseline, *read, *csizes;
     char *pass[256]; /* the flags a --baseline run passes on (all but -o, --baseline, --ab-rounds) */
     int npass;
 } opts;
@@ -156,6 +166,12 @@ static int validate(opts *o)
         if (strchr(o->sizes.v[i], 'x') ? arg_size(CMD, "--sizes", o->sizes.v[i], &w, &h)
                                        : arg_int(CMD, "--sizes", o->sizes.v[i], 1, LC_MAX_IMAGE_SIDE, &w))
             return -1;
+    }
+    if (o->csizes) {
+        list cs = {0};
+        split(&cs, "", o->csizes);
+        for (int i = 0; i < cs.n; i++)
+            if (arg_int(CMD, "--composite-sizes", cs.v[i], 1, 8192, &x)) return -1;
     }
     for (int i = 0; i < o->targets.n; i++)
         if (lc_target_from_name(o->targets.v[i], &t) != LC_OK || t == LC_TARGET_AUTO) {
@@ -246,7 +262,12 @@ static int parse_opts(int argc, char **argv, opts *o)
         else if (!strcmp(a, "--roofline")) o->roofline = 1;
         else if (!strcmp(a, "--width-study")) o->width_study = 1;
         else if (!strcmp(a, "--profile")) o->profile = 1;
-        else if (!strcmp(a, "--read")) {
+        else if (!strcmp(a, "--composite")) o->composite = 1;
+        else if (!strcmp(a, "--blend")) o->blend = 1;
+        else if (!strcmp(a, "--imbalance")) o->imbalance = 1;
+        else if (!strcmp(a, "--composite-sizes")) {
+            if (!(o->csizes = arg_value(CMD, argc, argv, &i))) return -1;
+        } else if (!strcmp(a, "--read")) {
             if (!(o->read = arg_value(CMD, argc, argv, &i))) return -1;
         }
         else if (!strcmp(a, "--no-check")) o->check_size = 0;
@@ -452,6 +473,14 @@ int cli_bench(int argc, char **argv)
         snprintf(minr, sizeof minr, "%d", o.repeats);
         if (o.npass < 254) o.pass[o.npass++] = "--min-repeats", o.pass[o.npass++] = minr;
         int rc = bench_ab(o.baseline, o.ab_rounds ? o.ab_rounds : 5, o.pass, o.npass, out);
+        if (out != stdout && fclose(out)) rc = 1;
+        return rc ? CLI_EXIT_FAIL : 0;
+    }
+    if (o.composite || o.blend || o.imbalance) {
+        int rounds = o.quick ? 1 : o.repeats;
+        int rc = o.composite ? bench_composite(rounds, o.csizes ? o.csizes : "1,64,128,256,512,1024,2048", out)
+                 : o.blend   ? bench_blend(rounds, out)
+                             : bench_imbalance(o.scenes.n, o.scenes.v, o.data, out);
         if (out != stdout && fclose(out)) rc = 1;
         return rc ? CLI_EXIT_FAIL : 0;
     }

@@ -144,6 +144,8 @@ void view_drag_end(view_state *v);
 void view_wheel(view_state *v, double steps);
 void view_reset(view_state *v);
 void view_tick(view_state *v); /* per UI frame: pending releases, adaptation, frame play */
+/* The next navigation frame's pixel scale after one of ms at scale s (view_action.c). */
+int view_next_scale(int s, double ms, double target_ms, int smin);
 void view_set_size(view_state *v, int w, int h);
 /* Call with v->mu held after changing v->want: bumps the generation and wakes the render thread. */
 void view_changed(view_state *v);

@@ -1,6 +1,7 @@
 /* Every change a user (mouse, keys, panels) or a --script makes in lanecast
  * view: each takes the state's lock, changes view_state.want and wakes the
  * render thread. Runs on the UI thread. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +20,37 @@ void view_changed(view_state *v)
 {
     v->want.gen++;
     pthread_cond_broadcast(&v->cv);
+}
+
+/* Adaptive navigation quality: the pixel scale of the next navigation
+ * frame from the measured time of the last one, ms at scale s. A frame's
+ * cost goes nearly as its pixel count, (1/s)^2, with a per-frame part that
+ * does not shrink (BVH set-up per packet, threads' start), so: slower than
+ * the target, jump to the scale predicted to meet it,
+ * ceil(s sqrt(ms / target)) (at least s + 1, the fixed part makes the
+ * prediction optimistic); faster, go one finer only when scale s - 1 is
+ * predicted to stay under 0.8 x target (no oscillation between two
+ * scales). One step at a time had taken 7 frames to settle on 1tw7 at
+ * 1024^2 (docs/bench/view.md). */
+int view_next_scale(int s, double ms, double target_ms, int smin)
+{
+    if (ms > target_ms) {
+        int t = (int)ceil(s * sqrt(ms / target_ms));
+        t = t > s ? t : s + 1;
+        return t < 16 ? t : 16;
+    }
+    if (s > smin && ms * (double)(s * s) / (double)((s - 1) * (s - 1)) < 0.8 * target_ms) return s - 1;
+    return s;
+}
+
+/* Called with v->mu held before each navigation frame starts, so the
+ * frame that just ended always sets the scale of the next one. */
+static void adapt(view_state *v)
+{
+    static uint64_t seen;
+    if (!v->adaptive || v->shown.stats_gen == seen || !v->shown.nav) return;
+    seen = v->shown.stats_gen;
+    v->want.nav_scale = view_next_scale(v->want.nav_scale, 1e3 * v->shown.job_seconds, v->target_ms, v->min_nav_scale);
 }
 
 /* While a drag moves the camera, frames render at navigation quality. */
@@ -40,6 +72,7 @@ void view_drag_move(view_state *v, double x, double y)
     else view_cam_pan(c, dx, dy, v->want.rd.height);
     v->want.nav = 1;
     v->release_at = 0.0;
+    adapt(v);
     view_changed(v);
     pthread_mutex_unlock(&v->mu);
 }
@@ -59,6 +92,7 @@ void view_wheel(view_state *v, double steps)
     pthread_mutex_lock(&v->mu);
     view_cam_zoom(&v->want.rd.camera, (float)steps);
     v->want.nav = 1;
+    adapt(v);
     view_changed(v);
     pthread_mutex_unlock(&v->mu);
     v->release_at = view_now() + (v->refine_delay > 0.1 ? v->refine_delay : 0.1);
@@ -84,25 +118,9 @@ void view_set_size(view_state *v, int w, int h)
     pthread_mutex_unlock(&v->mu);
 }
 
-/* Adaptive navigation quality: the pixel scale follows the measured frame
- * time of navigation frames towards target_ms (coarser when slower than
- * 1.25 x target, finer when faster than 0.5 x target). */
-static void adapt(view_state *v)
-{
-    static uint64_t seen;
-    if (!v->adaptive || v->shown.stats_gen == seen || !v->shown.nav) return;
-    seen = v->shown.stats_gen;
-    double ms = 1e3 * v->shown.job_seconds;
-    int s = v->want.nav_scale;
-    if (ms > 1.25 * v->target_ms && s < 16) s++;
-    else if (ms < 0.5 * v->target_ms && s > v->min_nav_scale) s--;
-    v->want.nav_scale = s; /* takes effect with the next camera move */
-}
-
 void view_tick(view_state *v)
 {
     pthread_mutex_lock(&v->mu);
-    adapt(v);
     view_frames_tick(v);
     if (v->release_at > 0.0 && view_now() >= v->release_at && v->drag == VIEW_DRAG_NONE) {
         v->release_at = 0.0;

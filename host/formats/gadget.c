@@ -20,8 +20,13 @@
  * smoothing length (HSML) when present, else the distance to the k-th
  * nearest particle of the same type (`knn = K`, default 32, like GADGET's
  * neighbour number); `radius = R` for all; `radius_scale` scales.
- * `value = none|mass|u|rho|hsml` picks k_i (gas quantities load the gas
- * only). A multi-file snapshot (num_files > 1) is read one file at a time.
+ * `value = ` picks k_i: none, mass (the mass table or MASS), u, rho, hsml
+ * (aliases of U, RHO, HSML), or any block by its label (format 2; format 1:
+ * the standard blocks by position), `NAME:K` a component of a block of C
+ * values per particle, `|NAME|` the magnitude of its rows. A block covers
+ * every particle when it holds a multiple of the header's total, else the
+ * gas when a multiple of the gas count (gas blocks load the gas only). A
+ * multi-file snapshot (num_files > 1) is read one file at a time.
  * SPH (host/sph/sph_load.h): HSML is the support radius H (GADGET's
  * convention; `hsml_is = h` converts H = gamma h with the kernel's gamma);
  * with `kernel = ` an SPH kernel and a value A, k_i = m_i / rho_i A_i from
@@ -54,9 +59,9 @@ typedef struct gsnap {
     int nblk;
 } gsnap;
 
-enum { V_NONE, V_MASS, V_U, V_RHO, V_HSML };
-static const char *const vnames[] = {"none", "mass", "u", "rho", "hsml"};
-static const char *const vblocks[] = {"", "MASS", "U   ", "RHO ", "HSML"};
+enum { V_NONE, V_MASS, V_BLOCK };
+/* the aliases of value = and their blocks */
+static const char *const aliases[][2] = {{"u", "U"}, {"rho", "RHO"}, {"hsml", "HSML"}, {"mass", "MASS"}};
 
 static const gblock *block(const gsnap *g, const char *name)
 {
@@ -204,8 +209,47 @@ static lc_status reals(gsnap *g, const gblock *k, int64_t first, int64_t n, floa
     return LC_OK;
 }
 
+/* Whom block k covers: 0 every particle (types in order), 1 the gas, with
+ * *c values per particle; -1 when neither count divides its size. */
+static int coverage(const gsnap *g, const gblock *k, int64_t *c)
+{
+    int64_t w = g->wide ? 8 : 4, vals = k->len / w;
+    if (!memcmp(k->name, "MASS", 4)) return *c = 1, g->nmass == g->ntot ? 0 : 2;
+    if (k->len % w || vals == 0) return -1;
+    if (g->ntot > 0 && vals % g->ntot == 0) return *c = vals / g->ntot, 0;
+    if (g->npart[0] > 0 && vals % g->npart[0] == 0) return *c = vals / g->npart[0], 1;
+    return -1;
+}
+
+/* lanecast info: the snapshot's per-particle blocks. */
+static lc_status gadget_describe(lc_device *dev, const lci_read_args *a, char *text, size_t size)
+{
+    gsnap g;
+    lc_status s = scan(dev, a->path, &g);
+    lci_bin_close(&g.b);
+    if (s != LC_OK) return s;
+    size_t n = (size_t)snprintf(text, size, "blocks        format %d (%s):", g.format,
+                                g.format == 2 ? "by label" : "the standard blocks by position");
+    for (int i = 1; i < g.nblk && n < size; i++) {
+        const gblock *k = &g.blk[i];
+        char name[5];
+        memcpy(name, k->name, 5);
+        for (int j = 3; j >= 0 && name[j] == ' '; j--) name[j] = 0;
+        int64_t c = 1;
+        int cov = coverage(&g, k, &c);
+        const char *who = cov == 0 ? "all" : cov == 1 ? "gas" : cov == 2 ? "no mass-table entry" : "size unmatched";
+        if (cov < 0) n += (size_t)snprintf(text + n, size - n, " %s (%s)", name, who);
+        else n += (size_t)snprintf(text + n, size - n, " %s (%s x %lld)", name, who, (long long)c);
+    }
+    if (n < size) snprintf(text + n, size - n, "\n");
+    return LC_OK;
+}
+
 typedef struct gopts {
     int types[6], types_given, by_type, value, knn;
+    char label[5];     /* value = a block: its label, padded with spaces */
+    lci_value_spec vs; /* and the component */
+    const char *vtext; /* the option as given (messages) */
     float radius, radius_scale;
     lci_psel sel;
     lci_sph_opts sph;
@@ -233,14 +277,18 @@ static lc_status parse_opts(lc_device *dev, const lci_read_args *a, gopts *o)
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option fields = '%s', expected type or none", a->path,
                           x->value);
     }
-    if (s == LC_OK && (x = lci_option_find(a, "value"))) {
-        int v = -1;
-        for (int i = 0; i < 5; i++)
-            if (!strcmp(x->value, vnames[i])) v = i;
-        if (v < 0)
-            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option value = '%s', expected none, mass, u, rho or hsml",
-                          a->path, x->value);
-        o->value = v < 0 ? 0 : v;
+    o->vtext = "none";
+    if (s == LC_OK && (x = lci_option_find(a, "value")) && strcmp(x->value, "none")) {
+        o->vtext = x->value;
+        const char *name = x->value;
+        for (size_t i = 0; i < sizeof aliases / sizeof aliases[0]; i++)
+            if (!strcmp(name, aliases[i][0])) name = aliases[i][1];
+        if (lci_value_spec_parse(name, &o->vs) || strlen(o->vs.name) > 4 || strchr(o->vs.name, ' ') != NULL)
+            s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                          "%s: option value = '%s', expected none, mass, u, rho, hsml or a block label of 1-4 "
+                          "characters (e.g. TEMP), NAME:K (component K) or |NAME| (the magnitude)", a->path, x->value);
+        snprintf(o->label, sizeof o->label, "%-4s", o->vs.name);
+        o->value = !strcmp(o->label, "MASS") && o->vs.comp == -1 ? V_MASS : V_BLOCK;
     }
     if (s == LC_OK && (x = lci_option_find(a, "types"))) {
         o->types_given = 1;
@@ -274,27 +322,54 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
     memset(&p, 0, sizeof p);
     int nfields = 0;
     const int weighted = lci_sph_weighted(&o.sph, o.value != V_NONE);
+    float *wn = NULL; /* normalise: the m_i / rho_i, as the particles */
     const char *gwhy = "";
     lc_kernel gk = lci_sph_gamma_kernel(&o.sph, LC_KERNEL_GAUSSIAN, &gwhy);
     const double gamma = o.sph.hsml_is == LCI_HSML_SMALL_H ? lci_sph_kernel_get(gk)->swift_gamma : 1.0;
     if ((s = scan(dev, a->path, &g)) != LC_OK) goto out;
-    if (o.value >= V_U || weighted) { /* gas quantities and SPH interpolation: the gas only */
+    if (o.sph.normalise && !weighted) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: normalise = 1 is the normalised SPH interpolant: it needs an "
+                      "SPH kernel (kernel = m4, ...) and the quantity interpolated (value = A)", a->path);
+        goto out;
+    }
+    const gblock *vb = o.value != V_NONE ? block(&g, o.label) : NULL;
+    int64_t vc = 1; /* values per particle of block vb */
+    int vcov = vb ? coverage(&g, vb, &vc) : 0;
+    if (o.value == V_BLOCK && !vb) {
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: value = %s, but the snapshot has no %.4s block (%s; lanecast info "
+                      "lists its blocks)", a->path, o.vtext, o.label, g.npart[0] ? "gas present" : "no gas particles");
+        goto out;
+    }
+    if (o.value == V_BLOCK && !memcmp(o.label, "ID  ", 4)) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: value = %s: block ID holds integer particle ids, not a "
+                      "quantity", a->path, o.vtext);
+        goto out;
+    }
+    if (o.value == V_BLOCK && (vcov < 0 || vcov == 2)) {
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: value = %s: block %.4s holds %lld bytes, a multiple of "
+                      "neither the %lld particles nor the %lld gas particles (x %d bytes)", a->path, (long long)vb->at,
+                      o.vtext, o.label, (long long)vb->len, (long long)g.ntot, (long long)g.npart[0], g.wide ? 8 : 4);
+        goto out;
+    }
+    if (o.value == V_BLOCK && ((vc > 1 && o.vs.comp == -1) || (vc == 1 && o.vs.comp != -1) || o.vs.comp >= vc)) {
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                      "%s: value = %s: block %.4s holds %lld value%s per particle%s", a->path, o.vtext, o.label,
+                      (long long)vc, vc > 1 ? "s" : "", vc > 1 ? "; name a component NAME:0.. or the magnitude |NAME|"
+                      : " (no components)");
+        goto out;
+    }
+    const int gas_only = o.value == V_BLOCK && vcov == 1;
+    if (gas_only || weighted) { /* gas quantities and SPH interpolation: the gas only */
         for (int t = 1; t < 6; t++)
             if (o.types_given && o.types[t] && g.npart[t] > 0) {
                 s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                               "%s: value = %s is a gas quantity%s, but types = includes type %d (%lld particles); use "
                               "types = 0",
-                              a->path, vnames[o.value], weighted && o.value < V_U ? " (SPH interpolation)" : "", t,
+                              a->path, o.vtext, weighted && !gas_only ? " (SPH interpolation)" : "", t,
                               (long long)g.npart[t]);
                 goto out;
             }
         for (int t = 1; t < 6; t++) o.types[t] = 0;
-    }
-    const gblock *vb = o.value != V_NONE ? block(&g, vblocks[o.value]) : NULL;
-    if (o.value >= V_U && !vb) {
-        s = lci_error(dev, LC_ERROR_FORMAT, "%s: value = %s, but the snapshot has no %.4s block (%s)", a->path,
-                      vnames[o.value], vblocks[o.value], g.npart[0] ? "gas present" : "no gas particles");
-        goto out;
     }
     if (o.value == V_MASS && g.nmass > 0 && !vb) {
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: value = mass, but the mass table leaves %lld particles without a mass "
@@ -305,7 +380,7 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
     if (weighted && (!rhob || (g.mass[0] == 0.0 && g.npart[0] > 0 && !massb))) {
         s = lci_error(dev, LC_ERROR_FORMAT,
                       "%s: value = %s with kernel %s is SPH interpolation (k = m / rho * %s), but the snapshot has no %s",
-                      a->path, vnames[o.value], lc_kernel_name(o.sph.kernel), vnames[o.value],
+                      a->path, o.vtext, lc_kernel_name(o.sph.kernel), o.vtext,
                       !rhob ? "RHO block (gas densities)" : "gas masses (mass table entry 0 and no MASS block)");
         goto out;
     }
@@ -316,6 +391,10 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: no particles of the chosen types (the header counts %lld %lld %lld %lld "
                       "%lld %lld of types 0-5)", a->path, (long long)g.npart[0], (long long)g.npart[1],
                       (long long)g.npart[2], (long long)g.npart[3], (long long)g.npart[4], (long long)g.npart[5]);
+        goto out;
+    }
+    if (o.sph.normalise && !(wn = malloc(sizeof(float) * (size_t)chosen))) {
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld weights", a->path, (long long)chosen);
         goto out;
     }
     if (lci_plist_reserve(&p, (size_t)chosen)) {
@@ -360,7 +439,15 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
         } else if (o.value == V_MASS) {
             for (int64_t i = 0; i < n; i++) v[i] = (float)g.mass[t];
         } else if (o.value != V_NONE) {
-            if ((s = reals(&g, vb, 0, n, v)) != LC_OK) goto out;
+            float *row = vc > 1 ? malloc(sizeof(float) * (size_t)(n * vc)) : v;
+            if (!row) {
+                s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for block %.4s", a->path, o.label);
+                goto out;
+            }
+            s = reals(&g, vb, (gas_only ? 0 : first) * vc, n * vc, row);
+            if (s == LC_OK) lci_value_spec_reduce(&o.vs, row, n, (int)vc, v);
+            if (row != v) free(row);
+            if (s != LC_OK) goto out;
         } else {
             for (int64_t i = 0; i < n; i++) v[i] = 1.0f;
         }
@@ -373,6 +460,7 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
             if (g.mass[0] == 0.0) m = rho + n, s = reals(&g, massb, 0, n, m);
             if (s == LC_OK) s = reals(&g, rhob, 0, n, rho);
             if (s == LC_OK) s = lci_sph_weigh(dev, a->path, "block RHO", 0, n, m, g.mass[0], rho, v);
+            if (s == LC_OK && wn) lci_sph_norm_weights(n, m, g.mass[0], rho, wn + base);
             free(rho);
             if (s != LC_OK) goto out;
         }
@@ -386,6 +474,7 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
                 if (!lci_psel_keep(&o.sel, (size_t)(first + i), NULL, &attr)) continue;
                 memmove(p.xyz + 3 * w, p.xyz + 3 * q, 3 * sizeof(float));
                 p.r[w] = p.r[q], p.v[w] = p.v[q], p.f[w] = p.f[q];
+                if (wn) wn[w] = wn[q];
                 w++;
             }
             n = (int64_t)(w - base);
@@ -401,6 +490,8 @@ out:
     lci_bin_close(&g.b);
     int had_hsml = s == LC_OK && o.radius <= 0.0f && o.types[0] && g.npart[0] > 0 && block(&g, "HSML");
     s = lci_plist_finish(dev, a->path, s, &p, o.by_type ? nfields : 1, o.value != V_NONE, out);
+    if (s == LC_OK) lci_sph_keep_norm(out, wn);
+    else free(wn);
     if (s == LC_OK && had_hsml) {
         if (o.sph.hsml_is == LCI_HSML_SMALL_H)
             lci_sph_note(out, "gas H = %.6g HSML (hsml_is = h: H = gamma h with %s gamma, %s)", gamma,
@@ -413,7 +504,7 @@ out:
         lci_sph_note(out, "%s; k = m / rho * %s (SPH interpolation with %s)",
                      ((lc_particles_desc *)out->desc)->radius_note ? ((lc_particles_desc *)out->desc)->radius_note
                                                                    : "radii as read",
-                     vnames[o.value], lc_kernel_name(o.sph.kernel));
+                     o.vtext, lc_kernel_name(o.sph.kernel));
     return s;
 }
 
@@ -429,7 +520,7 @@ static int gadget_magic(const unsigned char *h, size_t n)
 
 const lci_format lci_format_gadget = {
     .name = "gadget", .kind = LC_KIND_PARTICLES, .extensions = ".gadget .g2",
-    .options = "radius radius_scale fields value types knn select kernel hsml_is",
+    .options = "radius radius_scale fields value types knn select kernel hsml_is normalise",
     .description = "GADGET-1/2 snapshot, format 1 or 2, either byte order: types as fields, radius = HSML or the k-th "
-                   "neighbour distance, value = none|mass|u|rho|hsml",
-    .magic = gadget_magic, .read = gadget_read};
+                   "neighbour distance, value = none|mass|u|rho|hsml or any block (LABEL, LABEL:K, |LABEL|)",
+    .magic = gadget_magic, .read = gadget_read, .describe = gadget_describe};

@@ -28,6 +28,8 @@ typedef struct particles {
     lc_kernel ksph_kernel; /* the kernel node_ksph holds (LC_KERNEL_GAUSSIAN: none) */
     double kh3min, kh3max; /* of the k_i / r_i^3 and 0: an SPH kernel's default range is kappa norm times them */
     float *px, *py, *pz, *r, *nir, *k; /* leaf order */
+    float *kn; /* leaf order: the desc's norm_weights (m_i / rho_i), or NULL */
+    float amin, amax; /* with kn: of the A_i = k_i / kn_i, the normalised field's default range */
     float kmin, kmax; /* of the k_i and 0: the default value range is kappa times them */
     uint8_t *field;
     uint32_t *src; /* leaf order -> index in the lc_particles_desc (projections pair sets by it) */
@@ -61,6 +63,7 @@ static void destroy(lc_volume *v)
     free(p->r);
     free(p->nir);
     free(p->k);
+    free(p->kn);
     free(p->field);
     free(p->src);
     free(p);
@@ -84,6 +87,12 @@ static lc_status fill_params(lc_device *dev, const char *fn, const lc_particle_p
                          q.buffer_samples);
     if (!lc_kernel_name(q.kernel))
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: kernel = %d, expected an lc_kernel value", fn, (int)q.kernel);
+    if (q.normalise != 0 && q.normalise != 1)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: normalise = %d, expected 0 or 1", fn, q.normalise);
+    if (q.normalise && q.kernel == LC_KERNEL_GAUSSIAN)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                         "%s: normalise = 1 is the normalised SPH interpolant and needs an SPH kernel (kernel is gaussian)",
+                         fn);
     *out = q;
     return LC_OK;
 }
@@ -251,8 +260,14 @@ lc_status lc_particles_set_params(lc_volume *v, const lc_particle_params *params
 {
     particles *p = lci_volume_as(v, LC_KIND_PARTICLES, "lc_particles_set_params");
     if (!p) return LC_ERROR_INVALID_ARGUMENT;
-    lc_status s = fill_params(v->device, "lc_particles_set_params", params, &p->info.params);
-    if (s == LC_OK) s = sph_sums(p);
+    lc_particle_params q;
+    lc_status s = fill_params(v->device, "lc_particles_set_params", params, &q);
+    if (s == LC_OK && q.normalise && !p->kn && p->info.count > 0)
+        s = lci_error(v->device, LC_ERROR_INVALID_ARGUMENT,
+                      "lc_particles_set_params: normalise = 1, but the particles were created without norm_weights");
+    if (s != LC_OK) return s;
+    p->info.params = q;
+    s = sph_sums(p);
     if (s == LC_OK && (support_sigma(&p->info.params) != p->fbound_sigma || p->info.params.kernel != p->fbound_kernel))
         field_bounds(p);
     return s;
@@ -288,6 +303,8 @@ static const char *invalid(const lc_particles_desc *d, size_t i, int nfields)
     if (!(r > 0.0f) || !isfinite(r)) return "radius not finite and > 0";
     if (r > MAX_COORD) return "radius beyond 1e18";
     if (d->values && !isfinite(d->values[i])) return "non-finite value";
+    if (d->norm_weights && !(d->norm_weights[i] > 0.0f && isfinite(d->norm_weights[i])))
+        return "norm weight not finite and > 0";
     if (d->fields && d->fields[i] >= nfields) return "field id >= nfields";
     return NULL;
 }
@@ -399,8 +416,11 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
     p->field = malloc(m);
     p->src = malloc(sizeof(uint32_t) * m);
     p->node_ksum = malloc(sizeof(float) * (size_t)(p->bvh.nnodes > 0 ? p->bvh.nnodes : 1));
-    if (!p->px || !p->py || !p->pz || !p->r || !p->nir || !p->k || !p->field || !p->src || !p->node_ksum)
+    if (d->norm_weights) p->kn = malloc(sizeof(float) * m);
+    if (!p->px || !p->py || !p->pz || !p->r || !p->nir || !p->k || !p->field || !p->src || !p->node_ksum ||
+        (d->norm_weights && !p->kn))
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
+    p->amin = INFINITY, p->amax = -INFINITY;
     for (size_t j = 0; j < n; j++) {
         uint32_t o = p->bvh.order[j];
         size_t i = k->src ? k->src[o] : o;
@@ -414,6 +434,11 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
         p->kh3min = kh3 < p->kh3min ? kh3 : p->kh3min, p->kh3max = kh3 > p->kh3max ? kh3 : p->kh3max;
         p->field[j] = d->fields ? d->fields[i] : 0;
         p->src[j] = (uint32_t)i;
+        if (p->kn) {
+            p->kn[j] = d->norm_weights[i];
+            float a = p->k[j] / p->kn[j];
+            p->amin = fminf(p->amin, a), p->amax = fmaxf(p->amax, a);
+        }
     }
     free(p->bvh.order);
     p->bvh.order = NULL;
@@ -429,6 +454,9 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
     lc_particle_params params;
     lc_status s = check_desc(dev, d, &nfields);
     if (s == LC_OK) s = fill_params(dev, "lc_particles_create", &d->params, &params);
+    if (s == LC_OK && params.normalise && !d->norm_weights && d->count > 0)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
+                      "lc_particles_create: params.normalise = 1 needs norm_weights (the m_i / rho_i of the denominator)");
     if (s != LC_OK) return s;
     kept k = {0};
     particles *p = NULL;
@@ -517,6 +545,7 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
        kappa > 0 give [0, kappa] for the Gaussian */
     float kappa = p->info.params.kappa, a = kappa * p->kmin, b = kappa * p->kmax;
     if (sk) a = (float)(kappa * sk->norm * p->kh3min), b = (float)(kappa * sk->norm * p->kh3max);
+    if (p->info.params.normalise && p->kn && p->info.count) a = p->amin, b = p->amax; /* a weighted mean of the A_i */
     float lo = a < b ? a : b, hi = a < b ? b : a; /* kmin <= 0 <= kmax: both hold 0 */
     out->default_range[0] = lo;
     out->default_range[1] = hi > lo ? hi : lo + 1.0f;
@@ -547,6 +576,8 @@ static void kscene(const particles *p, lc_kparticles *k)
     k->kernel = (int32_t)q->kernel;
     k->knorm = sk ? (float)sk->norm : 0.0f;
     if (sk) k->node_ksum = p->node_ksph; /* sph_sums keeps it for the current kernel */
+    k->kn = sk && q->normalise ? p->kn : NULL;
+    k->normalise = k->kn != NULL;
     k->max_radius = p->info.max_radius;
     lci_pcoherent_settings(k, p->info.nfields, q->buffer_samples);
     k->sphere_scale = q->sphere_scale;
@@ -604,7 +635,11 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %d does not apply to particles (coherent or direct)",
                          (int)d->method);
     const particles *p = (const particles *)v;
-    int skip = frame->mode == LC_KMODE_DVR && p->node_fbound && skip_enabled();
+    /* the normalised interpolant divides per sample: the direct method's
+       gather (the coherent deposits carry one sum), no node marked clear */
+    const int norm = p->info.params.normalise && p->kn;
+    if (norm) m = LC_METHOD_DIRECT;
+    int skip = frame->mode == LC_KMODE_DVR && p->node_fbound && skip_enabled() && !norm;
     size_t head = (sizeof(pframe) + 63) & ~(size_t)63;
     pframe *pf = lci_aligned_alloc(64, head + (skip ? (size_t)p->bvh.nnodes : 0));
     if (!pf) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory");
@@ -660,6 +695,7 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
                          "%s: option kernel = '%s', expected gaussian, m4, m5, m6, wendland-c2, wendland-c4 or wendland-c6",
                          file, o->value);
     if (!strcmp(o->key, "kernel")) return LC_OK;
+    if (!strcmp(o->key, "normalise")) return lci_option_int(dev, file, o, 0, 1, &d->params.normalise);
     return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to particles", file, o->key);
 }
 
@@ -667,7 +703,7 @@ const lci_kind_ops lci_particles_ops = {
     .kind = LC_KIND_PARTICLES,
     .name = "particles",
     .krow = LC_KKIND_PARTICLES,
-    .option_keys = "leaf_size drop_invalid kernel",
+    .option_keys = "leaf_size drop_invalid kernel normalise",
     .create = create,
     .set_option = set_option,
     .destroy = destroy,

@@ -1,4 +1,5 @@
 /* The SPH snapshot readers' shared options and conversions (sph_load.h). */
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +23,10 @@ lc_status lci_sph_opts_parse(lc_device *dev, const lci_read_args *a, lci_sph_opt
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                              "%s: option hsml_is = '%s', expected h (the code's smoothing length, H = gamma h) or H "
                              "(the kernel's support radius)", a->path, x->value);
+    }
+    if ((x = lci_option_find(a, "normalise"))) {
+        lc_status s = lci_option_int(dev, a->path, x, 0, 1, &o->normalise);
+        if (s != LC_OK) return s;
     }
     return LC_OK;
 }
@@ -55,4 +60,50 @@ void lci_sph_note(lci_loaded *out, const char *fmt, ...)
     vsnprintf(b, 256, fmt, ap);
     va_end(ap);
     if (lci_loaded_keep(out, b)) ((lc_particles_desc *)out->desc)->radius_note = b;
+}
+
+void lci_sph_norm_weights(int64_t n, const float *m, double m_const, const float *rho, float *w)
+{
+    for (int64_t i = 0; i < n; i++) w[i] = (float)((m ? (double)m[i] : m_const) / (double)rho[i]);
+}
+
+void lci_sph_keep_norm(lci_loaded *out, float *w)
+{
+    if (!w) return;
+    if (lci_loaded_keep(out, w)) ((lc_particles_desc *)out->desc)->norm_weights = w;
+}
+
+int lci_value_spec_parse(const char *text, lci_value_spec *v)
+{
+    memset(v, 0, sizeof *v);
+    v->comp = -1;
+    size_t n = strlen(text);
+    if (n == 0 || n >= sizeof v->name) return -1;
+    if (text[0] == '|') {
+        if (n < 3 || text[n - 1] != '|') return -1;
+        memcpy(v->name, text + 1, n - 2);
+        v->comp = LCI_VALUE_MAG;
+        return strchr(v->name, '|') || strchr(v->name, ':') ? -1 : 0;
+    }
+    const char *c = strrchr(text, ':');
+    if (!c) return memcpy(v->name, text, n), 0;
+    char *end;
+    long k = strtol(c + 1, &end, 10);
+    if (c == text || !c[1] || *end || k < 0 || k > 1023) return -1;
+    memcpy(v->name, text, (size_t)(c - text));
+    v->comp = (int)k;
+    return strchr(v->name, '|') ? -1 : 0;
+}
+
+void lci_value_spec_reduce(const lci_value_spec *v, const float *in, int64_t n, int c, float *out)
+{
+    for (int64_t i = 0; i < n; i++) {
+        const float *row = in + (size_t)i * (size_t)c;
+        if (v->comp == LCI_VALUE_MAG) {
+            double q = 0.0;
+            for (int j = 0; j < c; j++) q += (double)row[j] * (double)row[j];
+            out[i] = (float)sqrt(q);
+        } else
+            out[i] = row[v->comp >= 0 ? v->comp : 0];
+    }
 }

@@ -309,6 +309,9 @@ typedef struct lc_particle_params {
                            group (up to 128, 128/M for M > 1 fields); images do not depend on it */
     float sphere_scale; /* > 0: also ray-trace opaque spheres of radius scale * r_i */
     lc_kernel kernel;   /* the radial kernel (LC_KERNEL_GAUSSIAN = 0 by default) */
+    int normalise;      /* 1: the normalised SPH interpolant, each field sum k_i W / sum w_i W with w_i the
+                           desc's norm_weights (m_i / rho_i), 0 where no particle reaches; needs an SPH
+                           kernel and norm_weights; dvr/mip/iso then render with the direct method */
 } lc_particle_params;
 
 /* Particle data: a sum of truncated Gaussians per field,
@@ -326,6 +329,8 @@ typedef struct lc_particles_desc {
     lc_particle_params params; /* initial parameters (lc_particles_set_params changes them) */
     const char *radius_note;   /* optional: how the radii were made (a loader's smoothing-length convention);
                                   copied into lc_particles_info.radius_note */
+    const float *norm_weights; /* optional: count weights w_i > 0 (m_i / rho_i) of the normalised SPH
+                                  interpolant's denominator (params.normalise) */
 } lc_particles_desc;
 
 typedef struct lc_particles_info {

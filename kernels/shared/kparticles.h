@@ -96,8 +96,16 @@ typedef struct lc_kparticles {
        |k_i| knorm / H_i^3 (the peaks) and no recurrence ratios (cstep NULL). */
     int32_t kernel;
     float knorm;
+    /* The normalised SPH interpolant (lc_particle_params.normalise): each field is
+       sum k_i W / sum kn_i W (kn_i = m_i / rho_i, leaf order), 0 where the
+       denominator is 0; the direct method's gather and the probes divide
+       (particles_common.h), the host renders dvr/mip/iso with the direct method
+       and marks no node clear. kn NULL and normalise 0 otherwise. */
+    const float *kn;
+    int32_t normalise;
+    int32_t pad_;
 } lc_kparticles;
-_Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32 + 8, "lc_kparticles layout");
+_Static_assert(sizeof(lc_kparticles) == 12 * 8 + 8 + 4 * 8 + 32 + 32 + 8 + 16, "lc_kparticles layout");
 
 /* A perspective eye inside the particles' grown box (s->lo, s->hi): the
  * coherent kernel's first pass length (particles_coherent.c pass_first) and
