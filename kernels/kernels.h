@@ -27,4 +27,9 @@ void LC_KFN(rbf_octree)(const void *scene, const lc_kframe *f, const lc_ktile *t
 uint64_t LC_KFN(rbf_octree_scratch_bytes)(const void *scene, const lc_kframe *f);
 void LC_KFN(rbf_octree_sample)(const struct lc_krbf *s, const float *xyz, int64_t n, float *phi, float *grad);
 
+/* particles deposited to grid nodes (resample.c) */
+struct lc_kresample;
+struct lc_kresample_brick;
+void LC_KFN(lc_resample_brick)(const struct lc_kresample *s, struct lc_kresample_brick *b);
+
 #endif

@@ -10,4 +10,5 @@ const lc_ktable LC_KFN(lc_ktable) = {
         [LC_KKIND_GRID] = &LC_KFN(lc_kkind_grid),
         [LC_KKIND_RBF] = &LC_KFN(lc_kkind_rbf),
     },
+    .resample_brick = LC_KFN(lc_resample_brick),
 };

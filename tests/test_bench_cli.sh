@@ -149,4 +149,10 @@ else
 fi
 "$exe" bench --read "$tmp/none.pdb" 2>"$tmp/err"; rc=$?
 check "--read of a non-trajectory: exit 2" [ $rc -eq 2 ]
+"$exe" bench --quick --resample 16,24 --scenes cluster:1000 --sizes 32 --targets scalar -o "$tmp/rs.jsonl" 2>"$tmp/err"; rc=$?
+check "--resample 16,24: exit 0, a record per grid with deposit, frame times and PSNR" sh -c "[ $rc -eq 0 ] &&
+    [ \$(grep -c '\"record\": \"resample\"' '$tmp/rs.jsonl') -eq 2 ] && grep -q '\"grid\": 24, .*\"deposit_median_s\": .*\"psnr_db\": [0-9]' '$tmp/rs.jsonl'"
+[ $rc -eq 0 ] || cat "$tmp/err"
+"$exe" bench --resample 1 2>"$tmp/err"; rc=$?
+check "--resample 1: exit 2" [ $rc -eq 2 ]
 exit $fail

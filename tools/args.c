@@ -1,3 +1,4 @@
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -196,16 +197,25 @@ int arg_ints(const char *cmd, const char *flag, const char *s, int n, long long 
 
 int arg_memory(const char *cmd, const char *flag, const char *s)
 {
+    uint64_t b;
+    return arg_memory_bytes(cmd, flag, s, &b);
+}
+
+int arg_memory_bytes(const char *cmd, const char *flag, const char *s, uint64_t *out)
+{
     char *end;
     errno = 0;
     double v = strtod(s, &end);
     int ok = end != s && s[0] >= '0' && s[0] <= '9' && isfinite(v) && v > 0 && !errno;
-    if (ok && *end && strchr("kKmMgGtT", *end)) end++;
+    double mul = 1.0;
+    if (ok && *end && strchr("kKmMgGtT", *end)) mul = pow(1024.0, (double)(strchr("kmgt", tolower(*end)) - "kmgt" + 1)), end++;
     if (ok && (!strcmp(end, "iB") || !strcmp(end, "ib"))) end += 2;
     else if (ok && (*end == 'B' || *end == 'b')) end++;
     if (!ok || *end) {
         fprintf(stderr, "%s: %s: '%s' is not a size (bytes, or with K, M, G, T: e.g. 512M, 8G)\n", cmd, flag, s);
         return -1;
     }
+    double b = floor(v * mul);
+    *out = b >= 9.2e18 ? (uint64_t)9.2e18 : b < 1.0 ? 1 : (uint64_t)b;
     return 0;
 }

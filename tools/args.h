@@ -14,6 +14,8 @@ int arg_ints(const char *cmd, const char *flag, const char *s, int n, long long 
 /* A memory size as the library's max_memory option takes it ("8G", "512M",
  * bytes): 0 ok, -1 (message printed) not one. */
 int arg_memory(const char *cmd, const char *flag, const char *s);
+/* The same, with the size in bytes in *out. */
+int arg_memory_bytes(const char *cmd, const char *flag, const char *s, uint64_t *out);
 int arg_int(const char *cmd, const char *flag, const char *s, long lo, long hi, int *out);
 int arg_size_t(const char *cmd, const char *flag, const char *s, size_t *out);
 int arg_vec3(const char *cmd, const char *flag, const char *s, lc_vec3 *out);

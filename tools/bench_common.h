@@ -75,5 +75,9 @@ double bench_cpu_now(void); /* CPU seconds of the whole process (every thread) *
 long bench_rss_peak_kb(void);
 long bench_rss_now_kb(void);
 double bench_loadavg(void);
+/* The median of v[0..n-1] (sorts v; NAN for n < 1). */
+double bench_median(double *v, int n);
+/* ", \"key\": v" to f, null when v is not finite. */
+void bench_jnum(FILE *f, const char *key, double v);
 
 #endif

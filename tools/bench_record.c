@@ -2,6 +2,7 @@
  * (CPU model and SIMD flags from /proc/cpuinfo, the commit from meson's
  * vcs_tag at build time, the compiler), JSON string output, clocks and
  * memory. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -39,6 +40,25 @@ long bench_rss_now_kb(void)
     if (fscanf(f, "%ld %ld", &pages, &res) != 2) res = -1;
     fclose(f);
     return res < 0 ? -1 : res * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+double bench_median(double *v, int n)
+{
+    if (n < 1) return NAN;
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void bench_jnum(FILE *f, const char *key, double v)
+{
+    if (isfinite(v)) fprintf(f, ", \"%s\": %.6g", key, v);
+    else fprintf(f, ", \"%s\": null", key);
 }
 
 double bench_loadavg(void)

@@ -40,6 +40,10 @@ int bench_ab(const char *baseline, int rounds, char **args, int nargs, FILE *out
 int bench_profile_group(const bench_group *g, const lc_render_desc *d);
 /* the targets --profile's variants are built for, space-separated */
 const char *bench_profile_targets(void);
+/* --resample N,...: the exact frame, then per N the deposition to N^3 nodes,
+ * the grid's frame and its PSNR against the exact one (bench_resample.c), one
+ * "resample" record per target and N. Returns the number that failed. */
+int bench_resample_group(const bench_group *g, const lc_render_desc *d, const int *sizes, int nsizes);
 /* --read FILE: a trajectory's reading rates (bench_read.c), one "read"
  * record; 0 ok, 1 a read failed, 2 not a trajectory it times. */
 int bench_read(const char *path, int rounds, FILE *out);

@@ -63,6 +63,10 @@ static const char help[] =
     "                    kernel variants with one more stage replaced each (built for %s)\n"
     "  --builders LIST   every scene (particle sets) once per BVH builder: %s\n"
     "                    (scene/builder:NAME; records carry build_s and build_peak_kb)\n"
+    "  --resample LIST   particles through deposited grids instead (records \"resample\"; issue 28):\n"
+    "                    the exact frame, then per grid side N the deposition to N^3 nodes over the\n"
+    "                    set's bounds (median time, bytes), the grid renderer's frame of it with the\n"
+    "                    same camera, TF and range, and its PSNR against the exact frame\n"
     "  --read FILE       trajectory reading rates instead (record \"read\"; .xtc, .trr, .dcd):\n"
     "                    frames counted, every frame in order, the middle one, frame 0; best of --repeats\n"
     "  --composite       data-parallel compositing alone, under mpiexec -np P (records \"mpi_composite\"):\n"
@@ -87,6 +91,7 @@ static const char help[] =
     "  mpiexec -np 2 lanecast bench --composite --repeats 15\n"
     "  lanecast bench --scenes engine,engine/bricked,engine/no-heuristics,rbf:1e4,rbf:1e4/octree:16\n"
     "  lanecast bench --read adk1000.xtc --repeats 2\n"
+    "  lanecast bench --resample 128,256,512 --scenes cluster:1e6,1tw7 --threads 2 --targets avx2 --sizes 1024\n"
     "\n"
     "exit status: 0 ok, 1 a check or render failed (the records say which), 2 bad usage\n";
 
@@ -96,7 +101,8 @@ typedef struct list {
 } list;
 
 typedef struct opts {
-    list scenes, views, sizes, targets, threads, methods, modes, packets, shadings, alphas, sigmas, builders;
+    list scenes, views, sizes, targets, threads, methods, modes, packets, shadings, alphas, sigmas, builders, resample;
+    int resample_n[MAXL]; /* --resample: grid sides */
     int warmup, repeats, min_repeats, check_size, quick, roofline, width_study, jobs, ab_rounds, profile;
     int composite, blend, imbalance;
     double seconds, roof_seconds;
@@ -133,7 +139,7 @@ static int name_index(const char *const *names, int n, const char *s)
 }
 
 /* Every list value checked before any work. */
-static int validate(const opts *o)
+static int validate(opts *o)
 {
     for (int i = 0; i < o->builders.n; i++) {
         int k = 0;
@@ -174,6 +180,8 @@ static int validate(const opts *o)
         }
     for (int i = 0; i < o->threads.n; i++)
         if (arg_int(CMD, "--threads", o->threads.v[i], 1, 1024, &x)) return -1;
+    for (int i = 0; i < o->resample.n; i++)
+        if (arg_int(CMD, "--resample", o->resample.v[i], 2, 4096, &o->resample_n[i])) return -1;
     for (int i = 0; i < o->packets.n; i++)
         if (arg_int(CMD, "--packet", o->packets.v[i], 1, 64, &x)) return -1;
     for (int i = 0; i < o->alphas.n; i++)
@@ -231,7 +239,8 @@ static int parse_opts(int argc, char **argv, opts *o)
         } lists[] = {{"--scenes", &o->scenes},   {"--views", &o->views},     {"--sizes", &o->sizes},
                      {"--targets", &o->targets}, {"--threads", &o->threads}, {"--methods", &o->methods},
                      {"--modes", &o->modes},     {"--packet", &o->packets},  {"--shading", &o->shadings},
-                     {"--alpha-stop", &o->alphas}, {"--sigma", &o->sigmas}, {"--builders", &o->builders}};
+                     {"--alpha-stop", &o->alphas}, {"--sigma", &o->sigmas}, {"--builders", &o->builders},
+                     {"--resample", &o->resample}};
         int done = 0;
         for (size_t k = 0; k < sizeof lists / sizeof lists[0] && !done; k++)
             if (!strcmp(a, lists[k].flag)) {
@@ -377,9 +386,10 @@ static void run_view(run *R, bench_scene *sc, const char *view)
                                     fprintf(stderr, CMD ": %s %s %dx%d %s %s packet %d %s threads %d ...\n", sc->name, view,
                                             g.width, g.height, g.mode_name, g.method_name, g.packet, g.shading_name,
                                             g.threads);
-                                    R->bad += o->jobs      ? bench_job_group(&g, &d, o->jobs)
-                                              : o->profile ? bench_profile_group(&g, &d)
-                                                           : bench_run_group(&g, &d);
+                                    R->bad += o->jobs       ? bench_job_group(&g, &d, o->jobs)
+                                              : o->profile  ? bench_profile_group(&g, &d)
+                                              : o->resample.n ? bench_resample_group(&g, &d, o->resample_n, o->resample.n)
+                                                            : bench_run_group(&g, &d);
                                     R->cases++;
                                 }
             }

@@ -76,13 +76,70 @@ static double seconds_since(const struct timespec *t0)
     return (double)(t1.tv_sec - t0->tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0->tv_nsec);
 }
 
+/* --resample N: the particles' grid, its values and its TF while a frame renders through it. */
+typedef struct resampled {
+    lc_volume *grid;
+    float *values;
+    lc_tf *tf; /* field 0 of the particles' TF when they have several fields (the grid holds their sum) */
+    lc_resample_info info;
+    int nfields;
+} resampled;
+
+static int reported; /* the error was printed where it happened */
+
+/* Deposits the particles of vol on an N^3 grid over their bounds and makes
+ * it a grid volume borrowing the values; the desc's range becomes the
+ * particles' default range when neither the flags nor the TF give one (the
+ * grid's own would be its voxel range), its method the grid's default. */
+static lc_status resample_grid(ropts *o, lc_device *dev, const lc_volume *vol, const lc_tf *tf, resampled *r)
+{
+    lc_volume_info vi;
+    lc_status s = lc_volume_get_info(vol, &vi);
+    if (s != LC_OK) return s;
+    if (vi.kind != LC_KIND_PARTICLES) {
+        fprintf(stderr, "%s: --resample applies to particle data; %s holds %s data\n", o->cmd, o->input,
+                lc_kind_name(vi.kind));
+        return reported = 1, LC_ERROR_INVALID_ARGUMENT;
+    }
+    lc_resample_desc d = {.size = {o->resample, o->resample, o->resample}, .field = -1, .max_memory = o->max_memory};
+    if (cli_resample_values(o->cmd, dev, vol, &d, o->progress, &r->values, &r->info) != LC_OK)
+        return reported = 1, LC_ERROR_INVALID_ARGUMENT;
+    lc_grid_desc gd = {.size = {o->resample, o->resample, o->resample}, .type = LC_VALUE_FLOAT32, .data = r->values,
+                       .spacing = r->info.spacing, .origin = r->info.origin, .borrow = 1, .layout = LC_LAYOUT_LINEAR};
+    if ((s = lc_grid_create(dev, &gd, &r->grid)) != LC_OK) return s;
+    r->nfields = vi.nfields;
+    lc_tf_field f0 = {0};
+    if (tf && (s = lc_tf_get_field(tf, 0, &f0)) != LC_OK) return s;
+    if (tf && lc_tf_field_count(tf) > 1 && (s = lc_tf_create(dev, &f0, 1, &r->tf)) != LC_OK) return s;
+    if (o->rd.range[0] == 0.0f && o->rd.range[1] == 0.0f && !f0.has_range)
+        o->rd.range[0] = vi.range[0], o->rd.range[1] = vi.range[1];
+    o->rd.method = LC_METHOD_DEFAULT;
+    return LC_OK;
+}
+
+static void resampled_free(resampled *r)
+{
+    lc_volume_destroy(r->grid);
+    lc_tf_destroy(r->tf);
+    free(r->values);
+    memset(r, 0, sizeof *r);
+}
+
 static void print_stats(const ropts *o, const cli_kind *kind, const lc_volume *vol, double load_s,
-                        const lc_render_stats *st)
+                        const lc_render_stats *st, const resampled *rs)
 {
     double t = st->seconds;
     printf("target        %s (%d lanes), %d threads\n", lc_target_name(st->target), lc_target_lanes(st->target),
            st->threads);
     kind->print_stats(vol, load_s, stdout);
+    if (rs->grid) {
+        printf("resample      %d^3 grid (float32) over the bounds, spacing %g %g %g%s: deposit %.3f s, %.1f MiB, "
+               "%llu terms; the image is the grid renderer's\n",
+               o->resample, (double)rs->info.spacing.x, (double)rs->info.spacing.y, (double)rs->info.spacing.z,
+               rs->nfields > 1 ? ", the sum of every field" : "", rs->info.seconds,
+               (double)rs->info.bytes / 1048576.0, (unsigned long long)rs->info.evaluations);
+        kind = cli_kind_of(LC_KIND_GRID);
+    }
     printf("render        %.3f s (%.2f fps)\n", t, 1.0 / t);
     printf("rays          %llu\n", (unsigned long long)st->rays);
     printf("samples       %llu\n", (unsigned long long)st->samples);
@@ -211,6 +268,10 @@ static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *
     lc_status s = render_load(o, dev, demo, kind, f, &vol, tf);
     s = cli_mpi_agree(dev, s); /* a rank that could not load stops every rank */
     double load_s = seconds_since(&ts0);
+    resampled rs = {0};
+    lc_method method = o->rd.method;
+    float range[2] = {o->rd.range[0], o->rd.range[1]};
+    if (s == LC_OK && o->resample) s = resample_grid(o, dev, vol, *tf, &rs);
     lc_camera given = o->rd.camera;
     int views = o->orbit ? o->orbit : 1;
     char name[4096];
@@ -226,8 +287,8 @@ static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *
         progress_state ps = {label, now_seconds(), 0};
         o->rd.progress = o->progress ? render_progress : NULL;
         o->rd.progress_user = &ps;
-        o->rd.volume = vol;
-        o->rd.tf = *tf;
+        o->rd.volume = rs.grid ? rs.grid : vol;
+        o->rd.tf = rs.tf ? rs.tf : *tf;
         lc_render_stats st;
         if (s == LC_OK) s = cli_mpi_ranks() > 1 ? cli_mpi_render(dev, &o->rd, rgba, o->stats, &st) : lc_render(dev, &o->rd, rgba, &st);
         progress_clear(&ps);
@@ -238,11 +299,13 @@ static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *
         if (s == LC_OK && root) s = lc_image_write(dev, name, &id);
         if (cli_mpi_ranks() > 1 && rendered == LC_OK) s = cli_mpi_agree(dev, s);
         if (s == LC_OK && root && !o->quiet) printf("wrote %s (%dx%d)\n", name, o->rd.width, o->rd.height);
-        if (s == LC_OK && root && o->stats) print_stats(o, kind, vol, load_s, &st);
+        if (s == LC_OK && root && o->stats) print_stats(o, kind, vol, load_s, &st, &rs);
         if (s != LC_OK && o->orbit)
             fprintf(stderr, "%s: orbit image %d (%s): %s; the orbit stops here\n", o->cmd, v, name, lc_last_error());
     }
     o->rd.volume = NULL;
+    o->rd.method = method, o->rd.range[0] = range[0], o->rd.range[1] = range[1];
+    resampled_free(&rs);
     lc_volume_destroy(vol);
     return s;
 }
@@ -283,6 +346,11 @@ static int run(ropts *o, int demo)
         lc_device_destroy(dev);
         return usage ? CLI_EXIT_USAGE : CLI_EXIT_FAIL;
     }
+    if (o->resample && cli_mpi_ranks() > 1) {
+        fprintf(stderr, "%s: --resample is not available under MPI (each rank would deposit every particle)\n", o->cmd);
+        lc_device_destroy(dev);
+        return CLI_EXIT_USAGE;
+    }
     if (o->pj.on) { /* column maps: their own run (cli_project.c) */
         rc = cli_project_run(o, dev, kind);
         lc_device_destroy(dev);
@@ -314,7 +382,7 @@ static int run(ropts *o, int demo)
             if (o->seq)
                 fprintf(stderr, "%s: frame %lld (%s): %s; the sequence stops here\n", o->cmd, (long long)f, out,
                         lc_last_error());
-            else if (!o->orbit)
+            else if (!o->orbit && !reported)
                 fprintf(stderr, "%s: %s\n", o->cmd, lc_last_error());
             goto out;
         }

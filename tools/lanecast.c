@@ -25,6 +25,8 @@ static const char usage[] =
     "                        matrix, one JSON line per case (lanecast bench --help)\n"
     "  info FILE             what lanecast reads from FILE: format, kind, frames, count,\n"
     "                        bounds, fields, value range, spacing (lanecast info --help)\n"
+    "  resample INPUT -o GRID.nrrd --dims N   deposit particles' field at grid nodes\n"
+    "                        (lanecast resample --help)\n"
     "\n"
     "options:\n"
     "  --help, -h            this text\n"
@@ -92,6 +94,7 @@ int main(int argc, char **argv)
     if (!strcmp(cmd, "info")) return cli_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "encode")) return cli_encode(argc - 1, argv + 1);
     if (!strcmp(cmd, "bench")) return cli_bench(argc - 1, argv + 1);
+    if (!strcmp(cmd, "resample")) return cli_resample(argc - 1, argv + 1);
     if (!strcmp(cmd, "view")) return cli_view(argc - 1, argv + 1);
     fprintf(stderr, "lanecast: unknown command '%s' (try lanecast --help)\n", cmd);
     return 2;

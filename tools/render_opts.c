@@ -23,6 +23,12 @@ static const char render_help[] =
     "  --frame N             read frame N (from 0) of a trajectory (lanecast info INPUT counts them)\n"
     "  --max-memory SIZE     refuse inputs needing more memory than SIZE (e.g. 512M, 8G; default 3/4\n"
     "                        of the physical memory), e.g. --max-memory 2G\n"
+    "  --resample N          particles: deposit their field at the nodes of an N^3 grid over their\n"
+    "                        bounds (as lanecast resample does) and render that grid with the grid\n"
+    "                        renderer, the same camera, TF, range and mode: frame rate over\n"
+    "                        exactness (docs/BENCHMARKS.md gives the error); several fields are\n"
+    "                        summed and drawn with field 0's TF; --stats gives the deposit's time\n"
+    "                        and memory; --max-memory bounds the grid too\n"
     "  --frames A:B[:S]      render frames A, A+S, ... before B (B omitted: to the end; S default 1)\n"
     "                        as an image sequence; -o then names each image with a printf-style\n"
     "                        frame number, e.g. -o out_%04d.png; the first error stops the sequence\n"
@@ -326,11 +332,12 @@ static int parse_input(ropts *o, int argc, char **argv, int *i)
 {
     const char *a = argv[*i], *v;
     if (strcmp(a, "--frame") && strcmp(a, "--frames") && strcmp(a, "--topology") && strcmp(a, "--dataset") &&
-        strcmp(a, "--max-memory"))
+        strcmp(a, "--max-memory") && strcmp(a, "--resample"))
         return 0;
     if (!(v = arg_value(o->cmd, argc, argv, i))) return -1;
-    if (!strcmp(a, "--max-memory")) /* the loaders' memory limit (lc_load_desc option max_memory) */
-        return arg_memory(o->cmd, a, v) || cli_load_add(&o->load, o->cmd, "max_memory", v) ? -1 : 1;
+    if (!strcmp(a, "--max-memory")) /* the loaders' memory limit (lc_load_desc option max_memory), and --resample's */
+        return arg_memory_bytes(o->cmd, a, v, &o->max_memory) || cli_load_add(&o->load, o->cmd, "max_memory", v) ? -1 : 1;
+    if (!strcmp(a, "--resample")) return arg_int(o->cmd, a, v, 2, 4096, &o->resample) ? -1 : 1;
     if (!strcmp(a, "--topology")) return o->topology = v, 1;
     if (!strcmp(a, "--dataset")) return cli_load_add(&o->load, o->cmd, "dataset", v) ? -1 : 1;
     char *end;
@@ -500,6 +507,11 @@ int render_parse(ropts *o, int argc, char **argv, int want_input)
     }
     if (o->seq && o->end >= 0 && (o->end - o->first + o->step - 1) / o->step > 1000000) {
         fprintf(stderr, "%s: --frames: more than a million images\n", o->cmd);
+        return -1;
+    }
+    if (o->resample && o->pj.on) {
+        fprintf(stderr, "%s: --resample: give --resample or --mode project, not both (a projection is exact already)\n",
+                o->cmd);
         return -1;
     }
     if (o->quiet) o->progress = 0;

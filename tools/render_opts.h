@@ -40,6 +40,8 @@ typedef struct ropts {
     int seq;
     const char *topology;
     int iso_set, field_set; /* --iso, --field given */
+    int resample;           /* --resample N: particles through an N^3 deposited grid, 0 = off */
+    uint64_t max_memory;    /* --max-memory in bytes, 0 = not given */
     struct {                /* --mode project (cli_project.c) */
         int on, linear, colorbar;
         lc_project_sample sample;

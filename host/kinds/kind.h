@@ -71,6 +71,7 @@ lc_status lci_particles_centres(const lc_volume *v, size_t *n, const float **x, 
 typedef struct lci_particle_view {
     size_t n, total;
     const float *x, *y, *z, *r, *k;
+    const uint8_t *field; /* field ids */
     const uint32_t *src;
     lc_particle_params params;
     lc_box3 bounds; /* of the centres */

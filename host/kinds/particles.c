@@ -726,7 +726,7 @@ lc_status lci_particles_view(const lc_volume *v, const char *fn, lci_particle_vi
     const particles *p = lci_volume_as(v, LC_KIND_PARTICLES, fn);
     if (!p) return LC_ERROR_INVALID_ARGUMENT;
     *out = (lci_particle_view){.n = p->info.count, .total = p->info.count + p->info.dropped, .x = p->px, .y = p->py,
-                               .z = p->pz, .r = p->r, .k = p->k, .src = p->src, .params = p->info.params,
+                               .z = p->pz, .r = p->r, .k = p->k, .field = p->field, .src = p->src, .params = p->info.params,
                                .bounds = p->info.bounds, .max_radius = p->info.max_radius};
     return LC_OK;
 }

@@ -1104,6 +1104,72 @@ LC_API lc_status lc_image_write(lc_device *device, const char *path, const lc_im
  * write and that its folder is writable. device may be NULL. */
 LC_API lc_status lc_image_check(lc_device *device, const char *path);
 
+/* ---------------------------------------------------------------- resampling (particles to grids, issue 28) */
+
+/* A particle set's field deposited at the nodes of a grid: at node
+ * origin + (i, j, k) * spacing the value the particle renderer evaluates at
+ * that point with the set's current parameters (lc_particle_params: the
+ * Gaussian kappa k_i exp(-d^2 / (2 r_i^2)) for d < sigma r_i, or the SPH
+ * kernel kappa k_i W(d, H_i) with H_i = r_i), so lc_grid_create over the
+ * values renders an approximation of the particle image. */
+typedef struct lc_resample_desc {
+    int size[3];          /* nodes per axis, 1 .. 2^24 each */
+    /* Nodes from box.lo to box.hi: spacing (hi - lo) / (size - 1); an axis
+     * of one node holds it at the box's centre (spacing: the box's extent,
+     * or 1 when flat). All zero = the set's bounds (lc_volume_info.bounds:
+     * the centres grown by the support, where rays sample the particles). */
+    lc_box3 box;
+    int field;            /* the field deposited, 0 .. nfields - 1 (0 = the first); -1 = the sum of every field */
+    uint64_t max_memory;  /* bytes the call may need, the values included (lc_resample_info.bytes);
+                             0 = 3/4 of the physical memory */
+    /* As lc_render_desc: progress on the calling thread, cancel asked before
+     * each brick of nodes by the worker threads (LC_CANCELLED, values incomplete). */
+    void (*progress)(void *user, float fraction);
+    void *progress_user;
+    int (*cancel)(void *user);
+    void *cancel_user;
+} lc_resample_desc;
+
+typedef struct lc_resample_info {
+    lc_vec3 origin, spacing; /* node (i, j, k) at origin + (i, j, k) * spacing (as lc_grid_desc takes them) */
+    uint64_t bytes;          /* memory the deposition needs: the values, its brick tables, particle lists, scratch */
+    uint64_t entries;        /* particle-brick pairs listed (a particle is listed with every brick it reaches) */
+    uint64_t evaluations;    /* node-particle terms added */
+    float value_min, value_max;
+    double seconds;          /* wall time */
+    int bricks, threads;
+} lc_resample_info;
+
+/* Evaluates the field of `particles` at size[0] * size[1] * size[2] nodes
+ * into values (x fastest, then y, then z), on the device's target and pool:
+ * particle-major over each particle's support in bricks of 32^3 nodes, each
+ * brick summing its particles in the set's order, so the values do not depend
+ * on the thread count. values NULL: a dry run that checks the sizes against
+ * the memory limit and fills info (origin, spacing, bytes) without
+ * depositing. info may be NULL. Errors: LC_ERROR_INVALID_ARGUMENT naming the
+ * member (size, box, field; particles not a particle set),
+ * LC_ERROR_OUT_OF_MEMORY when bytes would exceed max_memory (refused before
+ * anything large is allocated), LC_CANCELLED. Thread safety: as lc_render
+ * (the volume is only read). */
+LC_API lc_status lc_particles_resample(lc_device *device, const lc_volume *particles, const lc_resample_desc *desc,
+                                       float *values, lc_resample_info *info);
+
+/* The values of a deposition (or any float grid) as a volume file, by the
+ * extension: .nrrd (NRRD0004, raw, little-endian, with the spacings and the
+ * space origin) or .nhdr (a detached NRRD header and its data file PATH.raw).
+ * type: LC_VALUE_FLOAT32 (0 = it), or LC_VALUE_UINT8 / LC_VALUE_UINT16 storing
+ * round((v - lo) / (hi - lo) * max), clamped, with range[2] = {lo, hi} (both 0:
+ * the values' own minimum and maximum); the range is recorded in the header
+ * (oldmin/oldmax). Files appear complete or not at all. */
+typedef struct lc_volume_write_desc {
+    int size[3];
+    const float *values;
+    lc_vec3 origin, spacing;
+    lc_value_type type;
+    float range[2];
+} lc_volume_write_desc;
+LC_API lc_status lc_volume_write(lc_device *device, const char *path, const lc_volume_write_desc *desc);
+
 #ifdef __cplusplus
 }
 #endif

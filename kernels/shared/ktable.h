@@ -37,11 +37,16 @@ typedef struct lc_kkind {
 /* Rows of lc_ktable.kind, one per data kind. */
 enum { LC_KKIND_PARTICLES = 0, LC_KKIND_GRID = 1, LC_KKIND_RBF = 2, LC_KKIND_COUNT = 3 };
 
+struct lc_kresample;
+struct lc_kresample_brick;
+
 typedef struct lc_ktable {
     const char *name;
     int32_t lanes;
     void (*lane_apply)(const lc_lane_args *args);
     const lc_kkind *kind[LC_KKIND_COUNT];
+    /* particles deposited to one brick of grid nodes (kernels/resample.c, kresample.h) */
+    void (*resample_brick)(const struct lc_kresample *s, struct lc_kresample_brick *b);
 } lc_ktable;
 
 #define LC_DECLARE_KTABLE(t) extern const lc_ktable lc_ktable_##t;
