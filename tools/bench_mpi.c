@@ -40,12 +40,6 @@ static int fill(lci_cimage *img, int w, int h)
     return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 int bench_blend(int rounds, FILE *out)
 {
     enum { N = 1024 };
@@ -144,6 +138,12 @@ int bench_imbalance(int nscenes, char **scenes, const char *data_dir, FILE *out)
 }
 
 #if LC_HAVE_MPI
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 /* One image size: every round composited, the slowest rank's time kept. */
 static int composite_size(lc_device *dev, int n, int rounds, int rank, int P, int *order, FILE *out)
 {
