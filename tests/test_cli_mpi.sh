@@ -2,7 +2,8 @@
 # mpiexec -np K lanecast render: the PNG rank 0 writes equals the
 # one-process PNG byte for byte (mip, iso, slice are the same floats; dvr
 # with alpha_stop 1 differs by float round-off of the "over", far below an
-# 8-bit step; EXR and TIFF files carry a time stamp); --stats prints a line per rank; a bad input on some ranks
+# 8-bit step; EXR and TIFF files carry a time stamp), HDF5 grids read by
+# hyperslab per rank included; --stats prints a line per rank; a bad input on some ranks
 # (MPMD: other ranks get a missing file) makes every rank exit non-zero
 # with that rank's message, within a timeout. usage: test_cli_mpi.sh LANECAST MPIEXEC
 set -eu
@@ -23,6 +24,36 @@ run 2 mhd-part png "$dir/ball.mhd" --mode iso --iso 0.4 --shade phong
 if "$exe" formats 2>/dev/null | grep -q "^ *nifti  *yes"; then run 4 nifti-part png "$dir/ball.nii" --mode mip; fi
 if "$exe" formats 2>/dev/null | grep -q "^ *zlib  *yes"; then run 3 gzip-scattered png "$dir/ballz.nhdr" --alpha-stop 1; fi
 run 2 histogram-summed png "$dir/half.raw" --dims 16,16,16 --type float32 --alpha-stop 1 --view 30,20
+# HDF5 grid datasets read by hyperslab per rank (contiguous uint8, chunked and gzip float32,
+# int16 with a non-cubic shape); a dataset that is not 3-D fails on every rank
+if /usr/bin/python3 -c "import h5py, numpy" 2>/dev/null && "$exe" formats 2>/dev/null | grep -q "^ *hdf5  *yes"; then
+    /usr/bin/python3 - "$dir" <<'PY'
+import sys, h5py, numpy as np
+z, y, x = np.mgrid[0:18, 0:20, 0:23].astype(np.float32)
+ball = np.exp(-((x - 11) ** 2 + (y - 9) ** 2 + (z - 8) ** 2) / 40.0) + 0.1 * np.sin(x / 3.0)
+with h5py.File(sys.argv[1] + "/grid.h5", "w") as f:
+    f["u8"] = np.clip(ball * 255, 0, 255).astype(np.uint8)
+    f.create_dataset("f32", data=ball.astype(np.float32), chunks=(5, 7, 6), compression="gzip")
+    f["i16"] = (ball * 3000 - 200).astype(np.int16)
+    f["flat"] = np.zeros((4, 5), dtype=np.float32)
+PY
+    run 2 hdf5-u8 png "$dir/grid.h5" --dataset /u8 --alpha-stop 1
+    run 3 hdf5-f32-chunked png "$dir/grid.h5" --dataset /f32 --mode iso --iso 0.5 --shade phong
+    run 4 hdf5-i16 png "$dir/grid.h5" --dataset /i16 --mode mip --eye 30,30,30 --at 11,9,8
+    set +e
+    timeout 60 "$mpiexec" --oversubscribe -np 2 "$exe" render "$dir/grid.h5" --dataset /flat --size 40x30 \
+        --threads 1 -o "$dir/flat.png" > "$dir/out" 2> "$dir/err"
+    rc=$?
+    set -e
+    if [ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q "flat" "$dir/err" && [ ! -e "$dir/flat.png" ]; then
+        echo "ok   hdf5 2-D dataset: exit $rc: $(head -1 "$dir/err")"
+    else
+        echo "FAIL hdf5 2-D dataset: exit $rc (124: timed out): $(cat "$dir/err")"
+        fail=1
+    fi
+else
+    echo "skip hdf5 grids (needs python3-h5py and a build with HDF5)"
+fi
 
 # --stats: rank 0 prints one row per rank and the imbalance
 if timeout 60 "$mpiexec" --oversubscribe -np 3 "$exe" render $vol --size 40x30 --threads 1 --stats \

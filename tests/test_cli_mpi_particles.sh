@@ -2,17 +2,19 @@
 # mpiexec -np K lanecast render of particle files loaded by parts
 # (host/mpi/mpi_pload.c): raw float32 files read as each rank's rows, PDB
 # and GADGET files read by rank 0 and scattered (HDF5 snapshots too when
-# h5py can write one), and RBF sets (mpi_rload.c: scattered from rank 0),
+# h5py can write one; and --normalise of one, whose float image is the one
+# process's within 1e-6: view_imgcmp max=0.000255 of EXR files, its 8-bit scale), and RBF sets (mpi_rload.c: scattered from rank 0),
 # each rank keeping its owners and ghosts: the PNG
 # rank 0 writes equals the one-process PNG byte for byte (dvr with alpha_stop
 # 1 differs from one process by float round-off, far below an 8-bit step).
 # More ranks than particles; --sigma under mpirun (the ghosts reach as far);
 # --stats rows whose region weights sum to the particle count; a file cut
 # short, seen by the last rank only: every rank exits non-zero with its
-# message and no image. usage: test_cli_mpi_particles.sh LANECAST MPIEXEC
+# message and no image. usage: test_cli_mpi_particles.sh LANECAST MPIEXEC VIEW_IMGCMP
 set -eu
 exe=$1
 mpiexec=$2
+imgcmp=${3:-}
 . "$(dirname "$0")/cli_mpi_run.sh" # $dir, run
 python3 - "$dir" <<'PY'
 import math, struct, sys
@@ -82,8 +84,36 @@ with h5py.File(sys.argv[1] + "/snap.hdf5", "w") as f:
     g["Coordinates"] = (rng.random((500, 3)) * rng.random((500, 3))).astype(np.float32)
     g["SmoothingLength"] = (0.05 + 0.1 * rng.random(500)).astype(np.float32)
     g["Masses"] = np.ones(500, dtype=np.float32)
+# a second file: gas with Density and InternalEnergy (the normalised interpolant's m / rho)
+with h5py.File(sys.argv[1] + "/gas.hdf5", "w") as f:
+    h = f.create_group("Header")
+    h.attrs["NumPart_ThisFile"] = np.array([700, 0, 0, 0, 0, 0], dtype=np.int32)
+    h.attrs["NumPart_Total"] = np.array([700, 0, 0, 0, 0, 0], dtype=np.uint32)
+    h.attrs["MassTable"] = np.zeros(6)
+    h.attrs["NumFilesPerSnapshot"] = 1
+    g = f.create_group("PartType0")
+    g["Coordinates"] = (rng.random((700, 3)) * rng.random((700, 3))).astype(np.float32)
+    g["SmoothingLength"] = (0.08 + 0.12 * rng.random(700)).astype(np.float32)
+    g["Masses"] = (0.5 + rng.random(700)).astype(np.float32)
+    g["Density"] = (0.2 + 2.0 * rng.random(700)).astype(np.float32)
+    g["InternalEnergy"] = (1.0 + 3.0 * rng.random(700)).astype(np.float32)
 PY
     prun 3 hdf5-scattered "$dir/snap.hdf5"
+    # --normalise under mpirun: the norm weights m / rho go with each particle to the
+    # ranks it reaches; the float image (EXR) of K = 1..3 ranks is the one process's
+    # within the particle parts' 1e-6 (tests/dp_scene.h dp_check_parts: sums in another order)
+    norm="$dir/gas.hdf5 --kernel m4 --value InternalEnergy --normalise --mode slice --plane 0.3,0.3,0.3,0.2,0.3,1"
+    "$exe" render $norm --size 48x40 --threads 1 --quiet -o "$dir/norm-one.exr" 2> "$dir/err1" || true
+    for k in 1 2 3; do
+        if timeout 60 "$mpiexec" --oversubscribe -np $k "$exe" render $norm --size 48x40 --threads 1 --quiet \
+            -o "$dir/norm-np$k.exr" 2> "$dir/err" &&
+            "$imgcmp" "$dir/norm-np$k.exr" "$dir/norm-one.exr" max=0.000255 > "$dir/cmp" 2>&1; then
+            echo "ok   np $k normalised m4 slice: $(cat "$dir/cmp")"
+        else
+            echo "FAIL np $k normalised m4 slice: $(cat "$dir/cmp" "$dir/err1" "$dir/err")"
+            fail=1
+        fi
+    done
 else
     echo "skip hdf5 snapshot (needs python3-h5py and a build with HDF5)"
 fi

@@ -31,7 +31,7 @@ static float urand(void)
 
 typedef struct set {
     size_t n;
-    float xyz[3 * NMAX], r[NMAX], k[NMAX];
+    float xyz[3 * NMAX], r[NMAX], k[NMAX], w[NMAX];
     uint8_t f[NMAX];
 } set;
 
@@ -43,6 +43,7 @@ static void make_set(set *s, size_t n)
         for (int a = 0; a < 3; a++) s->xyz[3 * i + a] = 1.6f * urand() * urand() - 0.8f;
         s->r[i] = 0.06f + 0.1f * urand();
         s->k[i] = 0.5f + urand();
+        s->w[i] = 0.2f + urand(); /* m_i / rho_i of the normalised interpolant */
         s->f[i] = (uint8_t)(i % 2);
     }
 }
@@ -120,11 +121,12 @@ static void check_selection(lc_device *dev, const set *s)
     for (size_t i = 0; i < s->n; i++) x[i] = s->xyz[3 * i], y[i] = s->xyz[3 * i + 1], z[i] = s->xyz[3 * i + 2];
     x[3] = -0.0f, x[4] = 0.0f, y[5] = y[6]; /* signed zeros and ties */
     lc_box3 b = {{-1, -1, -1}, {1, 1, 1}};
+    const lci_kd_peers one = {sum_one, NULL, NULL};
     int same = 1;
     for (int P = 1; P <= 64; P = P < 8 ? P + 1 : 2 * P) {
         lci_kdtree a, d;
         if (lci_kd_build(dev, &b, P, s->n, x, y, z, NULL, &a) != LC_OK ||
-            lci_kd_build_dist(dev, &b, P, s->n, x, y, z, sum_one, NULL, &d) != LC_OK) {
+            lci_kd_build_dist(dev, &b, P, s->n, x, y, z, &one, &d) != LC_OK) {
             same = 0;
             break;
         }
@@ -135,6 +137,52 @@ static void check_selection(lc_device *dev, const set *s)
     }
     CHECK(same, "distributed selection: the splits and weights of the sort for P = 1..8, 16, 32, 64");
     free(x), free(y), free(z);
+}
+
+/* The normalised SPH interpolant (params.normalise, norm_weights m_i / rho_i
+ * carried into each part): the parts' regions equal the whole set's in
+ * every mode and view, and a part's default range is the whole set's (the
+ * A_i = k_i / w_i over every part). */
+static void check_normalised(lc_device *dev, const set *s, const float *col, const float *op)
+{
+    lc_particles_desc wd = desc_of(s, LC_KERNEL_M4);
+    wd.norm_weights = s->w, wd.params.normalise = 1;
+    lc_volume *whole = NULL;
+    if (lc_particles_create(dev, &wd, &whole) != LC_OK) {
+        CHECK(0, "normalised set: %s", lc_device_last_error(dev));
+        return;
+    }
+    lc_volume_info vi;
+    lc_volume_get_info(whole, &vi);
+    lc_tf_field tff[2] = {{col, 3, op, 3, 1, {vi.range[0], vi.range[1]}}, {col, 3, op, 3, 1, {vi.range[0], vi.range[1]}}};
+    lc_tf *tf = NULL;
+    lc_tf_create(dev, tff, 2, &tf);
+    int before = check_failures;
+    for (int P = 1; P <= 4; P++) {
+        lc_volume *parts[4] = {0};
+        size_t held[4] = {0};
+        if (make_parts(dev, &wd, whole, P, 0.02f, 1.0f, parts, held) != 0) continue;
+        for (int r = 0; r < P; r++) {
+            lc_volume_info pv;
+            lc_volume_get_info(parts[r], &pv);
+            CHECK_QUIET(pv.range[0] == vi.range[0] && pv.range[1] == vi.range[1],
+                        "normalised P=%d part %d: range [%g, %g], the whole set's [%g, %g]", P, r,
+                        (double)pv.range[0], (double)pv.range[1], (double)vi.range[0], (double)vi.range[1]);
+        }
+        static const lc_mode modes[] = {LC_MODE_DVR, LC_MODE_MIP, LC_MODE_ISO, LC_MODE_SLICE};
+        for (int m = 0; m < 4; m++)
+            for (int v = 0; v < 3; v++) {
+                char label[96];
+                snprintf(label, sizeof label, "m4 normalised %s %s P=%d", dp_mode_names[m], dp_view_names[v], P);
+                region_diff(dev, whole, parts, P, tf, modes[m], v, 0.02f, 1, label);
+            }
+        destroy_parts(parts, P);
+    }
+    CHECK(check_failures == before,
+          "m4 normalised: the parts of P = 1..4 carry the norm weights and render the whole set's regions "
+          "(dvr, mip, iso, slice; 3 views) with its range");
+    lc_tf_destroy(tf);
+    lc_volume_destroy(whole);
 }
 
 int main(void)
@@ -228,6 +276,7 @@ int main(void)
         lc_tf_destroy(tf);
         lc_volume_destroy(whole);
     }
+    check_normalised(dev, &s, col, op);
     /* more regions than particles: regions owning none */
     lc_particles_desc td = desc_of(&tiny, LC_KERNEL_GAUSSIAN);
     lc_volume *whole = NULL, *parts[4] = {0};

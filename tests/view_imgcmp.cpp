@@ -1,7 +1,8 @@
 // Compares two image files (any format OpenImageIO reads) through the tests'
 // one comparer (imgcmp.c): `view_imgcmp GOT WANT exact` passes when every
 // decoded value is equal, `view_imgcmp GOT WANT PSNR` when the PSNR is at
-// least PSNR dB (any per-channel difference). Exit 0 pass, 1 fail, 2 unreadable.
+// least PSNR dB (any per-channel difference), `view_imgcmp GOT WANT max=D` when
+// no decoded value differs by more than D/255 (D in 8-bit steps). Exit 0 pass, 1 fail, 2 unreadable.
 #include <OpenImageIO/imageio.h>
 #include <cstdio>
 #include <cstdlib>
@@ -45,9 +46,10 @@ int main(int argc, char **argv)
         std::printf("imgcmp %s: FAIL sizes %dx%d and %dx%d\n", argv[1], wa, ha, wb, hb);
         return 1;
     }
-    bool exact = !std::strcmp(argv[3], "exact");
-    double psnr = exact ? IMGCMP_NO_PSNR_BOUND : std::atof(argv[3]);
+    bool exact = !std::strcmp(argv[3], "exact"), bound = !std::strncmp(argv[3], "max=", 4);
+    double psnr = exact || bound ? IMGCMP_NO_PSNR_BOUND : std::atof(argv[3]);
     double maxd = exact ? 0.0 : IMGCMP_NO_MAX_BOUND;
     if (exact) maxd = 1e-300; // any difference at all fails (0 would mean the default)
+    if (bound) maxd = std::atof(argv[3] + 4) > 0.0 ? std::atof(argv[3] + 4) : 1e-300;
     return imgcmp_check(argv[1], a.data(), b.data(), wa, ha, maxd, psnr, nullptr) == 0 ? 0 : 1;
 }

@@ -33,6 +33,17 @@
 #include "host/formats/hdf5_io.h"
 
 #if LC_HAVE_HDF5
+/* A grid dataset's value type: uint8, int16 and uint16 as they are, other
+ * numbers as float32 (*mem: the memory type libhdf5 converts to). */
+static lc_value_type grid_type(const lci_h5_dinfo *di, hid_t *mem)
+{
+    *mem = H5T_NATIVE_FLOAT;
+    if (di->cls == H5T_INTEGER && di->size == 1 && !di->is_signed) return *mem = H5T_NATIVE_UCHAR, LC_VALUE_UINT8;
+    if (di->cls == H5T_INTEGER && di->size == 2)
+        return *mem = di->is_signed ? H5T_NATIVE_SHORT : H5T_NATIVE_USHORT, di->is_signed ? LC_VALUE_INT16 : LC_VALUE_UINT16;
+    return LC_VALUE_FLOAT32;
+}
+
 static lc_status read_dataset(lc_device *dev, const lci_read_args *a, hid_t f, lci_h5_opts *o, lci_loaded *out)
 {
     const char *path = a->path, *name = o->dataset;
@@ -71,11 +82,8 @@ static lc_status read_dataset(lc_device *dev, const lci_read_args *a, hid_t f, l
     uint64_t count = (uint64_t)di.dims[0] * di.dims[1] * di.dims[2];
     if (s == LC_OK && (di.dims[1] * di.dims[2] > INT32_MAX || count > INT32_MAX - 64))
         s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: more than 2^31 values", path, name, di.where);
-    lc_value_type t = LC_VALUE_FLOAT32;
-    hid_t mem = H5T_NATIVE_FLOAT;
-    if (di.cls == H5T_INTEGER && di.size == 1 && !di.is_signed) t = LC_VALUE_UINT8, mem = H5T_NATIVE_UCHAR;
-    else if (di.cls == H5T_INTEGER && di.size == 2) t = di.is_signed ? LC_VALUE_INT16 : LC_VALUE_UINT16,
-                                                    mem = di.is_signed ? H5T_NATIVE_SHORT : H5T_NATIVE_USHORT;
+    hid_t mem;
+    lc_value_type t = grid_type(&di, &mem);
     lci_vol_opts vo;
     if (s == LC_OK) s = lci_vol_options(dev, a, &vo);
     if (s == LC_OK && vo.type != LC_VALUE_DEFAULT && vo.type != t)
@@ -217,12 +225,11 @@ static uint64_t guard_limit(lc_device *dev, const char *path)
     return lim;
 }
 
-static lc_status guard(lc_device *dev, const char *path, const lc_load_desc *desc, const lci_read_args *args)
+static lc_status guard_run(lc_device *dev, const char *path, lc_status (*fn)(lc_device *dev, void *ctx), void *ctx)
 {
-    gctx g = {path, desc, args};
     lc_status cs;
     char msg[LCI_MSG_MAX];
-    int sig = lci_guarded(dev, "LANECAST_HDF5_GUARD", guard_limit(dev, path), guard_child, &g, &cs, msg, sizeof msg);
+    int sig = lci_guarded(dev, "LANECAST_HDF5_GUARD", guard_limit(dev, path), fn, ctx, &cs, msg, sizeof msg);
     if (sig < 0) return LC_OK;
     if (sig == 0) return cs == LC_OK ? LC_OK : lci_error(dev, cs, "%s", msg);
     if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP)
@@ -234,6 +241,12 @@ static lc_status guard(lc_device *dev, const char *path, const lc_load_desc *des
     return lci_error(dev, LC_ERROR_FORMAT,
                      "%s: libhdf5 crashed on this file (signal %d: %s) in lanecast's guard process: the file is damaged "
                      "(libhdf5 1.10 trusts the sizes and layouts a file declares)", path, sig, strsignal(sig));
+}
+
+static lc_status guard(lc_device *dev, const char *path, const lc_load_desc *desc, const lci_read_args *args)
+{
+    gctx g = {path, desc, args};
+    return guard_run(dev, path, guard_child, &g);
 }
 
 /* A file libhdf5 reads cleanly in the guard is read again here; one it
@@ -265,10 +278,142 @@ static lc_status hdf5_describe(lc_device *dev, const lci_read_args *a, char *tex
     lci_h5_quiet_off(&q);
     return s;
 }
+/* ---------------------------------------------------------------- grids by hyperslab */
+
+/* A grid dataset's box for lci_hdf5_read_box, or its metadata alone (out NULL). */
+typedef struct h5box {
+    const char *path, *dataset;
+    lc_value_type t;
+    const int64_t *start, *count; /* x, y, z: the dataset's dimensions 2, 1, 0 */
+    void *out;
+    lci_h5_dinfo di; /* found */
+    int chunked;
+} h5box;
+
+static lc_status box_run(lc_device *dev, h5box *b)
+{
+    const char *path = b->path, *name = b->dataset;
+    lci_h5_quiet q;
+    lci_h5_quiet_on(&q);
+    hid_t f, ds = -1, fs = -1, ms = -1, pl = -1;
+    lc_status s = lci_h5_open(dev, path, &f);
+    if (s != LC_OK) {
+        lci_h5_quiet_off(&q);
+        return s;
+    }
+    if (!lci_h5_exists(f, name)) s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option dataset = '%s': no such object", path, name);
+    else if ((ds = H5Dopen2(f, name, H5P_DEFAULT)) < 0)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s: not a dataset (%s)", path, name, lci_h5_why());
+    if (s == LC_OK) s = lci_h5_dataset_info(dev, path, name, ds, &b->di);
+    const lci_h5_dinfo *di = &b->di;
+    if (s == LC_OK && di->rank != 3)
+        s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: rank %d, expected a 3-D dataset (a grid)", path, name, di->where,
+                      di->rank);
+    for (int k = 0; s == LC_OK && k < 3; k++)
+        if (di->dims[k] < 2 || di->dims[k] > INT32_MAX)
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: shape %llu x %llu x %llu: each must be 2 or more", path, name,
+                          di->where, (unsigned long long)di->dims[0], (unsigned long long)di->dims[1],
+                          (unsigned long long)di->dims[2]);
+    if (s == LC_OK) {
+        pl = H5Dget_create_plist(ds);
+        b->chunked = pl < 0 || H5Pget_layout(pl) != H5D_CONTIGUOUS;
+    }
+    if (s == LC_OK && b->out) {
+        hsize_t st[3], ct[3];
+        hid_t mem;
+        for (int k = 0; k < 3; k++) st[k] = (hsize_t)b->start[2 - k], ct[k] = (hsize_t)b->count[2 - k];
+        for (int k = 0; s == LC_OK && k < 3; k++)
+            if (st[k] + ct[k] > di->dims[k] || ct[k] == 0)
+                s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: nodes %llu + %llu of dimension %d are past its %llu (the "
+                              "file changed?)", path, name, di->where, (unsigned long long)st[k], (unsigned long long)ct[k],
+                              k, (unsigned long long)di->dims[k]);
+        if (s == LC_OK && grid_type(di, &mem) != b->t)
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: the value type changed while reading", path, name, di->where);
+        if (s == LC_OK) fs = H5Dget_space(ds), ms = H5Screate_simple(3, ct, NULL);
+        if (s == LC_OK && (fs < 0 || ms < 0 || H5Sselect_hyperslab(fs, H5S_SELECT_SET, st, NULL, ct, NULL) < 0 ||
+                           H5Dread(ds, mem, ms, fs, H5P_DEFAULT, b->out) < 0))
+            s = lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: libhdf5 cannot read the hyperslab %llu+%llu, %llu+%llu, "
+                          "%llu+%llu (%s)", path, name, di->where, (unsigned long long)st[0], (unsigned long long)ct[0],
+                          (unsigned long long)st[1], (unsigned long long)ct[1], (unsigned long long)st[2],
+                          (unsigned long long)ct[2], lci_h5_why());
+    }
+    if (ms >= 0) H5Sclose(ms);
+    if (fs >= 0) H5Sclose(fs);
+    if (pl >= 0) H5Pclose(pl);
+    if (ds >= 0) H5Dclose(ds);
+    H5Fclose(f);
+    lci_h5_quiet_off(&q);
+    return s;
+}
+
+/* The guard child of a box: the metadata alone, or (chunked) the box read
+ * into memory of its own too, as libhdf5 walks the chunk index as it reads. */
+static lc_status box_child(lc_device *dev, void *ctx)
+{
+    h5box b = *(const h5box *)ctx;
+    if (!b.out) return box_run(dev, &b);
+    uint64_t n = (uint64_t)b.count[0] * (uint64_t)b.count[1] * (uint64_t)b.count[2];
+    b.out = malloc(n * (uint64_t)lci_value_size(b.t) + 1);
+    if (!b.out) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %llu values", b.path, (unsigned long long)n);
+    return box_run(dev, &b);
+}
+
+lc_status lci_hdf5_grid_layout(lc_device *dev, const lci_read_args *a, const lci_vol_opts *o, lci_vol_layout *l)
+{
+    const lc_option *d = lci_option_find(a, "dataset");
+    if (!d || !d->value) return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: an HDF5 file without dataset = PATH", a->path);
+    memset(l, 0, sizeof *l);
+    if (strlen(d->value) >= sizeof l->dataset || strlen(a->path) >= sizeof l->data_path)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: a path too long to read by parts", a->path);
+    h5box b = {a->path, d->value, LC_VALUE_DEFAULT, NULL, NULL, NULL, {0}, 0};
+    lc_status s = guard_run(dev, a->path, box_child, &b);
+    if (s == LC_OK) s = box_run(dev, &b);
+    if (s != LC_OK) return s;
+    hid_t mem;
+    lc_value_type t = grid_type(&b.di, &mem);
+    if (o->type != LC_VALUE_DEFAULT && o->type != t)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %s: the dataset's type differs from the requested one", a->path,
+                         d->value);
+    snprintf(l->data_path, sizeof l->data_path, "%s", a->path);
+    snprintf(l->dataset, sizeof l->dataset, "%s", d->value);
+    l->chunked = b.chunked;
+    for (int k = 0; k < 3; k++) l->fsize[k] = (int64_t)b.di.dims[2 - k], l->perm[k] = k;
+    /* read_dataset's desc: the options' spacing and origin (zero: the defaults) */
+    lc_grid_desc *g = &l->grid;
+    for (int k = 0; k < 3; k++) g->size[k] = (int)l->fsize[k];
+    g->type = l->type = t;
+    g->spacing = o->spacing, g->origin = o->origin;
+    return LC_OK;
+}
+
+lc_status lci_hdf5_read_box(lc_device *dev, const lci_vol_layout *l, const int64_t start[3], const int64_t count[3],
+                            void *out)
+{
+    h5box b = {l->data_path, l->dataset, l->type, start, count, NULL, {0}, 0};
+    lc_status s = LC_OK;
+    if (l->chunked) {
+        b.out = out; /* box_child reads into memory of its own */
+        s = guard_run(dev, l->data_path, box_child, &b);
+    }
+    b.out = out;
+    return s == LC_OK ? box_run(dev, &b) : s;
+}
 #define HDF5_READ hdf5_read_guarded
 #define HDF5_KIND hdf5_kind_guarded
 #define HDF5_DESCRIBE hdf5_describe
 #else
+lc_status lci_hdf5_grid_layout(lc_device *dev, const lci_read_args *a, const lci_vol_opts *o, lci_vol_layout *l)
+{
+    (void)o, (void)l;
+    return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: HDF5 grids are read whole (no libhdf5)", a->path);
+}
+
+lc_status lci_hdf5_read_box(lc_device *dev, const lci_vol_layout *l, const int64_t start[3], const int64_t count[3],
+                            void *out)
+{
+    (void)start, (void)count, (void)out;
+    return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: no libhdf5", l->data_path);
+}
 #define HDF5_READ NULL
 #define HDF5_KIND NULL
 #define HDF5_DESCRIBE NULL

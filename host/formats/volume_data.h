@@ -105,6 +105,8 @@ typedef struct lci_vol_layout {
     int swap; /* big-endian values */
     int perm[3], flip[3];
     lc_grid_desc grid;
+    char dataset[256]; /* HDF5: the grid's dataset, read by hyperslab (lci_hdf5_read_box); "" otherwise */
+    int chunked;       /* HDF5: the dataset is chunked (its chunk index is walked in the guard first) */
 } lci_vol_layout;
 
 /* The layout of a header format's file (LC_ERROR_UNSUPPORTED, with a
@@ -124,5 +126,15 @@ lc_status lci_mhd_header(lc_device *dev, const char *path, FILE *f, lci_vol_head
  * uncompressed 3-D frame `frame` of uint8, int16, uint16 or float32,
  * unscaled; else LC_ERROR_UNSUPPORTED (read whole). nifti.c. */
 lc_status lci_nifti_layout(lc_device *dev, const lci_read_args *a, const lci_vol_opts *o, lci_vol_layout *l);
+/* An HDF5 file's 3-D dataset (option dataset = PATH) as a grid read in
+ * parts: its layout (C order: identity axes, no swap; the options' spacing
+ * and origin as the whole read's), its metadata checked in the guard
+ * process (guard.c) first; LC_ERROR_UNSUPPORTED without libhdf5. The box
+ * start[3], count[3] of nodes (x, y, z) into out (x fastest, l->type) by
+ * one hyperslab read, run in the guard first when the dataset is chunked
+ * (libhdf5 walks the chunk index as it reads). hdf5.c. */
+lc_status lci_hdf5_grid_layout(lc_device *dev, const lci_read_args *a, const lci_vol_opts *o, lci_vol_layout *l);
+lc_status lci_hdf5_read_box(lc_device *dev, const lci_vol_layout *l, const int64_t start[3], const int64_t count[3],
+                            void *out);
 
 #endif

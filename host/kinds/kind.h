@@ -89,6 +89,7 @@ typedef struct lci_particles_global {
     lc_box3 bounds;
     float min_radius, max_radius, kmin, kmax;
     double kh3min, kh3max;
+    float amin, amax; /* of the A_i = k_i / w_i with norm_weights w_i (amin > amax: none) */
 } lci_particles_global;
 const char *lci_particles_invalid(const lc_particles_desc *d, size_t i, int nfields);
 void lci_particles_extremes(const lc_volume *v, lci_particles_global *g);

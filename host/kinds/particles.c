@@ -549,7 +549,8 @@ static lc_status frame_info(lc_device *dev, const lc_volume *v, lci_frame_info *
        kappa > 0 give [0, kappa] for the Gaussian */
     float kappa = p->info.params.kappa, a = kappa * p->kmin, b = kappa * p->kmax;
     if (sk) a = (float)(kappa * sk->norm * p->kh3min), b = (float)(kappa * sk->norm * p->kh3max);
-    if (p->info.params.normalise && p->kn && p->info.count) a = p->amin, b = p->amax; /* a weighted mean of the A_i */
+    /* a weighted mean of the A_i (a part: the whole set's, even holding none) */
+    if (p->info.params.normalise && p->amin <= p->amax) a = p->amin, b = p->amax;
     float lo = a < b ? a : b, hi = a < b ? b : a; /* kmin <= 0 <= kmax: both hold 0 */
     out->default_range[0] = lo;
     out->default_range[1] = hi > lo ? hi : lo + 1.0f;
@@ -752,6 +753,7 @@ void lci_particles_extremes(const lc_volume *v, lci_particles_global *g)
         g->min_radius = INFINITY, g->max_radius = 0.0f;
     }
     g->kmin = p->kmin, g->kmax = p->kmax, g->kh3min = p->kh3min, g->kh3max = p->kh3max;
+    g->amin = p->kn && in->count ? p->amin : INFINITY, g->amax = p->kn && in->count ? p->amax : -INFINITY;
 }
 
 void lci_particles_set_global(lc_volume *v, const lci_particles_global *g, void *part, void (*part_free)(void *))
@@ -763,6 +765,7 @@ void lci_particles_set_global(lc_volume *v, const lci_particles_global *g, void 
         p->info.min_radius = g->min_radius, p->info.max_radius = g->max_radius;
     }
     p->kmin = g->kmin, p->kmax = g->kmax, p->kh3min = g->kh3min, p->kh3max = g->kh3max;
+    p->amin = g->amin, p->amax = g->amax;
     if (p->part_free) p->part_free(p->part);
     p->part = part, p->part_free = part_free;
     field_bounds(p); /* its cells follow the bounds and the largest radius */

@@ -41,13 +41,25 @@ typedef struct lci_kdtree {
 lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x, const float *y,
                        const float *z, const int cells[3], lci_kdtree *out);
 void lci_kd_release(lci_kdtree *t);
+/* How the holders of a distributed build talk: sum(user, v, k) replaces k
+ * counts by their sums over every holder (all call it alike); agree(dev,
+ * user, s) returns every holder's status, the first failure's with its
+ * message (lc_mpi_agree; NULL: s itself), taken before the first sum so a
+ * holder that fails to allocate leaves none waiting in a sum. */
+typedef struct lci_kd_peers {
+    lc_status (*sum)(void *user, uint64_t *v, int n);
+    lc_status (*agree)(lc_device *dev, void *user, lc_status s);
+    void *user;
+} lci_kd_peers;
 /* The same tree when the n points are this holder's share of points spread
- * over several: sum(user, v, k) replaces k counts by their sums over every
- * holder (all call it alike); each split is the same float lci_kd_build
- * gives for all the points together (dist_select in partition.c). */
+ * over several: each split is the same float lci_kd_build gives for all the
+ * points together (dist_select in partition.c). */
 lc_status lci_kd_build_dist(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x,
-                            const float *y, const float *z, lc_status (*sum)(void *, uint64_t *, int), void *user,
-                            lci_kdtree *out);
+                            const float *y, const float *z, const lci_kd_peers *peers, lci_kdtree *out);
+/* Nonzero when the environment variable LANECAST_TEST_FAULT (a comma-separated
+ * list) names `point`: the tests' way to make one rank fail at a step (an
+ * allocation that fails) and see every rank stop with its message. */
+int lci_test_fault(const char *point);
 lc_status lci_kd_copy(lc_device *dev, const lci_kdtree *t, lci_kdtree *out);
 
 /* The regions front to back as seen by the camera (SPEC.md "Regions"):

@@ -38,4 +38,8 @@ lc_status lci_mpi_load_rbf(lc_device *dev, MPI_Comm comm, const char *path, cons
 lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, size_t n, float **items, int nf,
                            const float *reach, float **recv, size_t *nrecv);
 
+/* The peers of a kd-tree build over comm (mpi_pload.c): the sums and the
+ * agreement before them by MPI_Allreduce; *p filled and returned. */
+const lci_kd_peers *lci_mpi_kd_peers(MPI_Comm *comm, lci_kd_peers *p);
+
 #endif

@@ -1,8 +1,9 @@
 /* lc_mpi_volume_load (lanecast_mpi.h): each rank loads the part of a file
  * its region needs. Grids: the region's nodes and ghosts (window.c), read
- * from the file where its voxels are plain (raw, NRRD, MetaImage, NIfTI),
- * else read whole by rank 0 and cut into every rank's part (HDF5 grids and
- * frames past the first of other files: read whole by every rank); the BVH's leaf
+ * from the file where its voxels are plain (raw, NRRD, MetaImage, NIfTI) or
+ * by one hyperslab (HDF5 datasets), else read whole by rank 0 and cut into
+ * every rank's part (frames past the first of other files: read whole by
+ * every rank); the BVH's leaf
  * ranges are united by an allreduce, so every rank's tree is the whole
  * grid's, and histograms (lc_tf_auto) are summed over ranks. Particle and
  * RBF sets: mpi_pload.c and mpi_rload.c. Every step ends in an agreement
@@ -116,36 +117,53 @@ static lc_status scatter_grid(lc_device *dev, MPI_Comm comm, int rank, int P, co
     *shape = head.d;
     s = lci_dp_grid_plan(dev, shape, P, rank, dt, w);
     int es = lci_value_size(shape->type);
+    size_t bytes = s == LC_OK ? (size_t)w->count[0] * (size_t)w->count[1] * (size_t)w->count[2] * (size_t)es : 0;
+    if (s == LC_OK && rank != 0 && (!(*data = malloc(bytes + 1)) || lci_test_fault("scatter")))
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for a part of %zu bytes", path, bytes);
+    s = lc_mpi_agree(dev, comm, s); /* every receiver waits for its part, with room for it */
+    if (s != LC_OK) {
+        lci_loaded_free(&whole);
+        free(*data), *data = NULL;
+        return s;
+    }
+    /* rank 0 sends each rank a status, then its part if the status is 1:
+       a part it fails to cut stops the ranks still waiting, not hangs them */
     if (rank == 0) {
-        for (int r = P - 1; r >= 0 && s == LC_OK; r--) {
+        int ok = 1;
+        for (int r = P - 1; r >= 0; r--) {
+            void *part = NULL;
             lci_dp_window wr;
-            s = lci_dp_grid_plan(dev, shape, P, r, dt, &wr);
-            void *part = s == LC_OK ? lci_dp_grid_cut(whole.desc, wr.start, wr.count) : NULL;
-            if (s == LC_OK && !part) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for a part", path);
-            if (s != LC_OK) break;
+            memset(&wr, 0, sizeof wr);
+            if (ok) s = lci_dp_grid_plan(dev, shape, P, r, dt, &wr);
+            if (ok && s == LC_OK && (!(part = lci_dp_grid_cut(whole.desc, wr.start, wr.count)) ||
+                                     (r > 0 && lci_test_fault("scatter"))))
+                s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for the part of rank %d", path, r);
+            ok = ok && s == LC_OK;
             if (r == 0) {
-                *data = part;
+                if (ok) *data = part;
+                else free(part);
                 break;
             }
-            size_t bytes = (size_t)wr.count[0] * (size_t)wr.count[1] * (size_t)wr.count[2] * (size_t)es;
-            for (size_t o = 0; o < bytes; o += (size_t)1 << 30) {
-                size_t n = bytes - o < ((size_t)1 << 30) ? bytes - o : ((size_t)1 << 30);
+            MPI_Send(&ok, 1, MPI_INT, r, 6, comm);
+            size_t nb = ok ? (size_t)wr.count[0] * (size_t)wr.count[1] * (size_t)wr.count[2] * (size_t)es : 0;
+            for (size_t o = 0; o < nb; o += (size_t)1 << 30) {
+                size_t n = nb - o < ((size_t)1 << 30) ? nb - o : ((size_t)1 << 30);
                 MPI_Send((char *)part + o, (int)n, MPI_BYTE, r, 7, comm);
             }
             free(part);
         }
         lci_loaded_free(&whole);
-        /* a failure here leaves the other ranks waiting: stop them all */
-        if (s != LC_OK) MPI_Abort(comm, 1);
-        return s;
+        return lc_mpi_agree(dev, comm, s);
     }
-    size_t bytes = (size_t)w->count[0] * (size_t)w->count[1] * (size_t)w->count[2] * (size_t)es;
-    *data = malloc(bytes + 1);
-    if (!*data) MPI_Abort(comm, 1); /* rank 0 would wait on this send forever */
-    for (size_t o = 0; o < bytes; o += (size_t)1 << 30) {
+    int ok = 0;
+    MPI_Recv(&ok, 1, MPI_INT, 0, 6, comm, MPI_STATUS_IGNORE);
+    for (size_t o = 0; ok && o < bytes; o += (size_t)1 << 30) {
         size_t n = bytes - o < ((size_t)1 << 30) ? bytes - o : ((size_t)1 << 30);
         MPI_Recv((char *)*data + o, (int)n, MPI_BYTE, 0, 7, comm, MPI_STATUS_IGNORE);
     }
+    if (!ok) s = lci_error(dev, LC_ERROR_INTERNAL, "%s: rank 0 sent no part", path);
+    s = lc_mpi_agree(dev, comm, s);
+    if (s != LC_OK) free(*data), *data = NULL;
     return s;
 }
 

@@ -23,6 +23,7 @@
 typedef struct share {
     size_t n;
     float *x, *y, *z, *r, *k;
+    float *w;      /* the norm weights m_i / rho_i of --normalise, or NULL */
     uint8_t *f;
     size_t offset; /* its first particle's index in the file */
 } share;
@@ -31,29 +32,39 @@ typedef struct share {
 typedef struct shape {
     float radius;
     int nfields, leaf_size, drop_invalid;
+    int has_w; /* the particles carry norm weights */
     lc_particle_params params;
     char note[256];
 } shape;
 
 static void share_free(share *s)
 {
-    free(s->x), free(s->y), free(s->z), free(s->r), free(s->k), free(s->f);
+    free(s->x), free(s->y), free(s->z), free(s->r), free(s->k), free(s->w), free(s->f);
     memset(s, 0, sizeof *s);
 }
 
-static int share_alloc(share *s, size_t n)
+static int share_alloc(share *s, size_t n, int has_w)
 {
     size_t m = n ? n : 1;
     s->x = malloc(4 * m), s->y = malloc(4 * m), s->z = malloc(4 * m), s->r = malloc(4 * m), s->k = malloc(4 * m);
+    s->w = has_w ? malloc(4 * m) : NULL;
     s->f = malloc(m);
     s->n = n;
-    return s->x && s->y && s->z && s->r && s->k && s->f ? 0 : -1;
+    return s->x && s->y && s->z && s->r && s->k && s->f && (!has_w || s->w) ? 0 : -1;
 }
 
 static lc_status sum_u64(void *user, uint64_t *v, int n)
 {
     MPI_Comm *c = user;
     return MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_UINT64_T, MPI_SUM, *c) == MPI_SUCCESS ? LC_OK : LC_ERROR_INTERNAL;
+}
+
+static lc_status agree_comm(lc_device *dev, void *user, lc_status s) { return lc_mpi_agree(dev, *(MPI_Comm *)user, s); }
+
+const lci_kd_peers *lci_mpi_kd_peers(MPI_Comm *comm, lci_kd_peers *p)
+{
+    p->sum = sum_u64, p->agree = agree_comm, p->user = comm;
+    return p;
 }
 
 /* ---------------------------------------------------------------- reading a share */
@@ -100,7 +111,7 @@ static lc_status raw_share(lc_device *dev, const char *path, const lc_load_desc 
     size_t a = (size_t)((uint64_t)count * (uint64_t)rank / (uint64_t)P);
     size_t b = (size_t)((uint64_t)count * (uint64_t)(rank + 1) / (uint64_t)P);
     sh->offset = a;
-    if (share_alloc(sh, b - a) != 0)
+    if (share_alloc(sh, b - a, 0) != 0)
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu particles", path, b - a);
     FILE *f = fopen(path, "rb");
     if (!f) return lci_error(dev, LC_ERROR_IO, "%s: cannot open: %s", path, strerror(errno));
@@ -145,18 +156,19 @@ static lc_status whole_share(lc_device *dev, const char *path, const lc_load_des
     if (kind != LC_KIND_PARTICLES) s = lci_error(dev, LC_ERROR_INTERNAL, "%s: not a particle set", path);
     if (s == LC_OK && d->count > 0 && !d->positions)
         s = lci_error(dev, LC_ERROR_INTERNAL, "%s: %zu particles without positions", path, d->count);
-    if (s == LC_OK && share_alloc(sh, d->count) != 0)
+    if (s == LC_OK && share_alloc(sh, d->count, d->norm_weights != NULL) != 0)
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %zu particles", path, d->count);
     for (size_t i = 0; s == LC_OK && i < d->count; i++) {
         sh->x[i] = d->positions[3 * i], sh->y[i] = d->positions[3 * i + 1], sh->z[i] = d->positions[3 * i + 2];
         /* an invalid radius or value stays as it is for the check */
         sh->r[i] = d->radii ? d->radii[i] : d->radius;
         sh->k[i] = d->values ? d->values[i] : 1.0f;
+        if (sh->w) sh->w[i] = d->norm_weights[i];
         sh->f[i] = d->fields ? d->fields[i] : 0;
     }
     if (s == LC_OK) {
         sp->radius = d->radius, sp->nfields = d->nfields, sp->leaf_size = d->leaf_size;
-        sp->drop_invalid = d->drop_invalid, sp->params = d->params;
+        sp->drop_invalid = d->drop_invalid, sp->params = d->params, sp->has_w = d->norm_weights != NULL;
         if (d->radius_note) snprintf(sp->note, sizeof sp->note, "%s", d->radius_note);
     }
     lci_loaded_free(&l);
@@ -187,13 +199,16 @@ static lc_status validate(lc_device *dev, MPI_Comm comm, const char *path, shape
     for (size_t i = 0; i < sh->n; i++) {
         float xyz[3] = {sh->x[i], sh->y[i], sh->z[i]};
         one.positions = xyz, one.radii = &sh->r[i], one.values = &sh->k[i], one.fields = &sh->f[i];
+        one.norm_weights = sh->w ? &sh->w[i] : NULL;
         const char *w = lci_particles_invalid(&one, 0, sp->nfields);
         if (w) {
             if (!bad++) first = i, why = w;
             continue;
         }
         sh->x[j] = sh->x[i], sh->y[j] = sh->y[i], sh->z[j] = sh->z[i];
-        sh->r[j] = sh->r[i], sh->k[j] = sh->k[i], sh->f[j++] = sh->f[i];
+        sh->r[j] = sh->r[i], sh->k[j] = sh->k[i], sh->f[j] = sh->f[i];
+        if (sh->w) sh->w[j] = sh->w[i];
+        j++;
     }
     uint64_t total_bad = bad, total = sh->n;
     MPI_Allreduce(MPI_IN_PLACE, &total_bad, 1, MPI_UINT64_T, MPI_SUM, comm);
@@ -228,12 +243,12 @@ static void share_extremes(MPI_Comm comm, const share *sh, lci_particles_global 
 /* The part's value ranges united (MIN / MAX; ghosts are some rank's owners too). */
 static lc_status unite(MPI_Comm *c, lci_particles_global *g)
 {
-    float f[2] = {-g->kmin, g->kmax};
+    float f[4] = {-g->kmin, g->kmax, -g->amin, g->amax};
     double d[2] = {-g->kh3min, g->kh3max};
-    if (MPI_Allreduce(MPI_IN_PLACE, f, 2, MPI_FLOAT, MPI_MAX, *c) != MPI_SUCCESS ||
+    if (MPI_Allreduce(MPI_IN_PLACE, f, 4, MPI_FLOAT, MPI_MAX, *c) != MPI_SUCCESS ||
         MPI_Allreduce(MPI_IN_PLACE, d, 2, MPI_DOUBLE, MPI_MAX, *c) != MPI_SUCCESS)
         return LC_ERROR_INTERNAL;
-    g->kmin = -f[0], g->kmax = f[1], g->kh3min = -d[0], g->kh3max = d[1];
+    g->kmin = -f[0], g->kmax = f[1], g->kh3min = -d[0], g->kh3max = d[1], g->amin = -f[2], g->amax = f[3];
     return LC_OK;
 }
 
@@ -301,7 +316,7 @@ lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, s
     if (s == LC_OK && in > INT_MAX)
         s = lci_error(dev, LC_ERROR_UNSUPPORTED, "exchange: %llu floats for one rank, at most %d", (unsigned long long)in,
                       INT_MAX);
-    if (s == LC_OK && !(*recv = malloc(sizeof(float) * (in ? in : 1))))
+    if (s == LC_OK && (!(*recv = malloc(sizeof(float) * (in ? in : 1))) || lci_test_fault("exchange")))
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "exchange: out of memory for %llu floats", (unsigned long long)in);
     s = lc_mpi_agree(dev, comm, s);
     if (s == LC_OK && MPI_Alltoallv(d.buf, sc, sd, MPI_FLOAT, *recv, rc, rd, MPI_FLOAT, comm) != MPI_SUCCESS)
@@ -313,23 +328,25 @@ lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, s
     return s;
 }
 
-/* The share as records (x y z r k field) and their reaches, then the exchange. */
+/* The share as records (x y z r k field, and the norm weight w with
+ * has_w) and their reaches, then the exchange. */
 enum { REC = 6 };
 
-static lc_status exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, share *sh, float support, float dt,
-                          float **recv, size_t *nrecv)
+static lc_status exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, share *sh, int has_w, float support,
+                          float dt, float **recv, size_t *nrecv)
 {
-    size_t n = sh->n, m = n ? n : 1;
-    float *items = malloc(sizeof(float) * REC * m), *reach = malloc(sizeof(float) * m);
+    size_t n = sh->n, m = n ? n : 1, nf = REC + (has_w ? 1 : 0);
+    float *items = malloc(sizeof(float) * nf * m), *reach = malloc(sizeof(float) * m);
     lc_status s = items && reach ? LC_OK : lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "out of memory for %zu particles", n);
     for (size_t i = 0; s == LC_OK && i < n; i++) {
-        float *o = items + REC * i;
+        float *o = items + nf * i;
         o[0] = sh->x[i], o[1] = sh->y[i], o[2] = sh->z[i], o[3] = sh->r[i], o[4] = sh->k[i], o[5] = (float)sh->f[i];
+        if (has_w) o[REC] = sh->w[i];
         reach[i] = lci_dp_reach(support, sh->r[i], dt);
     }
     share_free(sh); /* the records hold it now */
     s = lc_mpi_agree(dev, comm, s);
-    if (s == LC_OK) s = lci_mpi_exchange(dev, comm, t, n, &items, REC, reach, recv, nrecv);
+    if (s == LC_OK) s = lci_mpi_exchange(dev, comm, t, n, &items, (int)nf, reach, recv, nrecv);
     free(items), free(reach);
     return s;
 }
@@ -359,28 +376,32 @@ static lc_status make_part(lc_device *dev, MPI_Comm *comm, const shape *sp, floa
                            const lci_particles_global *g, lci_dp_ppart *pp, lc_volume **out)
 {
     const float *rec = *recp;
-    size_t m = n ? n : 1;
-    float *xyz = malloc(12 * m), *r = malloc(4 * m), *k = malloc(4 * m);
+    size_t m = n ? n : 1, nf = REC + (sp->has_w ? 1 : 0);
+    float *xyz = malloc(12 * m), *r = malloc(4 * m), *k = malloc(4 * m), *w = sp->has_w ? malloc(4 * m) : NULL;
     uint8_t *f = malloc(m);
-    lc_status s = xyz && r && k && f ? LC_OK : lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "out of memory for %zu particles", n);
+    lc_status s = xyz && r && k && f && (!sp->has_w || w) && !lci_test_fault("part")
+                      ? LC_OK
+                      : lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "out of memory for %zu particles", n);
     for (size_t i = 0; s == LC_OK && i < n; i++) {
-        const float *o = rec + REC * i;
+        const float *o = rec + nf * i;
         xyz[3 * i] = o[0], xyz[3 * i + 1] = o[1], xyz[3 * i + 2] = o[2];
         r[i] = o[3], k[i] = o[4], f[i] = (uint8_t)o[5];
+        if (w) w[i] = o[REC];
     }
     free(*recp); /* unpacked: not held through the build */
     *recp = NULL, rec = NULL;
     lc_particles_desc d = {.count = n, .positions = xyz, .radii = r, .radius = sp->radius, .values = k, .fields = f,
                            .nfields = sp->nfields, .leaf_size = sp->leaf_size, .params = sp->params,
-                           .radius_note = sp->note[0] ? sp->note : NULL};
+                           .radius_note = sp->note[0] ? sp->note : NULL, .norm_weights = w};
     if (s == LC_OK) s = lc_particles_create(dev, &d, out);
-    free(xyz), free(r), free(k), free(f);
+    free(xyz), free(r), free(k), free(w), free(f);
     s = lc_mpi_agree(dev, *comm, s);
     lci_particles_global e, all = *g;
     if (s == LC_OK) {
         lci_particles_extremes(*out, &e);
         s = unite(comm, &e);
         all.kmin = e.kmin, all.kmax = e.kmax, all.kh3min = e.kh3min, all.kh3max = e.kh3max;
+        all.amin = e.amin, all.amax = e.amax;
     }
     if (s == LC_OK) s = lci_dp_particles_attach(dev, *out, &all, pp);
     else lci_kd_release(&pp->tree);
@@ -424,12 +445,13 @@ lc_status lci_mpi_load_particles(lc_device *dev, MPI_Comm comm, const char *path
         pp.dt = dt > 0.0f ? dt : g.count ? (sph ? 0.125f : 0.25f) * g.min_radius : 1.0f;
         pp.parts = P, pp.part = rank;
         lc_box3 b = lci_dp_particle_bounds(&g, pp.support);
-        s = lci_kd_build_dist(dev, &b, P, sh.n, sh.x, sh.y, sh.z, sum_u64, &comm, &pp.tree);
+        lci_kd_peers peers;
+        s = lci_kd_build_dist(dev, &b, P, sh.n, sh.x, sh.y, sh.z, lci_mpi_kd_peers(&comm, &peers), &pp.tree);
     }
     s = lc_mpi_agree(dev, comm, s);
     float *rec = NULL;
     size_t n = 0;
-    if (s == LC_OK) s = exchange(dev, comm, &pp.tree, &sh, pp.support, pp.dt, &rec, &n);
+    if (s == LC_OK) s = exchange(dev, comm, &pp.tree, &sh, sp.has_w, pp.support, pp.dt, &rec, &n);
     share_free(&sh);
     if (s == LC_OK) s = make_part(dev, &comm, &sp, &rec, n, &g, &pp, out);
     else lci_kd_release(&pp.tree);

@@ -70,19 +70,15 @@ static lc_status read_terms(lc_device *dev, const char *path, const lc_load_desc
     return s;
 }
 
-static lc_status sum_u64r(void *user, uint64_t *v, int n)
-{
-    MPI_Comm *c = user;
-    return MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_UINT64_T, MPI_SUM, *c) == MPI_SUCCESS ? LC_OK : LC_ERROR_INTERNAL;
-}
-
 /* The part's RBF set from the terms it received. */
 static lc_status make_part(lc_device *dev, const rhead *h, const float *rec, size_t n, lci_dp_ppart *pp,
                            lc_volume **out)
 {
     size_t m = n ? n : 1;
     float *c = malloc(12 * m), *sw = malloc(4 * m), *w = malloc(4 * m);
-    lc_status s = c && sw && w ? LC_OK : lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "out of memory for %zu RBFs", n);
+    lc_status s = c && sw && w && !lci_test_fault("part")
+                      ? LC_OK
+                      : lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "out of memory for %zu RBFs", n);
     for (size_t i = 0; s == LC_OK && i < n; i++) {
         const float *o = rec + TERM * i;
         memcpy(c + 3 * i, o, 12);
@@ -130,7 +126,8 @@ lc_status lci_mpi_load_rbf(lc_device *dev, MPI_Comm comm, const char *path, cons
         }
     }
     s = lc_mpi_agree(dev, comm, s);
-    if (s == LC_OK) s = lci_kd_build_dist(dev, &h.bounds, P, n, x, y, z, sum_u64r, &comm, &pp.tree);
+    lci_kd_peers peers;
+    if (s == LC_OK) s = lci_kd_build_dist(dev, &h.bounds, P, n, x, y, z, lci_mpi_kd_peers(&comm, &peers), &pp.tree);
     free(x), free(y), free(z);
     s = lc_mpi_agree(dev, comm, s);
     float *rec = NULL;

@@ -13,16 +13,14 @@ typedef struct kd_build {
     float *key;         /* scratch: the coordinates being split */
     int cells[3];
     double origin[3], cellw[3]; /* grid cells: the plane of cell boundary c on axis a */
-    /* points spread over ranks: sums a vector of counts over them (NULL: one holder) */
-    lc_status (*sum)(void *user, uint64_t *v, int n);
-    void *user;
+    const lci_kd_peers *peers; /* points spread over holders (NULL: one holder) */
     uint32_t *ukey;     /* scratch for the distributed selection */
     int failed;
 } kd_build;
 
 static uint64_t kd_sum1(kd_build *k, uint64_t v)
 {
-    if (k->sum && k->sum(k->user, &v, 1) != LC_OK) k->failed = 1;
+    if (k->peers && k->peers->sum(k->peers->user, &v, 1) != LC_OK) k->failed = 1;
     return v;
 }
 
@@ -107,7 +105,7 @@ static int build_node(kd_build *k, lc_box3 b, const int c0[3], const int c1[3], 
         uint64_t cnt = kd_sum1(k, (uint64_t)(i1 - i0)), m = (uint64_t)((double)cnt * nleft / nl);
         if (cnt == 0) {
             split = lo[axis] + (hi[axis] - lo[axis]) * (float)nleft / (float)nl;
-        } else if (k->sum) {
+        } else if (k->peers) {
             split = dist_select(k, axis, i0, i1, m);
             if (split > hi[axis]) split = hi[axis];
             if (split < lo[axis]) split = lo[axis];
@@ -163,35 +161,47 @@ static void cells_of(lci_kdtree *t, int id, lc_kregion c)
     cells_of(t, n->child[1], r);
 }
 
-static lc_status kd_build_any(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x,
-                              const float *y, const float *z, const int cells[3],
-                              lc_status (*sum)(void *, uint64_t *, int), void *user, lci_kdtree *out)
+/* The tree's arrays and the build's scratch (n points; ukey when distributed). */
+static lc_status kd_alloc(lc_device *dev, int nleaves, size_t n, const float *x, kd_build *k, lci_kdtree *out)
 {
-    memset(out, 0, sizeof *out);
-    if (nleaves < 1 || nleaves > 65536)
-        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "kd-tree: %d regions, expected 1 to 65536", nleaves);
-    if (x && n > UINT32_MAX)
-        return lci_error(dev, LC_ERROR_UNSUPPORTED, "kd-tree: %zu points, at most %u", n, UINT32_MAX);
     out->nleaves = nleaves;
     out->node = calloc((size_t)(2 * nleaves - 1), sizeof *out->node);
     out->cell = calloc((size_t)nleaves, sizeof *out->cell);
     out->box = calloc((size_t)nleaves, sizeof *out->box);
     out->weight = calloc((size_t)nleaves, sizeof *out->weight);
     if (!x) out->crange = calloc((size_t)nleaves * 6, sizeof *out->crange);
+    if (x && n > 0) {
+        k->idx = malloc(n * sizeof *k->idx);
+        k->key = malloc(n * sizeof *k->key);
+        if (k->peers) k->ukey = malloc(n * sizeof *k->ukey);
+    }
+    if (!out->node || !out->cell || !out->box || !out->weight || (!x && !out->crange) ||
+        (x && n > 0 && (!k->idx || !k->key || (k->peers && !k->ukey))) || lci_test_fault("kd"))
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "kd-tree: out of memory for %d regions and %zu points", nleaves,
+                         n);
+    return LC_OK;
+}
+
+static lc_status kd_build_any(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x,
+                              const float *y, const float *z, const int cells[3], const lci_kd_peers *peers,
+                              lci_kdtree *out)
+{
+    memset(out, 0, sizeof *out);
+    if (nleaves < 1 || nleaves > 65536)
+        return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "kd-tree: %d regions, expected 1 to 65536", nleaves);
     kd_build k;
     memset(&k, 0, sizeof k);
     k.t = out;
-    k.sum = sum, k.user = user;
-    if (x && n > 0) {
-        k.idx = malloc(n * sizeof *k.idx);
-        k.key = malloc(n * sizeof *k.key);
-        if (sum) k.ukey = malloc(n * sizeof *k.ukey);
-    }
-    if (!out->node || !out->cell || !out->box || !out->weight || (!x && !out->crange) ||
-        (x && n > 0 && (!k.idx || !k.key || (sum && !k.ukey)))) {
+    k.peers = peers;
+    lc_status s = x && n > UINT32_MAX
+                      ? lci_error(dev, LC_ERROR_UNSUPPORTED, "kd-tree: %zu points, at most %u", n, UINT32_MAX)
+                      : kd_alloc(dev, nleaves, n, x, &k, out);
+    /* every holder takes each sum of the build or none does */
+    if (peers && peers->agree) s = peers->agree(dev, peers->user, s);
+    if (s != LC_OK) {
         free(k.idx), free(k.key), free(k.ukey);
         lci_kd_release(out);
-        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "kd-tree: out of memory for %d regions", nleaves);
+        return s;
     }
     int c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
     if (x) {
@@ -223,17 +233,30 @@ static lc_status kd_build_any(lc_device *dev, const lc_box3 *bounds, int nleaves
 lc_status lci_kd_build(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x, const float *y,
                        const float *z, const int cells[3], lci_kdtree *out)
 {
-    return kd_build_any(dev, bounds, nleaves, n, x, y, z, cells, NULL, NULL, out);
+    return kd_build_any(dev, bounds, nleaves, n, x, y, z, cells, NULL, out);
 }
 
 lc_status lci_kd_build_dist(lc_device *dev, const lc_box3 *bounds, int nleaves, size_t n, const float *x,
-                            const float *y, const float *z, lc_status (*sum)(void *, uint64_t *, int), void *user,
-                            lci_kdtree *out)
+                            const float *y, const float *z, const lci_kd_peers *peers, lci_kdtree *out)
 {
     static const float none = 0.0f; /* a holder of no points still takes every step */
-    if (!x && n > 0) return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "kd-tree: %zu points without coordinates", n);
+    lc_status s = !x && n > 0 ? lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "kd-tree: %zu points without coordinates", n)
+                              : LC_OK;
+    if (s != LC_OK) {
+        memset(out, 0, sizeof *out);
+        return peers->agree ? peers->agree(dev, peers->user, s) : s;
+    }
     if (!x) x = y = z = &none;
-    return kd_build_any(dev, bounds, nleaves, n, x, y, z, NULL, sum, user, out);
+    return kd_build_any(dev, bounds, nleaves, n, x, y, z, NULL, peers, out);
+}
+
+int lci_test_fault(const char *point)
+{
+    const char *e = getenv("LANECAST_TEST_FAULT");
+    size_t k = strlen(point);
+    for (const char *p = e ? strstr(e, point) : NULL; p; p = strstr(p + 1, point))
+        if ((p == e || p[-1] == ',') && (p[k] == 0 || p[k] == ',')) return 1;
+    return 0;
 }
 
 lc_status lci_kd_copy(lc_device *dev, const lci_kdtree *t, lci_kdtree *out)

@@ -93,6 +93,7 @@ static void hit_add(void *u, int leaf)
 void lci_dp_particles_free(lc_particles_desc *d)
 {
     free((void *)d->positions), free((void *)d->radii), free((void *)d->values), free((void *)d->fields);
+    free((void *)d->norm_weights);
     memset(d, 0, sizeof *d);
 }
 
@@ -101,11 +102,13 @@ lc_status lci_dp_particles_cut(lc_device *dev, const lc_particles_desc *whole, c
 {
     *out = *whole;
     out->positions = NULL, out->radii = NULL, out->values = NULL, out->fields = NULL, out->count = 0;
+    out->norm_weights = NULL;
     size_t n = whole->count, m = n ? n : 1;
     float *xyz = malloc(12 * m), *r = malloc(4 * m), *k = malloc(4 * m);
+    float *w = whole->norm_weights ? malloc(4 * m) : NULL;
     uint8_t *f = malloc(m);
-    out->positions = xyz, out->radii = r, out->values = k, out->fields = f;
-    if (!xyz || !r || !k || !f) {
+    out->positions = xyz, out->radii = r, out->values = k, out->fields = f, out->norm_weights = w;
+    if (!xyz || !r || !k || !f || (whole->norm_weights && !w)) {
         lci_dp_particles_free(out);
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel cut: out of memory for %zu particles", n);
     }
@@ -119,6 +122,7 @@ lc_status lci_dp_particles_cut(lc_device *dev, const lc_particles_desc *whole, c
         memcpy(xyz + 3 * j, p, 12);
         r[j] = ri;
         k[j] = whole->values ? whole->values[i] : 1.0f;
+        if (w) w[j] = whole->norm_weights[i];
         f[j++] = whole->fields ? whole->fields[i] : 0;
     }
     out->count = j;

@@ -119,7 +119,7 @@ lc_status lci_dp_grid_read(lc_device *dev, const char *path, const lci_vol_layou
         free(data);
         return LC_ERROR_OUT_OF_MEMORY;
     }
-    lc_status s = read_box(dev, path, l, fb0, fbn, box);
+    lc_status s = l->dataset[0] ? lci_hdf5_read_box(dev, l, fb0, fbn, box) : read_box(dev, path, l, fb0, fbn, box);
     if (s == LC_OK && l->swap) swap_values(box, n, es);
     if (s == LC_OK && l->type == LC_VALUE_FLOAT32)
         for (uint64_t i = 0; i < n && s == LC_OK; i++) {
@@ -178,6 +178,7 @@ lc_status lci_dp_grid_layout(lc_device *dev, const char *path, const lc_load_des
     if (!strcmp(format, "nrrd")) return lci_vol_layout_of(dev, path, &o, lci_nrrd_header, l);
     if (!strcmp(format, "metaimage")) return lci_vol_layout_of(dev, path, &o, lci_mhd_header, l);
     if (!strcmp(format, "nifti")) return lci_nifti_layout(dev, &a, &o, l);
+    if (!strcmp(format, "hdf5")) return lci_hdf5_grid_layout(dev, &a, &o, l);
     if (!strcmp(format, "raw-volume")) {
         if (o.size[0] <= 0 || o.size[1] <= 0 || o.size[2] <= 0 || o.type == LC_VALUE_DEFAULT)
             return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
