@@ -29,7 +29,9 @@ distance to the samples, sample_d2), evaluation (the Gaussian and its exp),
 accumulation (the loop over a leaf's particles: loads, adds), integration
 (classification and blending, mode.h, for both methods), ray set-up and
 finish (setup_vector, finish_vector, camera and box clip), sample loop
-(direct_tile's own lines). Prints CPU shares; with --frame-s S also each
+(direct_tile's own lines); libm (floorf), the scalar target's rounding in the
+exp, which is a call without SSE4.1; the coherent method's buffer clear (clear_buffer)
+and pass control (coherent_tile, set_windows, pass lengths). Prints CPU shares; with --frame-s S also each
 stage's seconds of a frame of S CPU seconds."""
 import collections
 import subprocess
@@ -72,6 +74,10 @@ def stage(fn, f, ln):
         return "ray set-up and finish"
     if fn == "direct_tile":
         return "sample loop"
+    if fn == "clear_buffer":
+        return "buffer clear"
+    if fn in ("coherent_tile", "set_windows", "pass_end", "pass_first", "pass_adapt"):
+        return "pass control"
     return None
 
 
@@ -103,6 +109,9 @@ def script_counts(binary, path):
     raw, bias = collections.Counter(), None
     for line in open(path):
         f = line.split()
+        if len(f) >= 2 and "libm" in f[-1]:
+            raw[-1] += 1  # the scalar target's floorf (the exp's rounding without SSE4.1) is a libm call
+            continue
         if len(f) < 3 or name not in f[-1] or "+0x" not in f[1]:
             continue
         ip = int(f[0], 16)
@@ -112,7 +121,7 @@ def script_counts(binary, path):
         raw[ip] += 1
     if bias is None:
         sys.exit("particle_stages.py: no sample in a uniquely named function of " + binary)
-    return collections.Counter({ip - bias: c for ip, c in raw.items()})
+    return collections.Counter({(ip - bias if ip >= 0 else ip): c for ip, c in raw.items()})
 
 
 def chains(binary, addrs):
@@ -142,11 +151,15 @@ def main_script(args):
     GATHER_LEAF_LINE = gather_leaf_line()
     counts = script_counts(binary, path)
     addrs = sorted(counts)
-    frames = {}
-    for i in range(0, len(addrs), 4000):
-        frames.update(chains(binary, addrs[i:i + 4000]))
+    frames, known = {}, [a for a in addrs if a >= 0]
+    for i in range(0, len(known), 4000):
+        frames.update(chains(binary, known[i:i + 4000]))
     st, tot = collections.Counter(), 0
     for a in addrs:
+        if a < 0:
+            tot += counts[a]
+            st["libm (floorf)"] += counts[a]
+            continue
         fr = frames.get(a, [])
         if not any("/kernels/" in loc for _, loc in fr):
             continue  # not the render: scene, build, host
