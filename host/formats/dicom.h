@@ -64,5 +64,10 @@ lc_status lci_dcm_choose(lc_device *dev, const lci_dcm_input *in, const lci_read
  * slices in order; uneven spacing fails, giving the spacings. */
 lc_status lci_dcm_volume_of(lc_device *dev, const lci_dcm_input *in, int s, lci_dcm_volume *v);
 void lci_dcm_volume_free(lci_dcm_volume *v);
+/* Checks every element header of path (dicom_walk.c) before GDCM reads it:
+ * each declared length within the file and its enclosing sequence or item,
+ * sequences closed; 0, or -1 with "element (GGGG,EEEE) at byte N: ..." in
+ * err. */
+int lci_dcm_walk(const char *path, char *err, size_t errlen);
 
 #endif

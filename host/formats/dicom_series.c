@@ -115,7 +115,7 @@ static lc_status add_file(lc_device *dev, lci_dcm_input *in, char *path, int ski
     *added = 0;
     lci_dcm_meta m;
     char err[512];
-    if (lci_gdcm_header(path, &m, err, sizeof err)) {
+    if (lci_dcm_walk(path, err, sizeof err) || lci_gdcm_header(path, &m, err, sizeof err)) {
         if (skip_bad) lci_log(dev, LC_LOG_WARNING, "%s: skipped: %s", path, err);
         lc_status s = skip_bad ? LC_OK : lci_error(dev, LC_ERROR_FORMAT, "%s: %s", path, err);
         free(path);
