@@ -195,19 +195,8 @@ def main():
         if n in base:
             counts[base[n] + int(off, 16)] += int(c)
     addrs = sorted(counts)
-    out = subprocess.run(["addr2line", "-a", "-i", "-f", "-e", binary] + [hex(a) for a in addrs],
-                         capture_output=True, text=True).stdout.split("\n")
-    frames, cur, i = {}, None, 0
-    while i < len(out):
-        if out[i].startswith("0x"):
-            cur = int(out[i], 16)
-            frames[cur] = []
-            i += 1
-        elif not out[i]:
-            i += 1
-        else:
-            frames[cur].append((out[i], out[i + 1].split("/")[-1].split(" ")[0]))  # (function, file:line)
-            i += 2
+    # (function, file:line), innermost first
+    frames = {a: [(fn, loc.split("/")[-1]) for fn, loc in fs] for a, fs in chains(binary, addrs).items()}
     st = collections.Counter()
     for a in addrs:
         k = None
