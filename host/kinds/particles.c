@@ -1,6 +1,11 @@
 /* Particle scene objects (Knoll 2014): validation, copy into leaf-ordered
- * structure-of-arrays, the Embree BVH, and the per-frame kernel scene. */
+ * structure-of-arrays, the Embree BVH, and the per-frame kernel scene.
+ * A desc with defer_bvh keeps the particles in the desc's order and builds
+ * the BVH when a render or a sample first needs it (ensure_bvh): a
+ * projection reads the particles only, and the build is most of a large
+ * set's load (docs/bench/sph.md). */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +38,10 @@ typedef struct particles {
     float kmin, kmax; /* of the k_i and 0: the default value range is kappa times them */
     uint8_t *field;
     uint32_t *src; /* leaf order -> index in the lc_particles_desc (projections pair sets by it) */
+    atomic_int built;      /* the BVH, the leaf order and the node bounds exist */
+    pthread_mutex_t bvh_mu; /* guards the deferred build and the arrays' pointers while it swaps them */
+    void *retired[10];     /* the desc-ordered arrays a deferred build replaced: a projection or a
+                              resample on another thread may still read them (freed by destroy) */
     pthread_mutex_t cs_mu; /* guards cs */
     lci_vcache_entry *cs;  /* an lci_pcstep: the recurrence ratios for the last step (particles_cstep.c) */
     size_t global_count;   /* a part of a data-parallel load: the whole set's count (lci_particles_set_global) */
@@ -57,6 +66,8 @@ static void destroy(lc_volume *v)
     lci_pbvh_free(&p->bvh);
     lci_vcache_release(p->cs);
     pthread_mutex_destroy(&p->cs_mu);
+    pthread_mutex_destroy(&p->bvh_mu);
+    for (int i = 0; i < 10; i++) free(p->retired[i]);
     free(p->node_ksum);
     free(p->node_fbound);
     free(p->node_ksph);
@@ -106,7 +117,10 @@ lc_status lc_particles_get_info(const lc_volume *v, lc_particles_info *out)
     const particles *p = lci_volume_as(v, LC_KIND_PARTICLES, "lc_particles_get_info");
     if (!p) return LC_ERROR_INVALID_ARGUMENT;
     if (!out) return lci_error(v->device, LC_ERROR_INVALID_ARGUMENT, "lc_particles_get_info: out is NULL");
+    pthread_mutex_t *mu = (pthread_mutex_t *)&p->bvh_mu; /* a deferred build writes its figures */
+    pthread_mutex_lock(mu);
     *out = p->info;
+    pthread_mutex_unlock(mu);
     return LC_OK;
 }
 
@@ -271,6 +285,7 @@ lc_status lc_particles_set_params(lc_volume *v, const lc_particle_params *params
                       "lc_particles_set_params: normalise = 1, but the particles were created without norm_weights");
     if (s != LC_OK) return s;
     p->info.params = q;
+    if (!atomic_load_explicit(&p->built, memory_order_acquire)) return LC_OK; /* the build computes the bounds */
     s = sph_sums(p);
     if (s == LC_OK && (support_sigma(&p->info.params) != p->fbound_sigma || p->info.params.kernel != p->fbound_kernel))
         field_bounds(p);
@@ -411,7 +426,8 @@ static void measure(const kept *k, float radius, lc_particles_info *info)
     info->bounds = bb;
 }
 
-/* Structure-of-arrays copies in the BVH's leaf order, and the node sums. */
+/* Structure-of-arrays copies in the BVH's leaf order (the kept order while
+ * the build is deferred), and the node sums. */
 static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const kept *k, particles *p)
 {
     size_t n = k->n, m = n ? n : 1;
@@ -426,7 +442,7 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory for %zu particles", n);
     p->amin = INFINITY, p->amax = -INFINITY;
     for (size_t j = 0; j < n; j++) {
-        uint32_t o = p->bvh.order[j];
+        uint32_t o = p->bvh.order ? p->bvh.order[j] : (uint32_t)j; /* deferred: the kept order */
         size_t i = k->src ? k->src[o] : o;
         float ro = k->rad ? k->rad[o] : d->radius;
         p->px[j] = k->xyz[3 * o], p->py[j] = k->xyz[3 * o + 1], p->pz[j] = k->xyz[3 * o + 2];
@@ -450,6 +466,105 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
     return LC_OK;
 }
 
+/* The Embree BVH over the particles in their kept order. */
+static lc_status build_bvh(lc_device *dev, const float *xyz, const float *rad, float radius, size_t n, particles *p)
+{
+    void *e = lci_embree_device(dev);
+    char err[256];
+    if (!e) return LC_ERROR_INTERNAL;
+    if (lci_pbvh_build(e, xyz, rad, radius, n, p->info.leaf_size, &p->bvh, err, sizeof err) != 0)
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
+    return LC_OK;
+}
+
+/* The node bounds once the arrays are in leaf order, and the build's figures. */
+static lc_status finish_build(lc_device *dev, particles *p, double t0)
+{
+    lc_status s = sph_sums(p);
+    if (s == LC_OK) field_bounds(p);
+    lc_particles_info *info = &p->info;
+    info->build_seconds = lci_now() - t0;
+    info->bvh_nodes = p->bvh.nnodes;
+    info->bvh_depth = p->bvh.depth;
+    info->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + (2 + (size_t)info->nfields) * sizeof(float));
+    if (s == LC_OK)
+        lci_log(dev, LC_LOG_INFO, "particles: %zu (%zu dropped), %d fields, BVH %d nodes depth %d, %.1f MB, %.3f s",
+                info->count, info->dropped, info->nfields, p->bvh.nnodes, p->bvh.depth, (double)info->bvh_bytes / 1e6,
+                info->build_seconds);
+    return s;
+}
+
+/* The particle arrays in the BVH's leaf order: new arrays, all or none, the
+ * old ones retired (readers that took them before the swap keep reading
+ * them; destroy frees them). */
+static lc_status permute_all(lc_device *dev, particles *p)
+{
+    void **arr[] = {(void **)&p->px, (void **)&p->py, (void **)&p->pz, (void **)&p->r, (void **)&p->nir,
+                    (void **)&p->k, (void **)&p->kn, (void **)&p->src, (void **)&p->field};
+    const size_t el[] = {4, 4, 4, 4, 4, 4, 4, 4, 1}, n = p->info.count;
+    const uint32_t *order = p->bvh.order;
+    char *o[9] = {0};
+    int ok = 1;
+    for (int i = 0; i < 9; i++)
+        if (*arr[i] && !(o[i] = malloc(el[i] * (n ? n : 1)))) ok = 0;
+    if (!ok) {
+        for (int i = 0; i < 9; i++) free(o[i]);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory ordering %zu particles", n);
+    }
+    for (int i = 0; i < 9; i++) {
+        if (!o[i]) continue;
+        const char *in = *arr[i];
+        for (size_t j = 0; j < n; j++) memcpy(o[i] + j * el[i], in + (size_t)order[j] * el[i], el[i]);
+        p->retired[i] = *arr[i];
+        *arr[i] = o[i];
+    }
+    return LC_OK;
+}
+
+/* The deferred build (desc.defer_bvh), under bvh_mu: the BVH over the kept
+ * order, the arrays permuted into its leaf order, the node bounds for the
+ * current parameters. The same BVH and arrays as an immediate build's (same
+ * input in the same order), so renders do not depend on when it ran. */
+static lc_status deferred_build(lc_device *dev, particles *p)
+{
+    size_t n = p->info.count;
+    double t0 = lci_now();
+    float *xyz = malloc(sizeof(float) * 3 * (n ? n : 1));
+    if (!xyz) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory building the BVH of %zu particles", n);
+    for (size_t j = 0; j < n; j++) xyz[3 * j] = p->px[j], xyz[3 * j + 1] = p->py[j], xyz[3 * j + 2] = p->pz[j];
+    lc_status s = n > 0 ? build_bvh(dev, xyz, p->r, 0.0f, n, p) : LC_OK;
+    free(xyz);
+    float *ksum = s == LC_OK ? malloc(sizeof(float) * (size_t)(p->bvh.nnodes > 0 ? p->bvh.nnodes : 1)) : NULL;
+    if (s == LC_OK && !ksum) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the BVH's nodes");
+    if (s == LC_OK && p->bvh.order) s = permute_all(dev, p);
+    if (s != LC_OK) { /* no BVH; the arrays as they were */
+        free(ksum);
+        lci_pbvh_free(&p->bvh);
+        memset(&p->bvh, 0, sizeof p->bvh);
+        return s;
+    }
+    free(p->bvh.order);
+    p->bvh.order = NULL;
+    free(p->node_ksum);
+    p->node_ksum = ksum;
+    node_sums(p);
+    return finish_build(dev, p, t0);
+}
+
+/* The BVH of a deferred set, built once (any thread; the first caller builds,
+ * the others wait for it). */
+static lc_status ensure_bvh(lc_device *dev, const lc_volume *v)
+{
+    particles *p = (particles *)v; /* the build and the pointers' swap: behind bvh_mu */
+    if (atomic_load_explicit(&p->built, memory_order_acquire)) return LC_OK;
+    pthread_mutex_lock(&p->bvh_mu);
+    lc_status s = LC_OK;
+    if (!atomic_load_explicit(&p->built, memory_order_relaxed) && (s = deferred_build(dev, p)) == LC_OK)
+        atomic_store_explicit(&p->built, 1, memory_order_release);
+    pthread_mutex_unlock(&p->bvh_mu);
+    return s;
+}
+
 static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
 {
     const lc_particles_desc *d = desc;
@@ -471,6 +586,11 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         free(p), p = NULL; /* destroy would destroy the mutex */
         s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory (a mutex)");
     }
+    if (s == LC_OK && pthread_mutex_init(&p->bvh_mu, NULL) != 0) {
+        pthread_mutex_destroy(&p->cs_mu);
+        free(p), p = NULL;
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: out of memory (a mutex)");
+    }
     if (s == LC_OK) {
         p->base.ops = &lci_particles_ops;
         p->base.device = dev;
@@ -482,26 +602,15 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         info->leaf_size = d->leaf_size == 0 ? 4 : d->leaf_size;
         if (d->radius_note) snprintf(info->radius_note, sizeof info->radius_note, "%s", d->radius_note);
         measure(&k, d->radius, info);
-        double t0 = lci_now();
-        if (k.n > 0) {
-            void *e = lci_embree_device(dev);
-            char err[256];
-            if (!e) s = LC_ERROR_INTERNAL;
-            else if (lci_pbvh_build(e, k.xyz, k.rad, d->radius, k.n, info->leaf_size, &p->bvh, err, sizeof err) != 0)
-                s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
-        }
-        if (s == LC_OK) s = leaf_order(dev, d, &k, p);
-        if (s == LC_OK) s = sph_sums(p);
-        if (s == LC_OK) field_bounds(p);
-        info->build_seconds = lci_now() - t0;
-        info->bvh_nodes = p->bvh.nnodes;
-        info->bvh_depth = p->bvh.depth;
-        info->bvh_bytes = (size_t)p->bvh.nnodes * (sizeof(lc_kpnode) + (2 + (size_t)nfields) * sizeof(float));
         info->data_bytes = k.n * (6 * sizeof(float) + sizeof(uint32_t) + 1);
-        if (s == LC_OK)
-            lci_log(dev, LC_LOG_INFO, "particles: %zu (%zu dropped), %d fields, BVH %d nodes depth %d, %.1f MB, %.3f s",
-                    k.n, k.bad, nfields, p->bvh.nnodes, p->bvh.depth, (double)info->bvh_bytes / 1e6,
-                    info->build_seconds);
+        if (d->defer_bvh) s = leaf_order(dev, d, &k, p); /* the kept order; ensure_bvh builds */
+        else {
+            double t0 = lci_now();
+            if (k.n > 0) s = build_bvh(dev, k.xyz, k.rad, d->radius, k.n, p);
+            if (s == LC_OK) s = leaf_order(dev, d, &k, p);
+            if (s == LC_OK) s = finish_build(dev, p, t0);
+            atomic_store_explicit(&p->built, 1, memory_order_release);
+        }
     }
     free(k.own_xyz);
     free(k.own_rad);
@@ -639,6 +748,8 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
     if (m != LC_METHOD_COHERENT && m != LC_METHOD_DIRECT)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "method %d does not apply to particles (coherent or direct)",
                          (int)d->method);
+    lc_status bs = ensure_bvh(dev, v);
+    if (bs != LC_OK) return bs;
     const particles *p = (const particles *)v;
     if (p->part && !frame->has_region)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
@@ -686,6 +797,8 @@ static lc_status prepare(lc_device *dev, const lc_volume *v, const lc_render_des
 
 static lc_status sample_scene(lc_device *dev, const lc_volume *v, void **ks, uint64_t *scratch_bytes)
 {
+    lc_status bs = ensure_bvh(dev, v);
+    if (bs != LC_OK) return bs;
     lc_kparticles *k = lci_aligned_alloc(64, sizeof *k);
     if (!k) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_volume_sample: out of memory");
     kscene((const particles *)v, k);
@@ -700,6 +813,7 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
     lc_particles_desc *d = desc;
     if (!strcmp(o->key, "leaf_size")) return lci_option_int(dev, file, o, 1, 32, &d->leaf_size);
     if (!strcmp(o->key, "drop_invalid")) return lci_option_int(dev, file, o, 0, 1, &d->drop_invalid);
+    if (!strcmp(o->key, "defer_bvh")) return lci_option_int(dev, file, o, 0, 1, &d->defer_bvh);
     if (!strcmp(o->key, "kernel") && lc_kernel_from_name(o->value, &d->params.kernel) != LC_OK)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT,
                          "%s: option kernel = '%s', expected gaussian, m4, m5, m6, wendland-c2, wendland-c4 or wendland-c6",
@@ -713,7 +827,7 @@ const lci_kind_ops lci_particles_ops = {
     .kind = LC_KIND_PARTICLES,
     .name = "particles",
     .krow = LC_KKIND_PARTICLES,
-    .option_keys = "leaf_size drop_invalid kernel normalise",
+    .option_keys = "leaf_size drop_invalid kernel normalise defer_bvh",
     .create = create,
     .set_option = set_option,
     .destroy = destroy,
@@ -726,9 +840,12 @@ lc_status lci_particles_view(const lc_volume *v, const char *fn, lci_particle_vi
 {
     const particles *p = lci_volume_as(v, LC_KIND_PARTICLES, fn);
     if (!p) return LC_ERROR_INVALID_ARGUMENT;
+    pthread_mutex_t *mu = (pthread_mutex_t *)&p->bvh_mu; /* not while a deferred build swaps the arrays */
+    pthread_mutex_lock(mu);
     *out = (lci_particle_view){.n = p->info.count, .total = p->info.count + p->info.dropped, .x = p->px, .y = p->py,
                                .z = p->pz, .r = p->r, .k = p->k, .field = p->field, .src = p->src, .params = p->info.params,
                                .bounds = p->info.bounds, .max_radius = p->info.max_radius};
+    pthread_mutex_unlock(mu);
     return LC_OK;
 }
 
@@ -736,7 +853,10 @@ lc_status lci_particles_centres(const lc_volume *v, size_t *n, const float **x, 
 {
     const particles *p = lci_volume_as(v, LC_KIND_PARTICLES, "lci_particles_centres");
     if (!p) return LC_ERROR_INVALID_ARGUMENT;
+    pthread_mutex_t *mu = (pthread_mutex_t *)&p->bvh_mu;
+    pthread_mutex_lock(mu);
     *n = p->info.count, *x = p->px, *y = p->py, *z = p->pz;
+    pthread_mutex_unlock(mu);
     return LC_OK;
 }
 
@@ -768,7 +888,8 @@ void lci_particles_set_global(lc_volume *v, const lci_particles_global *g, void 
     p->amin = g->amin, p->amax = g->amax;
     if (p->part_free) p->part_free(p->part);
     p->part = part, p->part_free = part_free;
-    field_bounds(p); /* its cells follow the bounds and the largest radius */
+    if (atomic_load_explicit(&p->built, memory_order_acquire))
+        field_bounds(p); /* its cells follow the bounds and the largest radius (a deferred build's too) */
 }
 
 void *lci_particles_part(const lc_volume *v)

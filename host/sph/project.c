@@ -288,14 +288,46 @@ static lc_status check_desc(lc_device *dev, const lc_project_desc *d, const floa
     return LC_OK;
 }
 
+/* The view's particles in the desc's order (NULL: they are in it): the
+ * sums run in that order, so a map's bytes do not depend on whether a render
+ * has put the set into its BVH's leaf order (lc_particles_desc.defer_bvh). */
+static lc_status desc_order(lc_device *dev, const lci_particle_view *pv, uint32_t **out)
+{
+    *out = NULL;
+    size_t i = 1;
+    while (i < pv->n && pv->src[i - 1] < pv->src[i]) i++;
+    if (i >= pv->n) return LC_OK;
+    uint32_t *where = malloc(sizeof(uint32_t) * (pv->total ? pv->total : 1));
+    uint32_t *ord = malloc(sizeof(uint32_t) * pv->n);
+    if (!where || !ord) {
+        free(where), free(ord);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_project: out of memory ordering %zu particles", pv->n);
+    }
+    for (size_t t = 0; t < pv->total; t++) where[t] = UINT32_MAX;
+    for (size_t j = 0; j < pv->n; j++) where[pv->src[j]] = (uint32_t)j;
+    size_t m = 0;
+    for (size_t t = 0; t < pv->total; t++)
+        if (where[t] != UINT32_MAX) ord[m++] = where[t];
+    free(where);
+    *out = ord;
+    return LC_OK;
+}
+
 /* Projects every particle, keeps those that reach the image and the slab. */
 static lc_status prepare(lc_device *dev, const lc_project_desc *d, const lci_particle_view *pv, const float *wk,
                          const view *v, const lci_column *col, prep *pp)
 {
-    if (!prep_alloc(pp, pv->n)) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_project: out of memory");
+    uint32_t *ord;
+    lc_status s = desc_order(dev, pv, &ord);
+    if (s != LC_OK) return s;
+    if (!prep_alloc(pp, pv->n)) {
+        free(ord);
+        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_project: out of memory");
+    }
     double kappa = pv->params.kappa, area = v->pix * v->pix, half = 0.5 * (double)d->depth;
     size_t n = 0;
-    for (size_t j = 0; j < pv->n; j++) {
+    for (size_t t = 0; t < pv->n; t++) {
+        size_t j = ord ? ord[t] : t;
         float p[3] = {pv->x[j] - (float)v->eye[0], pv->y[j] - (float)v->eye[1], pv->z[j] - (float)v->eye[2]};
         double S = lci_column_support(pv->params.kernel, pv->r[j]), sp = S / v->pix;
         double X = (dot3(v->right, p) + v->sx) / v->pix, Y = (v->sy - dot3(v->up, p)) / v->pix;
@@ -316,6 +348,7 @@ static lc_status prepare(lc_device *dev, const lc_project_desc *d, const lci_par
         n++;
     }
     pp->n = n;
+    free(ord);
     return LC_OK;
 }
 

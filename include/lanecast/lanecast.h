@@ -331,6 +331,8 @@ typedef struct lc_particles_desc {
                                   copied into lc_particles_info.radius_note */
     const float *norm_weights; /* optional: count weights w_i > 0 (m_i / rho_i) of the normalised SPH
                                   interpolant's denominator (params.normalise) */
+    int defer_bvh;             /* 1: build the BVH when a render or lc_volume_sample first needs it, not
+                                  here (lc_particles_project never does); 0 = now */
 } lc_particles_desc;
 
 typedef struct lc_particles_info {
@@ -339,7 +341,8 @@ typedef struct lc_particles_info {
     int nfields;
     lc_box3 bounds;     /* of the centres */
     float min_radius, max_radius;
-    double build_seconds; /* BVH build including flattening */
+    double build_seconds; /* BVH build including flattening (0, and the bvh_ fields 0, until a
+                             defer_bvh set's first render or sample builds it) */
     size_t bvh_bytes;   /* nodes, per-node radii and value bounds */
     size_t data_bytes;  /* the particle arrays lanecast keeps */
     int bvh_nodes, bvh_depth, leaf_size;
@@ -348,7 +351,10 @@ typedef struct lc_particles_info {
 } lc_particles_info;
 
 /* Copies the particles (the caller's arrays may be freed afterwards) and
- * builds the BVH with Embree. Invalid particles (non-finite position or value,
+ * builds the BVH with Embree (desc.defer_bvh: on the first render or sample,
+ * on whichever thread comes first, the others waiting; a set rendered after
+ * it was projected then keeps both orders of its arrays until destroyed,
+ * about 33 bytes per particle more). Invalid particles (non-finite position or value,
  * radius <= 0 or non-finite, field id >= nfields) fail with
  * LC_ERROR_INVALID_ARGUMENT and a message naming the first bad index and the
  * number of bad ones, unless drop_invalid is set. count = 0 is a valid empty
