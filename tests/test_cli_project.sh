@@ -4,7 +4,8 @@
 # of their masses; float maps (.npy + .json, .fits when the build has cfitsio,
 # .exr) and a colour image with a colour bar are written; bad flags fail with
 # one line naming the flag (exit 2) and a perspective camera with one line
-# saying to use --ortho (exit 1), nothing written. usage: test_cli_project.sh LANECAST
+# saying to use --ortho (exit 1), nothing written; without the OpenImageIO
+# module a float map is still written, a colour image fails. usage: test_cli_project.sh LANECAST
 set -eu
 exe=$1
 dir=$(mktemp -d)
@@ -64,6 +65,16 @@ bad "bad --depth" 2 "--depth" --mode project --depth -1
 bad "perspective" 1 "--ortho" --mode project --kernel m4 --eye 0,0,50 --at 0,0,0
 bad "unknown --weight field" 1 "nosuch" --mode project --kernel m4 --weight nosuch
 bad "--normalise with a projection" 2 "--normalise applies to the dvr" --mode project --kernel m4 --normalise
+# OpenImageIO is a module loaded by the first image write (host/api/image.c): a float map needs none, a
+# colour image without it fails before the load with a message naming the module, nothing written
+LANECAST_OIIO_MODULE="$dir/none.so" "$exe" render "$dir/p.csv" --mode project --kernel m4 $cam -o "$dir/nm.npy" --quiet \
+    2> "$dir/err" && check "no OpenImageIO module: .npy written" "[ -s \"$dir/nm.npy\" ]" "empty" ||
+    { echo "FAIL no module, .npy: $(cat "$dir/err")"; fail=1; }
+if LANECAST_OIIO_MODULE="$dir/none.so" "$exe" render "$dir/p.csv" --mode project --kernel m4 $cam -o "$dir/nm.png" \
+    > /dev/null 2> "$dir/err"; then echo "FAIL no module, .png: exit 0"; fail=1
+else check "no OpenImageIO module: .png fails naming it, nothing written" \
+    "grep -q 'OpenImageIO module could not be loaded' \"$dir/err\" && [ ! -e \"$dir/nm.png\" ]" "$(cat "$dir/err")"
+fi
 "$exe" render --help | grep -q "projections (--mode project" && echo "ok   --help has the projections section" ||
     { echo "FAIL --help lacks the projections section"; fail=1; }
 exit $fail

@@ -3,6 +3,7 @@
  * temporary file next to the target (created with O_EXCL by mkstemps, so a
  * planted name or symlink is never followed), written with checked writes
  * and fsync, then renamed over the target. */
+#define _GNU_SOURCE /* dladdr */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -12,11 +13,73 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <dlfcn.h>
+#include <pthread.h>
 #include "host/internal.h"
 
-int lci_oiio_encode(const char *path, const char *format_name, int width, int height, int channels, int is_float,
-                    const void *pixels, void **bytes, size_t *nbytes, char *err, size_t errlen);
-int lci_oiio_can_write(const char *path);
+/* The OpenImageIO shim (host/api/image_oiio.cpp) is a module loaded on the
+ * first image write or check: linking OpenImageIO and the ~250 libraries it
+ * pulls in costs every run ~0.2-0.3 s of dynamic linking (docs/bench/sph.md),
+ * while float maps (.npy, .fits) and most commands never encode an image. */
+typedef int (*oiio_encode_fn)(const char *path, const char *format_name, int width, int height, int channels,
+                              int is_float, const void *pixels, void **bytes, size_t *nbytes, char *err, size_t errlen);
+typedef int (*oiio_can_write_fn)(const char *path);
+
+static pthread_once_t oiio_once = PTHREAD_ONCE_INIT;
+static oiio_encode_fn oiio_encode;
+static oiio_can_write_fn oiio_can_write;
+static char oiio_why[768];
+
+/* Where the module is: LANECAST_OIIO_MODULE alone when set; else beside
+ * the object holding this code (an installed liblanecast: LIBDIR/lanecast/,
+ * an installed program: ../LIBDIR/lanecast/), the configured install path,
+ * the build tree's. */
+static void oiio_load(void)
+{
+    char cand[4][1024];
+    int n = 0;
+    const char *env = getenv("LANECAST_OIIO_MODULE");
+    if (env && *env) snprintf(cand[n++], sizeof cand[0], "%s", env);
+    Dl_info di;
+    if (n == 0 && dladdr(&oiio_why, &di) && di.dli_fname) { /* the object holding this code */
+        char dir[900];
+        snprintf(dir, sizeof dir, "%s", di.dli_fname);
+        char *slash = strrchr(dir, '/');
+        if (slash) {
+            *slash = 0;
+            snprintf(cand[n++], sizeof cand[0], "%s/lanecast/lanecast_oiio.so", dir);
+            snprintf(cand[n++], sizeof cand[0], "%s/../%s/lanecast/lanecast_oiio.so", dir, LC_OIIO_LIBDIR);
+        }
+    }
+    const char *fixed[] = {LC_OIIO_INSTALL, LC_OIIO_BUILD};
+    const int nfixed = env && *env ? 0 : 2; /* the variable names the only place to look */
+    size_t w = 0;
+    for (int i = 0; i < n + nfixed; i++) {
+        const char *path = i < n ? cand[i] : fixed[i - n];
+        if (access(path, F_OK) != 0) continue;
+        void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+        const char *e = h ? "no lci_oiio_encode in it" : dlerror();
+        if (h) {
+            *(void **)&oiio_encode = dlsym(h, "lci_oiio_encode"); /* POSIX's form (ISO C has no such cast) */
+            *(void **)&oiio_can_write = dlsym(h, "lci_oiio_can_write");
+            if (oiio_encode && oiio_can_write) return; /* kept loaded for the process */
+            oiio_encode = NULL, oiio_can_write = NULL;
+            dlclose(h);
+        }
+        if (w < sizeof oiio_why) w += (size_t)snprintf(oiio_why + w, sizeof oiio_why - w, "%s%s: %s", w ? "; " : "", path, e);
+    }
+    if (!w && nfixed)
+        snprintf(oiio_why, sizeof oiio_why, "no lanecast_oiio.so at %.300s, %.200s or %.200s; LANECAST_OIIO_MODULE names "
+                 "another", n ? cand[0] : "the program's folder", LC_OIIO_INSTALL, LC_OIIO_BUILD);
+    else if (!w) snprintf(oiio_why, sizeof oiio_why, "LANECAST_OIIO_MODULE=%.600s: no such file", env);
+}
+
+/* 0 when the module is missing (oiio_why says where it was looked for). */
+static int oiio_ready(void)
+{
+    pthread_once(&oiio_once, oiio_load);
+    return oiio_encode != NULL;
+}
 
 
 static int is_float_format(const char *ext)
@@ -65,7 +128,10 @@ lc_status lc_image_check(lc_device *device, const char *path)
     if (!*ext)
         return lci_error(device, LC_ERROR_INVALID_ARGUMENT,
                          "%s: no file extension to choose an image format (.png, .exr, .tif, ...)", path);
-    if (!lci_oiio_can_write(path))
+    if (!oiio_ready())
+        return lci_error(device, LC_ERROR_UNSUPPORTED, "%s: the OpenImageIO module could not be loaded (%s)", path,
+                         oiio_why);
+    if (!oiio_can_write(path))
         return lci_error(device, LC_ERROR_UNSUPPORTED, "%s: OpenImageIO cannot write '%s' files", path, ext);
     char tmp[LCI_TEMP_NAME];
     int slot;
@@ -155,7 +221,8 @@ lc_status lci_image_encode_write(lc_device *device, const char *path, int width,
     lci_test_write_delay();
     void *bytes = NULL;
     size_t nbytes = 0;
-    int r = lci_oiio_encode(tmp, path, width, height, ch, fl, buf, &bytes, &nbytes, err, sizeof err);
+    int r = oiio_ready() ? oiio_encode(tmp, path, width, height, ch, fl, buf, &bytes, &nbytes, err, sizeof err)
+                         : (snprintf(err, sizeof err, "the OpenImageIO module could not be loaded (%.400s)", oiio_why), -1);
     if (r == 0 && bytes && write_all(fd, bytes, nbytes) != 0)
         r = -1, snprintf(err, sizeof err, "writing %zu bytes failed: %s", nbytes, strerror(errno));
     free(bytes);

@@ -1,4 +1,5 @@
-// The OpenImageIO shim: the only C++ in lanecast. Encodes one image and turns
+// The OpenImageIO shim: the only C++ in lanecast, built as the module
+// lanecast_oiio.so that host/api/image.c loads on the first image write. Encodes one image and turns
 // every failure or exception into a message; nothing crosses this boundary
 // but C types. Where the format's writer supports an I/O proxy the file is
 // encoded into memory and the C side writes the bytes itself (checked writes
@@ -14,10 +15,12 @@
 #include <string>
 #include <vector>
 
-extern "C" int lci_oiio_encode(const char *path, const char *format_name, int width, int height, int channels,
-                               int is_float, const void *pixels, void **bytes, size_t *nbytes, char *err,
-                               size_t errlen);
-extern "C" int lci_oiio_can_write(const char *path);
+// The module's two entry points (host/api/image.c loads it with dlopen).
+#define LCI_OIIO_API extern "C" __attribute__((visibility("default")))
+LCI_OIIO_API int lci_oiio_encode(const char *path, const char *format_name, int width, int height, int channels,
+                                 int is_float, const void *pixels, void **bytes, size_t *nbytes, char *err,
+                                 size_t errlen);
+LCI_OIIO_API int lci_oiio_can_write(const char *path);
 
 static int fail(char *err, size_t errlen, const std::string &msg)
 {
