@@ -32,24 +32,22 @@ static void carve(const lc_kproj_band *b, int kp, scr *s)
 static inline int clampi(double x) { return x < -1e9 ? -1000000000 : x > 1e9 ? 1000000000 : (int)x; }
 static inline int ifloor(double x) { return clampi(floor(x)); }
 
-/* A_k(u) for k < kpad (odd in u, +-A_k(1) beyond the support): cubic Hermite. */
-static inline void cum(const lc_kproj_table *t, double u, double *out)
+/* A_k(u) for k < kp <= kpad (odd in u, +-A_k(1) beyond the support): cubic Hermite. */
+static inline void cum_k(const lc_kproj_table *t, double u, double *out, const int kpe)
 {
     const int kp = t->kpad, nt = t->nt;
-    double sg = u < 0.0 ? -1.0 : 1.0, x = u < 0.0 ? -u : u;
-    if (!(x < 1.0)) {
-        const double *e = t->tab + (size_t)nt * 2 * (size_t)kp;
-        for (int k = 0; k < kp; k++) out[k] = sg * e[k];
-        return;
-    }
-    x *= nt;
-    int j = (int)x;
-    double r = x - j, r2 = r * r, r3 = r2 * r;
+    /* without branches (the sign flips once along a footprint's edges and
+       mispredicted): beyond the support j = nt - 1, r = 1 gives A_k(1) exactly */
+    double sg = copysign(1.0, u), x = fabs(u) * nt;
+    int j = x < nt ? (int)x : nt - 1;
+    double r = fmin(x - j, 1.0), r2 = r * r, r3 = r2 * r;
     double h00 = sg * (2 * r3 - 3 * r2 + 1), h10 = sg * (r3 - 2 * r2 + r), h01 = sg * (-2 * r3 + 3 * r2),
            h11 = sg * (r3 - r2);
     const double *n0 = t->tab + (size_t)j * 2 * (size_t)kp, *n1 = n0 + 2 * kp;
-    for (int k = 0; k < kp; k++) out[k] = h00 * n0[k] + h10 * n0[kp + k] + h01 * n1[k] + h11 * n1[kp + k];
+    for (int k = 0; k < kpe; k++) out[k] = h00 * n0[k] + h10 * n0[kp + k] + h01 * n1[k] + h11 * n1[kp + k];
 }
+
+static inline void cum(const lc_kproj_table *t, double u, double *out) { cum_k(t, u, out, t->kpad); }
 
 /* M(u) = int_0^u int_{-1}^1 g (odd; +-1/2 beyond the support). */
 static inline double marg(const lc_kproj_table *t, double u)
@@ -137,28 +135,38 @@ static uint64_t deposit(const lc_kproj_table *t, const lc_kproj_band *b, const l
     int i0 = fx0 < 0 ? 0 : fx0, i1 = fx1 >= b->W ? b->W - 1 : fx1;
     int j0 = fy0 < b->b0 ? b->b0 : fy0, j1 = fy1 >= b->b1 ? b->b1 - 1 : fy1;
     if (i0 > i1 || j0 > j1) return 0;
-    const int kp = t->kpad, K = t->rank;
+    const int kp = t->kpad;
     scr s;
     carve(b, kp, &s);
     if (fx1 - fx0 <= 1 && fy1 - fy0 <= 1) return small(t, b, p, fx0, fx1, fy0, fy1, &s);
+    /* the terms this support needs (lc_kproj_table levels): K' of them, mu_0 carrying the others' mass */
+    int K = t->rank, kq = kp;
+    double mu0 = t->mu[0];
+    for (int l = 0; l < t->nlev; l++)
+        if (sp <= t->lev_smax[l]) {
+            K = t->lev_k[l], mu0 = t->lev_mu0[l];
+            kq = (K + LC_KPROJ_KPAD - 1) / LC_KPROJ_KPAD * LC_KPROJ_KPAD;
+            break;
+        }
     /* the column differences, once per particle and band */
     int nc = i1 - i0 + 1, nr = j1 - j0 + 1;
     double *ep = s.e0, *ee = s.e1;
-    cum(t, (i0 - X) * inv, ep);
+    cum_k(t, (i0 - X) * inv, ep, kq);
     for (int i = 0; i < nc; i++) {
-        cum(t, (i0 + i + 1 - X) * inv, ee);
-        for (int k = 0; k < kp; k++) s.C[(size_t)k * s.cs + (size_t)i] = (float)(ee[k] - ep[k]);
+        cum_k(t, (i0 + i + 1 - X) * inv, ee, kq);
+        for (int k = 0; k < kq; k++) s.C[(size_t)k * s.cs + (size_t)i] = (float)(ee[k] - ep[k]);
         double *x = ep;
         ep = ee, ee = x;
     }
-    for (int k = 0; k < kp; k++)
+    for (int k = 0; k < kq; k++)
         for (int i = nc; i < nc + 2 * LC_W; i++) s.C[(size_t)k * s.cs + (size_t)i] = 0.0f;
     /* the row differences times mu_k, and each row's columns meeting the support */
-    cum(t, (j0 - Y) * inv, ep);
+    cum_k(t, (j0 - Y) * inv, ep, kq);
     for (int j = 0; j < nr; j++) {
-        cum(t, (j0 + j + 1 - Y) * inv, ee);
+        cum_k(t, (j0 + j + 1 - Y) * inv, ee, kq);
         float *r = s.R + (size_t)j * kp;
-        for (int k = 0; k < kp; k++) r[k] = (float)(t->mu[k] * (ee[k] - ep[k]));
+        r[0] = (float)(mu0 * (ee[0] - ep[0]));
+        for (int k = 1; k < kq; k++) r[k] = k < K ? (float)(t->mu[k] * (ee[k] - ep[k])) : 0.0f;
         double *x = ep;
         ep = ee, ee = x;
         int lo = i0, hi = i1;

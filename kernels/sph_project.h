@@ -27,12 +27,22 @@
 #define LC_KPROJ_MR 4     /* rows per register block */
 #define LC_KPROJ_CPAD 48  /* columns of padding after a particle's last (two 16-lane vectors and more) */
 
+#define LC_KPROJ_LEVELS 6 /* lower ranks for small supports (lc_kproj_table.lev_*) */
+
 /* The separable table of one kernel (built by host/sph/column.c). */
 typedef struct lc_kproj_table {
     int32_t rank, kpad, nt;  /* K terms, K rounded up to LC_KPROJ_KPAD, nodes - 1 on [0, 1] */
     const double *tab;       /* (nt + 1) nodes x 2 kpad: A_k(j / nt) for k < kpad, then phi_k(j / nt) / nt */
     const double *mu;        /* kpad eigenvalues (mu_0 carries the truncated terms' mass; 0 beyond rank) */
     const double *marg;      /* (nt + 1) x 2: M(j / nt), M'(j / nt) / nt */
+    /* A support of s pixels with s <= lev_smax[l] (the first such l < nlev) may
+     * take the first lev_k[l] terms (a multiple of LC_KPROJ_KPAD) with mu_0 =
+     * lev_mu0[l]: pixel-wide differences of the higher A_k are below the
+     * table's tolerance there (host/sph/column.c levels), and mu_0 carries
+     * their mass, so the map keeps its mass. */
+    int32_t nlev;
+    int32_t lev_k[LC_KPROJ_LEVELS];
+    double lev_smax[LC_KPROJ_LEVELS], lev_mu0[LC_KPROJ_LEVELS];
 } lc_kproj_table;
 
 /* One band of rows of the image and its accumulators. */

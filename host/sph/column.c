@@ -176,6 +176,56 @@ static int tables(lci_column *c, int rank, const double *cum, const double *phi,
     return 1;
 }
 
+/* Lower ranks for small supports: a support of s pixels truncated to K' < K
+ * terms (K' a multiple of 4; the lookups fill K' rounded up to
+ * LC_KPROJ_KPAD), mu_0 then carrying the dropped terms' mass (d0 = sum_{k >=
+ * K'} mu_k A_k(1)^2 / A_0(1)^2), changes a pixel by at most
+ *     B = sum_{K' <= k < K} |mu_k| D_k^2 + |d0| D_0^2,
+ * D_k = the largest difference of A_k across a pixel (width 1 / s, on the
+ * fine nodes, A_k odd and constant beyond the support), while the smallest
+ * largest pixel of the support (centred on a pixel corner) is P = sum_k mu_k
+ * A_k(1 / s)^2. K' is kept up to the largest s (on a grid of ratios 1.02)
+ * with 1.5 B <= TOL P: the full rank's tolerance again, relative to the
+ * map's peak (tests/test_sph_project.c's measure). */
+static void levels(lci_column *c, const double *cum, int ld, int rank)
+{
+    enum { NT = LCI_COL_NT, NA = 2 * LCI_COL_NT + 1 };
+    double *A = malloc(sizeof(double) * NA);
+    c->kt.nlev = 0;
+    if (!A) return;
+    /* candidates: multiples of 4 below the rank, the largest LC_KPROJ_LEVELS of them, from the smallest up */
+    int top = (rank - 1) / 4 * 4, first = top - 4 * (LC_KPROJ_LEVELS - 1);
+    for (int kl = first < 4 ? 4 : first; kl <= top; kl += 4) {
+        double d0 = 0.0;
+        for (int k = kl; k < rank; k++) d0 += c->mu[k] * cum[NT * ld + k] * cum[NT * ld + k];
+        d0 /= cum[NT * ld] * cum[NT * ld];
+        double smax = 0.0;
+        for (double sp = 2.0; sp < 512.0; sp *= 1.02) {
+            int m = (int)(NT / sp); /* the pixel's width in fine nodes (rounded down: A_k's differences grow with it) */
+            if (m < 1) break;
+            double B = 0.0, P = 0.0;
+            for (int k = 0; k < rank; k++) {
+                double a = cum[m * ld + k];
+                P += c->mu[k] * a * a;
+                if (k != 0 && k < kl) continue;
+                for (int j = 0; j < NA; j++) A[j] = j >= NT ? cum[(j - NT) * ld + k] : -cum[(NT - j) * ld + k];
+                double D = 0.0;
+                for (int j = -m; j < NA; j++) {
+                    double lo = j < 0 ? A[0] : A[j], hi = j + m >= NA ? A[NA - 1] : A[j + m];
+                    D = fmax(D, fabs(hi - lo));
+                }
+                B += (k == 0 ? fabs(d0) : fabs(c->mu[k])) * D * D;
+            }
+            if (!(1.5 * B <= TOL * P)) break;
+            smax = sp;
+        }
+        if (smax <= 0.0) continue; /* fails at 2 pixels: the next K' may not */
+        int l = c->kt.nlev++;
+        c->kt.lev_k[l] = kl, c->kt.lev_smax[l] = smax, c->kt.lev_mu0[l] = c->mu[0] + d0;
+    }
+    free(A);
+}
+
 /* The separable tables: Nystrom eigenpairs of g on [0, 1]^2, the Nystrom
  * interpolants phi_k and A_k on the fine nodes, the rank and the mass. */
 static int build_separable(lci_column *c, const ftab *ft)
@@ -250,6 +300,8 @@ static int build_separable(lci_column *c, const ftab *ft)
         c->mu[0] += (1.0 - mass) / (4.0 * cum[NT * K] * cum[NT * K]);
         for (int k = rank; k < LCI_COL_KMAX; k++) c->mu[k] = 0.0;
         ok = tables(c, rank, cum, phi, K);
+        /* LANECAST_PROJECT_FULL_RANK=1: every support takes the full rank (A/B runs) */
+        if (ok && !lci_env_long("LANECAST_PROJECT_FULL_RANK", 0, 1, 0)) levels(c, cum, K, rank);
     }
     free(a), free(v), free(phi), free(cum), free(gn), free(g1);
     return ok;
