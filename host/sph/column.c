@@ -184,7 +184,7 @@ static int tables(lci_column *c, int rank, const double *cum, const double *phi,
  * D_k = the largest difference of A_k across a pixel (width 1 / s, on the
  * fine nodes, A_k odd and constant beyond the support), while the smallest
  * largest pixel of the support (centred on a pixel corner) is P = sum_k mu_k
- * A_k(1 / s)^2. K' is kept up to the largest s (on a grid of ratios 1.02)
+ * A_k(1 / s)^2. K' is kept up to the largest s (on a grid of ratios 1.05)
  * with 1.5 B <= TOL P: the full rank's tolerance again, relative to the
  * map's peak (tests/test_sph_project.c's measure). */
 static void levels(lci_column *c, const double *cum, int ld, int rank)
@@ -200,7 +200,7 @@ static void levels(lci_column *c, const double *cum, int ld, int rank)
         for (int k = kl; k < rank; k++) d0 += c->mu[k] * cum[NT * ld + k] * cum[NT * ld + k];
         d0 /= cum[NT * ld] * cum[NT * ld];
         double smax = 0.0;
-        for (double sp = 2.0; sp < 512.0; sp *= 1.02) {
+        for (double sp = 2.0; sp < 512.0; sp *= 1.05) {
             int m = (int)(NT / sp); /* the pixel's width in fine nodes (rounded down: A_k's differences grow with it) */
             if (m < 1) break;
             double B = 0.0, P = 0.0;
