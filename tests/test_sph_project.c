@@ -110,7 +110,7 @@ static int ntdev;
 static void test_pixel_averages(void)
 {
     /* 5, 12 and 28 lie below the largest supports of the lower ranks (host/sph/column.c levels: M4 20 terms
-       to 12.4 pixels, 24 to 29.6) */
+       to 12.2 pixels, 24 to 29.3) */
     const double ratios[] = {0.01, 0.1, 0.37, 1.0, 3.3, 5.0, 10.0, 12.0, 28.0, 100.0};
     int brk = getenv("LANECAST_TEST_BREAK") && atoi(getenv("LANECAST_TEST_BREAK")) == 1;
     for (size_t kk = 0; kk < sizeof all_kernels / sizeof all_kernels[0]; kk++) {
