@@ -96,18 +96,19 @@ def main():
             got = read_nrrd(out)
         dep = float(re.search(r"^deposit\s+([0-9.]+) s", text, re.M).group(1))
         peak = float(ref.max())
-        diff = float(np.max(np.abs(got.astype(np.float64) - ref))) / peak if peak > 0 else None
+        absdiff = float(np.max(np.abs(got.astype(np.float64) - ref)))
+        diff = absdiff / peak if peak > 0 else None
         rec = {"record": "peer_resample", "peer": "vtk", "peer_version": vtk.vtkVersion.GetVTKVersion(),
                "peer_method": "vtkPointInterpolator + vtkGaussianKernel (radius 2r, sharpness sqrt 2, not normalised)",
                "file": src if src.startswith("dense:") else os.path.basename(pdb), "count": int(len(xyz)), "radius": radius, "dims": dims,
                "threads": THREADS, "peer_s": vtk_s, "peer_cpu_s": vtk_cpu, "lanecast_run_cpu_s": run_cpu, "lanecast_deposit_s": dep, "lanecast_run_s": run_s,
-               "ratio_peer_over_deposit": vtk_s / dep if dep > 0 else None, "max_diff_rel_peak": diff,
+               "ratio_peer_over_deposit": vtk_s / dep if dep > 0 else None, "max_diff_rel_peak": diff, "max_diff": absdiff, "peak": peak,
                "lanecast_command": " ".join(cmd[1:]).replace(out, "g.nrrd"), "loadavg": os.getloadavg()[0]}
         with open(records, "a") as f:
             f.write(json.dumps(rec) + "\n")
         print("peers_resample.py: %s %s: VTK %.3f s, lanecast deposit %.3f s (%.1fx; whole run %.2f s), "
-              "max difference %.2g of the peak; CPU s: VTK %.2f, lanecast's whole run %.2f (%.1fx)"
-              % (os.path.basename(pdb), "x".join(map(str, dims)), vtk_s, dep, vtk_s / dep, run_s, diff, vtk_cpu,
+              "max difference %.2g of the peak (%.4g); CPU s: VTK %.2f, lanecast's whole run %.2f (%.1fx)"
+              % (os.path.basename(pdb), "x".join(map(str, dims)), vtk_s, dep, vtk_s / dep, run_s, diff, absdiff, vtk_cpu,
                  run_cpu, vtk_cpu / run_cpu))
 
 
