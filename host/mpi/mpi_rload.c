@@ -22,7 +22,7 @@ typedef struct rhead {
     lci_rbf_global g;
     lc_box3 bounds;
     float bias, eps, default_dt;
-    int leaf_size, cell_max, significant;
+    int leaf_size, cell_max, significant, canonical;
     lc_rbf_accel accel;
 } rhead;
 
@@ -56,6 +56,7 @@ static lc_status read_terms(lc_device *dev, const char *path, const lc_load_desc
         h->bounds = info.bounds, h->bias = info.bias, h->eps = info.eps, h->default_dt = fi.default_dt;
         h->leaf_size = info.leaf_size, h->cell_max = info.cell_max, h->significant = info.significant;
         h->accel = info.accel;
+        h->canonical = lci_mpi_canonical(ld);
         lc_box3 sb;
         *n = lci_rbf_keep(d, info.eps, xyz, *R, src, &sb);
         for (size_t j = 0; j < *n; j++) {
@@ -88,7 +89,7 @@ static lc_status make_part(lc_device *dev, const rhead *h, const float *rec, siz
     lc_rbf_desc d = {.count = n, .centres = c, .widths = sw, .weights = w, .bias = h->bias, .eps = h->eps,
                      .domain = h->bounds, .leaf_size = h->leaf_size, .accel = h->accel,
                      .cell_max = h->accel == LC_RBF_ACCEL_OCTREE ? h->cell_max : 0,
-                     .significant = h->significant};
+                     .significant = h->significant, .canonical_order = h->canonical};
     if (s == LC_OK) s = lc_rbf_create(dev, &d, out);
     free(c), free(sw), free(w);
     lci_dp_ppart *keep = s == LC_OK ? lci_dp_ppart_keep(dev, pp) : NULL;
