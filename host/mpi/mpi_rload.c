@@ -39,7 +39,15 @@ static lc_status read_terms(lc_device *dev, const char *path, const lc_load_desc
     const lc_rbf_desc *d = l.desc;
     lc_volume *whole = NULL;
     if (kind != LC_KIND_RBF) s = lci_error(dev, LC_ERROR_INTERNAL, "%s: not an RBF set", path);
-    if (s == LC_OK) s = lc_rbf_create(dev, d, &whole);
+    /* the whole set in the parts' order: its globals (the range bound's node sums, the values
+       at the centres) are then those of one process rendering in that order */
+    lc_rbf_desc wd;
+    memset(&wd, 0, sizeof wd);
+    if (s == LC_OK) {
+        wd = *d;
+        wd.canonical_order = lci_mpi_canonical(ld);
+        s = lc_rbf_create(dev, &wd, &whole);
+    }
     lc_rbf_info info;
     lci_frame_info fi;
     memset(&fi, 0, sizeof fi);
@@ -56,7 +64,7 @@ static lc_status read_terms(lc_device *dev, const char *path, const lc_load_desc
         h->bounds = info.bounds, h->bias = info.bias, h->eps = info.eps, h->default_dt = fi.default_dt;
         h->leaf_size = info.leaf_size, h->cell_max = info.cell_max, h->significant = info.significant;
         h->accel = info.accel;
-        h->canonical = lci_mpi_canonical(ld);
+        h->canonical = wd.canonical_order;
         lc_box3 sb;
         *n = lci_rbf_keep(d, info.eps, xyz, *R, src, &sb);
         for (size_t j = 0; j < *n; j++) {
