@@ -450,6 +450,22 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
     return LC_OK;
 }
 
+/* Embree's BVH, or with canonical_order the canonical one (bvh/particle_bvh_canon.c)
+ * over order_box (all zero: the kept centres' bounds, info->bounds), ties by
+ * value, norm weight and field. LANECAST_PBVH_BUILDER=canonical takes it for
+ * every set (A/B runs: lanecast bench). */
+static int build_bvh(void *e, const lc_particles_desc *d, const kept *k, const lc_particles_info *info, lci_pbvh *b,
+                     char *err, size_t errlen)
+{
+    const char *env = getenv("LANECAST_PBVH_BUILDER");
+    if (!d->canonical_order && !(env && !strcmp(env, "canonical"))) return lci_pbvh_build(e, k->xyz, k->rad, d->radius, k->n, info->leaf_size, b, err, errlen);
+    static const lc_box3 none;
+    const lc_box3 *box = memcmp(&d->order_box, &none, sizeof none) ? &d->order_box : &info->bounds;
+    lci_pbvh_keys q = {{box->lo.x, box->lo.y, box->lo.z}, {box->hi.x, box->hi.y, box->hi.z},
+                       {d->values, d->norm_weights, NULL}, d->fields, k->src};
+    return lci_pbvh_build_canonical(k->xyz, k->rad, d->radius, k->n, info->leaf_size, &q, b, err, errlen);
+}
+
 static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
 {
     const lc_particles_desc *d = desc;
@@ -487,7 +503,7 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
             void *e = lci_embree_device(dev);
             char err[256];
             if (!e) s = LC_ERROR_INTERNAL;
-            else if (lci_pbvh_build(e, k.xyz, k.rad, d->radius, k.n, info->leaf_size, &p->bvh, err, sizeof err) != 0)
+            else if (build_bvh(e, d, &k, info, &p->bvh, err, sizeof err) != 0)
                 s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
         }
         if (s == LC_OK) s = leaf_order(dev, d, &k, p);
@@ -706,6 +722,7 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
                          file, o->value);
     if (!strcmp(o->key, "kernel")) return LC_OK;
     if (!strcmp(o->key, "normalise")) return lci_option_int(dev, file, o, 0, 1, &d->params.normalise);
+    if (!strcmp(o->key, "canonical_order")) return lci_option_int(dev, file, o, 0, 1, &d->canonical_order);
     return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to particles", file, o->key);
 }
 
@@ -713,7 +730,7 @@ const lci_kind_ops lci_particles_ops = {
     .kind = LC_KIND_PARTICLES,
     .name = "particles",
     .krow = LC_KKIND_PARTICLES,
-    .option_keys = "leaf_size drop_invalid kernel normalise",
+    .option_keys = "leaf_size drop_invalid kernel normalise canonical_order",
     .create = create,
     .set_option = set_option,
     .destroy = destroy,
