@@ -36,6 +36,25 @@ int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, 
 /* As lci_pbvh_build with a builder. embree_device may be NULL for LCI_PBVH_SAH. */
 int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
                       lci_pbvh_builder builder, lci_pbvh *out, char *err, size_t errlen);
+/* What orders the canonical BVH (bvh/particle_bvh_canon.c): the box of the
+ * centres' Morton code (lo[a] <= hi[a]; every holder of the set passes the same
+ * box), then per particle up to LCI_PBVH_TIES floats and a byte that break
+ * ties after the centre and radius (NULL: none), indexed by src[j] for the
+ * j-th particle (src NULL: by j). */
+#define LCI_PBVH_TIES 3
+typedef struct lci_pbvh_keys {
+    float lo[3], hi[3];
+    const float *tie[LCI_PBVH_TIES];
+    const uint8_t *tag;
+    const size_t *src;
+} lci_pbvh_keys;
+
+/* Leaves in the canonical order of keys (a pure function of each particle's
+ * data and the box), split by the Morton codes: a sample's terms add in
+ * that order in every set holding them (data-parallel parts equal the whole
+ * set bit for bit). Returns 0, else writes a message into err. */
+int lci_pbvh_build_canonical(const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
+                             const lci_pbvh_keys *keys, lci_pbvh *out, char *err, size_t errlen);
 void lci_pbvh_free(lci_pbvh *b);
 
 #endif

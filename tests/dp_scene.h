@@ -49,22 +49,6 @@ static inline void dp_check_image(const char *label, const float *got, const flo
     }
 }
 
-/* A composite of particle or RBF parts (each rank's own BVH over its owners
- * and ghosts, so a sample's terms are summed in another order than one
- * process's): dvr as dp_check_image, mip, iso and slice within 1e-6 of
- * colours in [0, 1] (a few float ulps; an 8-bit step is 3.9e-3). */
-static inline void dp_check_parts(const char *label, const float *got, const float *want, const lc_render_desc *d)
-{
-    size_t n = 4 * (size_t)d->width * (size_t)d->height;
-    if (d->mode == LC_MODE_DVR) {
-        dp_check_image(label, got, want, d);
-        return;
-    }
-    double e = 0.0;
-    for (size_t i = 0; i < n; i++) e = fmax(e, fabs((double)got[i] - (double)want[i]));
-    CHECK_QUIET(e <= 1e-6, "%s: max |diff| %.3g > 1e-6 (the parts' sums in another order)", label, e);
-}
-
 #ifdef LC_HOST_MPI_DP_H
 /* The regions of d rendered each from its part (parts[region]) over the
  * tree parts' partition gives (lci_dp_partition of the part's desc),

@@ -1,7 +1,8 @@
 #!/bin/sh
 # A rank that runs out of memory inside a data-parallel load (host/mpi/:
 # the kd-tree build with its distributed selection, the particle exchange,
-# the part's creation, the scatter of a grid read by rank 0) makes every
+# the part's creation, the scatter of a grid read by rank 0; and past it,
+# the default TF from the ranks' summed histogram) makes every
 # rank exit non-zero with that rank's message, within a timeout: no rank
 # waits in a collective the failing one skipped. The failure is injected on
 # one rank by LANECAST_TEST_FAULT=POINT (MPMD: `env` sets it for that rank
@@ -63,4 +64,6 @@ if "$exe" formats 2>/dev/null | grep -q "^ *zlib  *yes"; then
     fault 3 2 scatter grid-scatter-receive "$dir/ballz.nhdr"
 fi
 fault 3 1 kd grid-kd "$dir/ball.nhdr"
+# past the load: the default TF (the ranks' summed histogram, then the TF on each rank)
+fault 3 1 tf grid-tf "$dir/ball.nhdr"
 exit $fail

@@ -2,11 +2,15 @@
  * partition.c) in one process: for P = 1..4 regions, each region's part
  * holds the particles whose support (grown by two steps) reaches its cell,
  * made the whole set to the frame (lci_dp_particles_create with the whole
- * set's extremes); the regions rendered from the parts and composited
- * equal the same regions rendered from the whole set (dp_check_parts:
- * dvr within 2e-5, mip, iso and slice within 1e-6: a part's BVH sums a
- * sample's particles in another order; Gaussian with varying radii and an
- * SPH kernel; three views). With the ghosts cut (margin 0; the Gaussian
+ * set's extremes); with canonical_order (whole set and parts) the regions
+ * rendered from the parts and composited equal the same regions rendered
+ * from the whole set bit for bit (memcmp; dvr, mip, iso, slice; Gaussian
+ * with varying radii, an SPH kernel and the normalised interpolant through
+ * the direct method; views from outside, eye inside the data, orthographic,
+ * along an axis, and along and across the root's split plane from either
+ * side), and with Embree's build (canonical_order 0) some differ in their
+ * bits (each part's BVH sums a sample's particles in another order: the
+ * check can fail). With the ghosts cut (margin 0; the Gaussian
  * also 0.4 of the reach) the dvr image differs by more than an 8-bit step. The distributed selection (lci_kd_build_dist) gives the
  * splits of the sort (lci_kd_build). A set of 2 particles over 4 regions
  * (regions owning none, holding only ghosts); a part renders only under a region, and a larger
@@ -51,7 +55,7 @@ static void make_set(set *s, size_t n)
 static lc_particles_desc desc_of(const set *s, lc_kernel kernel)
 {
     return (lc_particles_desc){.count = s->n, .positions = s->xyz, .radii = s->r, .values = s->k, .fields = s->f,
-                               .nfields = 2, .params = {.kernel = kernel}};
+                               .nfields = 2, .params = {.kernel = kernel}, .canonical_order = 1};
 }
 
 /* The P parts of the whole set for a step dt, ghosts reaching margin times as far. */
@@ -82,11 +86,48 @@ static int make_parts(lc_device *dev, const lc_particles_desc *whole_desc, const
     return ok ? 0 : -1;
 }
 
-/* Regions of the parts composited against the whole set's regions: max |diff|. */
+/* The views: dp_views, then four about the root split plane of P regions
+ * (eye on the plane looking along it, from either end; eye on either side
+ * looking across it). */
+enum { NVIEWS = DP_NVIEWS + 4 };
+static const char *const view_names[NVIEWS] = {"outside", "eye-inside", "ortho", "axis",
+                                               "along-split", "along-split-back", "across-split-lo", "across-split-hi"};
+
+static lc_camera view_of(lc_device *dev, const lc_volume *whole, int P, int vi)
+{
+    if (vi < DP_NVIEWS) return dp_views[vi];
+    lci_kdtree t;
+    lc_render_desc d = {.volume = whole, .width = W, .height = H};
+    int axis = 0;
+    float split = 0.0f;
+    if (P > 1 && lci_dp_partition(dev, &d, P, &t) == LC_OK) {
+        axis = t.node[0].axis, split = t.node[0].split;
+        lci_kd_release(&t);
+    }
+    int other = (axis + 1) % 3;
+    lc_camera c = {LC_PERSPECTIVE, {0.05f, 0.1f, 0.02f}, {0.05f, 0.1f, 0.02f}, {0, 0, 0}, 50.0f, 0.0f};
+    float *eye = &c.eye.x, *at = &c.at.x, *up = &c.up.x;
+    up[(axis + 2) % 3] = 1.0f;
+    eye[axis] = at[axis] = split;
+    if (vi < DP_NVIEWS + 2) { /* on the plane */
+        eye[other] = vi == DP_NVIEWS ? 3.0f : -3.0f;
+    } else { /* beside it, looking across */
+        eye[axis] = split + (vi == DP_NVIEWS + 2 ? -2.5f : 2.5f);
+        eye[other] += 0.4f;
+    }
+    return c;
+}
+
+/* Regions of the parts composited against the whole set's regions: max
+ * |diff|; check: they must be the same bits. bits_differ counts the images
+ * whose bits differ. */
+static int bits_differ;
+
 static double region_diff(lc_device *dev, const lc_volume *whole, lc_volume *const *parts, int P, const lc_tf *tf,
                           lc_mode mode, int vi, float dt, int check, const char *label)
 {
-    lc_render_desc d = dp_desc(whole, tf, mode, vi, 1.0f, W, H, 0.5f);
+    lc_render_desc d = dp_desc(whole, tf, mode, 0, 1.0f, W, H, 0.5f);
+    d.camera = view_of(dev, whole, P, vi);
     d.dt = dt;
     size_t np = (size_t)W * H;
     float *want = malloc(sizeof(float) * 4 * np), *got = malloc(sizeof(float) * 4 * np);
@@ -97,7 +138,10 @@ static double region_diff(lc_device *dev, const lc_volume *whole, lc_volume *con
     if (s == LC_OK) {
         e = 0.0;
         for (size_t i = 0; i < 4 * np; i++) e = fmax(e, fabs((double)got[i] - (double)want[i]));
-        if (check) dp_check_parts(label, got, want, &d);
+        if (check)
+            CHECK_QUIET(!memcmp(got, want, sizeof(float) * 4 * np),
+                        "%s: not the whole set's regions to the bit (max |diff| %.3g)", label, e);
+        bits_differ += memcmp(got, want, sizeof(float) * 4 * np) != 0;
     }
     free(want), free(got);
     return e;
@@ -171,16 +215,53 @@ static void check_normalised(lc_device *dev, const set *s, const float *col, con
         }
         static const lc_mode modes[] = {LC_MODE_DVR, LC_MODE_MIP, LC_MODE_ISO, LC_MODE_SLICE};
         for (int m = 0; m < 4; m++)
-            for (int v = 0; v < 3; v++) {
+            for (int v = 0; v < NVIEWS; v++) {
                 char label[96];
-                snprintf(label, sizeof label, "m4 normalised %s %s P=%d", dp_mode_names[m], dp_view_names[v], P);
+                snprintf(label, sizeof label, "m4 normalised %s %s P=%d", dp_mode_names[m], view_names[v], P);
                 region_diff(dev, whole, parts, P, tf, modes[m], v, 0.02f, 1, label);
             }
         destroy_parts(parts, P);
     }
     CHECK(check_failures == before,
           "m4 normalised: the parts of P = 1..4 carry the norm weights and render the whole set's regions "
-          "(dvr, mip, iso, slice; 3 views) with its range");
+          "(dvr, mip, iso, slice; 8 views) with its range, bit for bit");
+    lc_tf_destroy(tf);
+    lc_volume_destroy(whole);
+}
+
+/* Embree's build (canonical_order 0) for the whole set and its parts: some
+ * regions' sums add their terms in another order, so some images differ in
+ * their bits from the whole set's (what the bit-for-bit checks above would
+ * catch), within float rounding (1e-5). */
+static void check_embree_order(lc_device *dev, const set *s, const float *col, const float *op)
+{
+    lc_particles_desc wd = desc_of(s, LC_KERNEL_GAUSSIAN);
+    wd.canonical_order = 0;
+    lc_volume *whole = NULL;
+    if (lc_particles_create(dev, &wd, &whole) != LC_OK) {
+        CHECK(0, "embree-ordered set: %s", lc_device_last_error(dev));
+        return;
+    }
+    lc_volume_info vi;
+    lc_volume_get_info(whole, &vi);
+    lc_tf_field tff[2] = {{col, 3, op, 3, 1, {vi.range[0], vi.range[1]}}, {col, 3, op, 3, 1, {vi.range[0], vi.range[1]}}};
+    lc_tf *tf = NULL;
+    lc_tf_create(dev, tff, 2, &tf);
+    int cases = 0, before = bits_differ;
+    double worst = 0.0;
+    for (int P = 2; P <= 4; P++) {
+        lc_volume *parts[4] = {0};
+        size_t held[4] = {0};
+        if (make_parts(dev, &wd, whole, P, 0.02f, 1.0f, parts, held) != 0) continue;
+        for (int m = 0; m < 4; m++)
+            for (int v = 0; v < NVIEWS; v++, cases++)
+                worst = fmax(worst, region_diff(dev, whole, parts, P, tf, (lc_mode)m, v, 0.02f, 0, "embree order"));
+        destroy_parts(parts, P);
+    }
+    CHECK(bits_differ > before && worst < 1e-5,
+          "Embree's build: %d of %d images of P = 2..4 differ in their bits from the whole set's regions "
+          "(max |diff| %.3g: rounding), so the checks above can fail",
+          bits_differ - before, cases, worst);
     lc_tf_destroy(tf);
     lc_volume_destroy(whole);
 }
@@ -225,10 +306,10 @@ int main(void)
                         "P=%d: a part's bounds, range or fields differ from the whole set's", P);
             static const lc_mode modes[] = {LC_MODE_DVR, LC_MODE_MIP, LC_MODE_ISO, LC_MODE_SLICE};
             for (int m = 0; m < 4; m++)
-                for (int v = 0; v < 3; v++) {
+                for (int v = 0; v < NVIEWS; v++) {
                     char label[96];
                     snprintf(label, sizeof label, "%s %s %s P=%d", kc ? "wendland-c2" : "gaussian", dp_mode_names[m],
-                             dp_view_names[v], P);
+                             view_names[v], P);
                     region_diff(dev, whole, parts, P, tf, modes[m], v, dt, 1, label);
                 }
             destroy_parts(parts, P);
@@ -245,7 +326,7 @@ int main(void)
         }
         CHECK(check_failures == before,
               "%s: parts of P = 1..4 regions hold fewer particles, report the whole set, and render its regions "
-              "(dvr, mip, iso, slice; 3 views); a ghost margin of 0 (Gaussian: and 0.4) shows seams",
+              "bit for bit (dvr, mip, iso, slice; 8 views); a ghost margin of 0 (Gaussian: and 0.4) shows seams",
               kc ? "wendland-c2" : "gaussian");
         if (kc == 0) {
             lc_volume *parts[4] = {0};
@@ -277,6 +358,7 @@ int main(void)
         lc_volume_destroy(whole);
     }
     check_normalised(dev, &s, col, op);
+    check_embree_order(dev, &s, col, op);
     /* more regions than particles: regions owning none */
     lc_particles_desc td = desc_of(&tiny, LC_KERNEL_GAUSSIAN);
     lc_volume *whole = NULL, *parts[4] = {0};

@@ -11,7 +11,9 @@
  * (c) the projection after the render bit for bit the one before it;
  * (d) a kernel chosen by lc_particles_set_params before the deferred build
  *     reaches the render (iso, direct method, and dvr; values 1 here);
- * (e) an invalid particle dropped (drop_invalid) in both, src order kept. */
+ * (e) an invalid particle dropped (drop_invalid) in both, src order kept;
+ * (f) with canonical_order (main's canonical tree, its ties from the kept
+ *     arrays): the same BVH and render as an immediate canonical set's. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,13 +25,18 @@
 
 static float xyz[3 * NP], rad[NP], val[NP];
 
-static lc_volume *make_v(lc_device *dev, int defer, lc_kernel k, const float *values)
+static lc_volume *make_c(lc_device *dev, int defer, lc_kernel k, const float *values, int canonical)
 {
     lc_particles_desc d = {.count = NP, .positions = xyz, .radii = rad, .values = values, .drop_invalid = 1,
-                           .params = {.kernel = k}, .defer_bvh = defer};
+                           .params = {.kernel = k}, .defer_bvh = defer, .canonical_order = canonical};
     lc_volume *v = NULL;
     if (lc_particles_create(dev, &d, &v) != LC_OK) printf("create: %s\n", lc_last_error());
     return v;
+}
+
+static lc_volume *make_v(lc_device *dev, int defer, lc_kernel k, const float *values)
+{
+    return make_c(dev, defer, k, values, 0);
 }
 
 static lc_volume *make(lc_device *dev, int defer, lc_kernel k) { return make_v(dev, defer, k, val); }
@@ -113,6 +120,12 @@ int main(void)
     ok = ok && render(dev, e, tf, i0) && render(dev, f, tf, i1);
     CHECK(ok && same && !memcmp(i0, i1, sizeof i0),
           "(d) kernel set before the deferred build: iso (direct) and dvr = an immediate C2 set's");
+    lc_volume *g = make_c(dev, 0, LC_KERNEL_M4, val, 1), *h = make_c(dev, 1, LC_KERNEL_M4, val, 1);
+    ok = g && h && render(dev, g, tf, i0) && render(dev, h, tf, i1);
+    lc_particles_get_info(g, &ia), lc_particles_get_info(h, &ib);
+    CHECK(ok && !memcmp(i0, i1, sizeof i0) && ia.bvh_nodes == ib.bvh_nodes,
+          "(f) canonical_order: the deferred set's BVH and render = the immediate set's, bit for bit");
+    lc_volume_destroy(g), lc_volume_destroy(h);
     lc_volume_destroy(a), lc_volume_destroy(b), lc_volume_destroy(c), lc_volume_destroy(e), lc_volume_destroy(f);
     lc_tf_destroy(tf);
     lc_device_destroy(dev);

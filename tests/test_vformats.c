@@ -301,6 +301,50 @@ static void vtk(void)
     puts_("short.vtk", "# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 2 2 2\nPOINT_DATA 8\n"
                        "SCALARS s float\n1 2 3\n4 5                    \n");
     must_fail("short.vtk", ":9: ", "ends after 5 of the 8 values", LC_ERROR_FORMAT, NULL);
+    /* ASCII values the declared type cannot hold are refused, not wrapped (444444 as a short was
+       -14308): the type's own limits load exactly */
+    const char *head = "# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 2 2 2\nPOINT_DATA 8\n";
+    char text[512];
+    snprintf(text, sizeof text, "%sSCALARS s short 1\nLOOKUP_TABLE default\n-32768 2 3 32767\n5 6 7 8\n", head);
+    puts_("limits.vtk", text);
+    v = load("limits.vtk", NULL, 0, 0);
+    CHECK(v && lc_grid_get_info(v, &gi) == LC_OK && gi.type == LC_VALUE_INT16 && sample(v, 0, 0, 0) == -32768.0f &&
+              sample(v, 1, 1, 0) == 32767.0f,
+          "limits.vtk: short's limits -32768 and 32767 load exactly");
+    lc_volume_destroy(v);
+    snprintf(text, sizeof text, "%sSCALARS s short 1\nLOOKUP_TABLE default\n1 2 3 4\n5 6 444444 8\n", head);
+    puts_("wrap.vtk", text);
+    must_fail("wrap.vtk", ":10: ", "value 6 of array s is '444444', outside short's range -32768..32767",
+              LC_ERROR_FORMAT, NULL);
+    snprintf(text, sizeof text, "%sSCALARS s short 1\nLOOKUP_TABLE default\n1 2 3 32768\n5 6 7 8\n", head);
+    puts_("wrap1.vtk", text);
+    must_fail("wrap1.vtk", ":9: ", "'32768', outside short's range", LC_ERROR_FORMAT, NULL);
+    snprintf(text, sizeof text, "%sSCALARS s unsigned_char 1\nLOOKUP_TABLE default\n1 2 3 -1\n5 6 7 8\n", head);
+    puts_("neg.vtk", text);
+    must_fail("neg.vtk", ":9: ", "'-1', outside unsigned_char's range 0..255", LC_ERROR_FORMAT, NULL);
+    snprintf(text, sizeof text, "%sSCALARS s unsigned_short 1\nLOOKUP_TABLE default\n1 2 3 4\n5 6.5 7 8\n", head);
+    puts_("frac.vtk", text);
+    must_fail("frac.vtk", ":10: ", "'6.5', not an integer, as unsigned_short values are", LC_ERROR_FORMAT, NULL);
+    snprintf(text, sizeof text, "%sSCALARS s double 1\nLOOKUP_TABLE default\n1 2 3 4\n5 6 7 1e300\n", head);
+    puts_("huge.vtk", text);
+    must_fail("huge.vtk", ":10: ", "'1e300', beyond float32's range", LC_ERROR_FORMAT, NULL);
+    /* BINARY double beyond float32 (stored as float32: it would become infinite) */
+    n = 0;
+    const char *hd = "# vtk DataFile Version 3.0\nbinary\nBINARY\nDATASET STRUCTURED_POINTS\nDIMENSIONS 2 2 2\n"
+                     "POINT_DATA 8\nSCALARS d double 1\nLOOKUP_TABLE default\n";
+    memcpy(b, hd, strlen(hd));
+    n = strlen(hd);
+    double big[8] = {1.0, 1e300, 1, 1, 1, 1, 1, 1};
+    for (int i = 0; i < 8; i++) {
+        uint64_t u;
+        memcpy(&u, &big[i], 8);
+        be32(b + n, (uint32_t)(u >> 32)), be32(b + n + 4, (uint32_t)u);
+        n += 8;
+    }
+    b[n++] = '\n';
+    put("bigd.vtk", b, n);
+    snprintf(where, sizeof where, ": byte %zu: ", strlen(hd) + 8);
+    must_fail("bigd.vtk", where, "value 1 is beyond float32's range", LC_ERROR_FORMAT, NULL);
 }
 
 /* ------------------------------------------------------------------ HDF5 */

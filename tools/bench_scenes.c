@@ -67,7 +67,7 @@ typedef struct scene_opts {
     const char *builder; /* a name of bench_builders, or NULL */
 } scene_opts;
 
-const char *const bench_builders[] = {"embree", "sah", NULL};
+const char *const bench_builders[] = {"embree", "sah", "canonical", NULL};
 
 /* Splits name into its base and options; -1 with a message in note for an
  * unknown or malformed option. */

@@ -61,6 +61,9 @@ static const char help[] =
     "  --types LIST          GADGET: the particle types to read, e.g. 0,1 (default: all)\n"
     "  --drop-invalid        drop particles with bad data (counted) instead of failing\n"
     "  --leaf N              particles per BVH leaf, 1..32 (default 4)\n"
+    "  --canonical-order 0|1 1: the BVH in a canonical order (Morton code of the centres), so each\n"
+    "                        sample adds its terms in one order: mpirun's image is this one's bit for\n"
+    "                        bit (docs/mpi.md); default 0, under mpirun 1\n"
     "  --method coherent|direct   coherent packets with sample buffers (default) or the per-sample\n"
     "                        gather through the BVH (the paper's baseline)\n"
     "  --kernel NAME         the radial kernel: gaussian (the default), or an SPH kernel with support\n"
@@ -109,7 +112,7 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     static const char *const flags[] = {"--raw-particles", "--radius", "--radius-scale", "--fields", "--drop-invalid",
                                         "--leaf",          "--sigma",  "--kappa",        "--spheres", "--buffer",
                                         "--value",         "--knn",    "--types",        "--select",  "--field-by",
-                                        "--kernel",        "--hsml-is",  "--normalise"};
+                                        "--kernel",        "--hsml-is",  "--normalise",    "--canonical-order"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -176,6 +179,8 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
     }
     if (!strcmp(a, "--types")) return cli_load_add(load, cmd, "types", v) ? -1 : 1;
     if (!strcmp(a, "--knn")) return arg_int(cmd, a, v, 1, 1024, &n) || cli_load_add(load, cmd, "knn", v) ? -1 : 1;
+    if (!strcmp(a, "--canonical-order"))
+        return arg_int(cmd, a, v, 0, 1, &n) || cli_load_add(load, cmd, "canonical_order", v) ? -1 : 1;
     if (!strcmp(a, "--leaf")) return arg_int(cmd, a, v, 1, 32, &n) || cli_load_add(load, cmd, "leaf_size", v) ? -1 : 1;
     if (!strcmp(a, "--sigma")) { /* under mpirun also a load option: the ghosts reach sigma radii */
         if (arg_float(cmd, a, v, 1e-3f, 100.0f, &params.sigma)) return -1;

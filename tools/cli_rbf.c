@@ -13,6 +13,8 @@ static const char help[] =
     "  --domain x0,y0,z0,x1,y1,z1   box where rays sample (default: the union of the supports);\n"
     "                        with a bias the field is w0 everywhere else, so the box bounds it\n"
     "  --rbf-leaf N          RBFs per BVH leaf, 1..32 (default 4)\n"
+    "  --rbf-canonical-order 0|1   1: the BVH in a canonical order, as --canonical-order of particles\n"
+    "                        (mpirun's image is this one's bit for bit); default 0, under mpirun 1\n"
     "  --rbf-accel coherent|bvh|octree   what the default method renders through:\n"
     "                        coherent (the default; the fastest in docs/bench/rbf.md, 1.6-4x the others\n"
     "                        in dvr, mip and iso on hydrogen and neghip): 8x8 ray groups walk the BVH of the supports and\n"
@@ -42,13 +44,17 @@ static int parse_flag(const char *cmd, int argc, char **argv, int *i, cli_load *
         return cli_load_add(load, cmd, "significant", "1") ? -1 : 1;
     }
     if (strcmp(a, "--eps") && strcmp(a, "--domain") && strcmp(a, "--rbf-leaf") && strcmp(a, "--rbf-accel") &&
-        strcmp(a, "--rbf-cell"))
+        strcmp(a, "--rbf-cell") && strcmp(a, "--rbf-canonical-order"))
         return 0;
     if (!*first) *first = a;
     if (!(v = arg_value(cmd, argc, argv, i))) return -1;
     if (!strcmp(a, "--eps")) {
         float e;
         return arg_float(cmd, a, v, 1e-30f, 1e30f, &e) || cli_load_add(load, cmd, "eps", v) ? -1 : 1;
+    }
+    if (!strcmp(a, "--rbf-canonical-order")) {
+        int n;
+        return arg_int(cmd, a, v, 0, 1, &n) || cli_load_add(load, cmd, "canonical_order", v) ? -1 : 1;
     }
     if (!strcmp(a, "--rbf-leaf")) {
         int n;

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "host/api/tf.h"
+#include "host/mpi/dp.h" /* lci_test_fault */
 
 #define NBINS 1024
 #define SMOOTH 4 /* box filter half-width in bins before looking for valleys */
@@ -97,13 +98,16 @@ lc_status lc_tf_auto(lc_device *dev, const lc_volume *vol, const char *colormap,
         return lci_error(dev, LC_ERROR_UNSUPPORTED, "lc_tf_auto: no default for %s volumes", lc_kind_name(vi.kind));
     lc_grid_info gi;
     if ((s = lc_grid_get_info(vol, &gi)) != LC_OK) return s;
-    uint64_t *h = malloc(sizeof *h * NBINS);
-    if (!h) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_tf_auto: out of memory");
+    /* on the stack: a data-parallel part's histogram is a collective (the
+       ranks sum their counts), which no rank may skip for a failed malloc */
+    uint64_t h[NBINS];
     s = lc_grid_histogram(vol, NBINS, h);
     auto_range r;
     if (s == LC_OK) informative_range(h, gi.value_min, gi.value_max, &r);
-    free(h);
     if (s != LC_OK) return s;
+    /* past the collective, a rank that fails is agreed on by its caller
+       (tests/test_cli_mpi_faults.sh injects one here) */
+    if (lci_test_fault("tf")) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_tf_auto: out of memory");
     if (!(gi.value_max > gi.value_min)) r.lo = gi.value_min, r.hi = gi.value_min + 1.0, r.inverted = 0;
     float t = max_tau > 0.0f ? max_tau : (diag > 0.0f ? LC_TF_AUTO_TAU / diag : 1.0f);
     /* opacity: 0 at the background edge, a faint shelf over the lower part of

@@ -12,6 +12,7 @@
  * binary data. Sizes are checked against the file before allocating. */
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -72,6 +73,26 @@ static const vtype *type_of(const char *name)
     return NULL;
 }
 
+/* An ASCII value must be what its declared type can hold: an integer type an
+ * integer within the type's range (0..255 for unsigned_char, -32768..32767 for
+ * short, ...: stored as is, it would wrap), and every value within float32's
+ * range, the type the others are stored as. Returns the range's text when v
+ * is out of it, NULL when it fits. */
+static const char *out_of_type(const vtype *t, double v, char *range, size_t cap)
+{
+    if (t->is_float) {
+        if (fabs(v) <= FLT_MAX) return NULL;
+        snprintf(range, cap, "beyond float32's range (+-%g)", FLT_MAX);
+        return range;
+    }
+    int bits = 8 * t->bytes;
+    double lo = t->is_signed ? -ldexp(1.0, bits - 1) : 0.0, top = ldexp(1.0, t->is_signed ? bits - 1 : bits);
+    if (v == floor(v) && v >= lo && v < top) return NULL;
+    if (v != floor(v)) snprintf(range, cap, "not an integer, as %s values are", t->name);
+    else snprintf(range, cap, "outside %s's range %.0f..%.0f", t->name, lo, top - 1.0);
+    return range;
+}
+
 /* One BINARY value (big-endian) as a double. */
 static double be_value(const vtype *t, const unsigned char *p)
 {
@@ -122,10 +143,10 @@ static lc_status values(vrd *r, const vtype *t, uint64_t n, void *dst, const cha
                 return lci_error(r->dev, LC_ERROR_IO, "%s: byte %lld: read failed", r->path, (long long)ftello(r->f));
             for (uint64_t j = 0; j < m; j++) {
                 double v = be_value(t, buf + j * (uint64_t)t->bytes);
-                if (t->is_float && !isfinite(v))
-                    return BAD("%s: byte %lld: %s value %llu is not finite", r->path,
+                if (t->is_float && !(fabs(v) <= FLT_MAX))
+                    return BAD("%s: byte %lld: %s value %llu is %s", r->path,
                                (long long)(at + (int64_t)((i + j) * (uint64_t)t->bytes)), what,
-                               (unsigned long long)(i + j));
+                               (unsigned long long)(i + j), isfinite(v) ? "beyond float32's range" : "not finite");
                 store(t->to, dst, i + j, v);
             }
         }
@@ -158,6 +179,9 @@ static lc_status values(vrd *r, const vtype *t, uint64_t n, void *dst, const cha
         if (*end || errno == ERANGE || !isfinite(v))
             return BAD("%s:%ld: value %llu of %s is '%s', expected a %s number", r->path, ln, (unsigned long long)i,
                        what, tok, t->name);
+        char range[96];
+        if (out_of_type(t, v, range, sizeof range))
+            return BAD("%s:%ld: value %llu of %s is '%s', %s", r->path, ln, (unsigned long long)i, what, tok, range);
         if (dst) store(t->to, dst, i, v);
     }
     /* the header continues after the line the last value ends */

@@ -39,6 +39,8 @@ typedef struct particles {
     uint8_t *field;
     uint32_t *src; /* leaf order -> index in the lc_particles_desc (projections pair sets by it) */
     atomic_int built;      /* the BVH, the leaf order and the node bounds exist */
+    int canonical;         /* desc.canonical_order, and its box (resolved at creation) */
+    lc_box3 order_box;
     pthread_mutex_t bvh_mu; /* guards the deferred build and the arrays' pointers while it swaps them */
     void *retired[10];     /* the desc-ordered arrays a deferred build replaced: a projection or a
                               resample on another thread may still read them (freed by destroy) */
@@ -466,15 +468,29 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
     return LC_OK;
 }
 
-/* The Embree BVH over the particles in their kept order. */
-static lc_status build_bvh(lc_device *dev, const float *xyz, const float *rad, float radius, size_t n, particles *p)
+/* The BVH over the particles in their kept order: Embree's, or with
+ * canonical_order the canonical one (bvh/particle_bvh_canon.c) over order_box
+ * (all zero: the kept centres' bounds at creation), ties by value, norm weight
+ * and field (tie arrays indexed by src[j], or j when src is NULL).
+ * LANECAST_PBVH_BUILDER=canonical takes it for every set (A/B runs: lanecast
+ * bench). */
+static lc_status build_bvh(lc_device *dev, const float *xyz, const float *rad, float radius, size_t n,
+                           const float *const tie[2], const uint8_t *tag, const size_t *src, particles *p)
 {
-    void *e = lci_embree_device(dev);
     char err[256];
-    if (!e) return LC_ERROR_INTERNAL;
-    if (lci_pbvh_build(e, xyz, rad, radius, n, p->info.leaf_size, &p->bvh, err, sizeof err) != 0)
-        return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
-    return LC_OK;
+    const char *env = getenv("LANECAST_PBVH_BUILDER");
+    int r;
+    if (!p->canonical && !(env && !strcmp(env, "canonical"))) {
+        void *e = lci_embree_device(dev);
+        if (!e) return LC_ERROR_INTERNAL;
+        r = lci_pbvh_build(e, xyz, rad, radius, n, p->info.leaf_size, &p->bvh, err, sizeof err);
+    } else {
+        const lc_box3 *box = &p->order_box;
+        lci_pbvh_keys q = {{box->lo.x, box->lo.y, box->lo.z}, {box->hi.x, box->hi.y, box->hi.z},
+                           {tie[0], tie[1], NULL}, tag, src};
+        r = lci_pbvh_build_canonical(xyz, rad, radius, n, p->info.leaf_size, &q, &p->bvh, err, sizeof err);
+    }
+    return r == 0 ? LC_OK : lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_particles_create: BVH build failed: %s", err);
 }
 
 /* The node bounds once the arrays are in leaf order, and the build's figures. */
@@ -532,7 +548,10 @@ static lc_status deferred_build(lc_device *dev, particles *p)
     float *xyz = malloc(sizeof(float) * 3 * (n ? n : 1));
     if (!xyz) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory building the BVH of %zu particles", n);
     for (size_t j = 0; j < n; j++) xyz[3 * j] = p->px[j], xyz[3 * j + 1] = p->py[j], xyz[3 * j + 2] = p->pz[j];
-    lc_status s = n > 0 ? build_bvh(dev, xyz, p->r, 0.0f, n, p) : LC_OK;
+    /* the kept order's own arrays as the canonical ties (the desc's values, or 1 for all: equal
+       ties either way; src NULL: arrays indexed by the kept index) */
+    const float *tie[2] = {p->k, p->kn};
+    lc_status s = n > 0 ? build_bvh(dev, xyz, p->r, 0.0f, n, tie, p->field, NULL, p) : LC_OK;
     free(xyz);
     float *ksum = s == LC_OK ? malloc(sizeof(float) * (size_t)(p->bvh.nnodes > 0 ? p->bvh.nnodes : 1)) : NULL;
     if (s == LC_OK && !ksum) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_render: out of memory for the BVH's nodes");
@@ -602,11 +621,15 @@ static lc_status create(lc_device *dev, const void *desc, lc_volume **out)
         info->leaf_size = d->leaf_size == 0 ? 4 : d->leaf_size;
         if (d->radius_note) snprintf(info->radius_note, sizeof info->radius_note, "%s", d->radius_note);
         measure(&k, d->radius, info);
+        static const lc_box3 none;
+        p->canonical = d->canonical_order;
+        p->order_box = memcmp(&d->order_box, &none, sizeof none) ? d->order_box : info->bounds;
         info->data_bytes = k.n * (6 * sizeof(float) + sizeof(uint32_t) + 1);
         if (d->defer_bvh) s = leaf_order(dev, d, &k, p); /* the kept order; ensure_bvh builds */
         else {
             double t0 = lci_now();
-            if (k.n > 0) s = build_bvh(dev, k.xyz, k.rad, d->radius, k.n, p);
+            const float *tie[2] = {d->values, d->norm_weights};
+            if (k.n > 0) s = build_bvh(dev, k.xyz, k.rad, d->radius, k.n, tie, d->fields, k.src, p);
             if (s == LC_OK) s = leaf_order(dev, d, &k, p);
             if (s == LC_OK) s = finish_build(dev, p, t0);
             atomic_store_explicit(&p->built, 1, memory_order_release);
@@ -820,6 +843,7 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
                          file, o->value);
     if (!strcmp(o->key, "kernel")) return LC_OK;
     if (!strcmp(o->key, "normalise")) return lci_option_int(dev, file, o, 0, 1, &d->params.normalise);
+    if (!strcmp(o->key, "canonical_order")) return lci_option_int(dev, file, o, 0, 1, &d->canonical_order);
     return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to particles", file, o->key);
 }
 
@@ -827,7 +851,7 @@ const lci_kind_ops lci_particles_ops = {
     .kind = LC_KIND_PARTICLES,
     .name = "particles",
     .krow = LC_KKIND_PARTICLES,
-    .option_keys = "leaf_size drop_invalid kernel normalise defer_bvh",
+    .option_keys = "leaf_size drop_invalid kernel normalise canonical_order defer_bvh",
     .create = create,
     .set_option = set_option,
     .destroy = destroy,

@@ -4,6 +4,7 @@
 #define LC_HOST_MPI_INTERNAL_H
 
 #include <mpi.h>
+#include <string.h>
 #include "host/mpi/dp.h"
 
 /* What one rank's compositing took, step by step (fold, swap rounds, gather). */
@@ -37,6 +38,18 @@ lc_status lci_mpi_load_rbf(lc_device *dev, MPI_Comm comm, const char *path, cons
  * Collective. */
 lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, size_t n, float **items, int nf,
                            const float *reach, float **recv, size_t *nrecv);
+
+/* The parts' canonical_order (lc_particles_desc, lc_rbf_desc): 1 unless
+ * the load options set canonical_order = 0. With it a part sums each sample
+ * in the whole set's order (docs/mpi.md "Bit for bit"). */
+static inline int lci_mpi_canonical(const lc_load_desc *ld)
+{
+    int on = 1;
+    for (int i = 0; i < ld->noptions; i++)
+        if (ld->options[i].key && ld->options[i].value && !strcmp(ld->options[i].key, "canonical_order"))
+            on = strcmp(ld->options[i].value, "0") != 0;
+    return on;
+}
 
 /* The peers of a kd-tree build over comm (mpi_pload.c): the sums and the
  * agreement before them by MPI_Allreduce; *p filled and returned. */

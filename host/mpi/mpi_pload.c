@@ -80,7 +80,7 @@ static int raw_plain(const char *path, const char *format, const lc_load_desc *l
         if (!k || !ld->options[i].value) return 0;
         count |= !strcmp(k, "count"), radius |= !strcmp(k, "radius");
         if (strcmp(k, "count") && strcmp(k, "radius") && strcmp(k, "leaf_size") && strcmp(k, "drop_invalid") &&
-            strcmp(k, "kernel") && strcmp(k, "max_memory"))
+            strcmp(k, "kernel") && strcmp(k, "max_memory") && strcmp(k, "canonical_order"))
             return 0;
     }
     FILE *f = fopen(path, "rb");
@@ -373,7 +373,7 @@ static lc_status take_sigma(lc_device *dev, const char *path, const lc_load_desc
 }
 
 static lc_status make_part(lc_device *dev, MPI_Comm *comm, const shape *sp, float **recp, size_t n,
-                           const lci_particles_global *g, lci_dp_ppart *pp, lc_volume **out)
+                           const lci_particles_global *g, int canonical, lci_dp_ppart *pp, lc_volume **out)
 {
     const float *rec = *recp;
     size_t m = n ? n : 1, nf = REC + (sp->has_w ? 1 : 0);
@@ -392,7 +392,8 @@ static lc_status make_part(lc_device *dev, MPI_Comm *comm, const shape *sp, floa
     *recp = NULL, rec = NULL;
     lc_particles_desc d = {.count = n, .positions = xyz, .radii = r, .radius = sp->radius, .values = k, .fields = f,
                            .nfields = sp->nfields, .leaf_size = sp->leaf_size, .params = sp->params,
-                           .radius_note = sp->note[0] ? sp->note : NULL, .norm_weights = w};
+                           .radius_note = sp->note[0] ? sp->note : NULL, .norm_weights = w,
+                           .canonical_order = canonical, .order_box = g->bounds};
     if (s == LC_OK) s = lc_particles_create(dev, &d, out);
     free(xyz), free(r), free(k), free(w), free(f);
     s = lc_mpi_agree(dev, *comm, s);
@@ -453,7 +454,7 @@ lc_status lci_mpi_load_particles(lc_device *dev, MPI_Comm comm, const char *path
     size_t n = 0;
     if (s == LC_OK) s = exchange(dev, comm, &pp.tree, &sh, sp.has_w, pp.support, pp.dt, &rec, &n);
     share_free(&sh);
-    if (s == LC_OK) s = make_part(dev, &comm, &sp, &rec, n, &g, &pp, out);
+    if (s == LC_OK) s = make_part(dev, &comm, &sp, &rec, n, &g, lci_mpi_canonical(ld), &pp, out);
     else lci_kd_release(&pp.tree);
     free(rec);
     return lc_mpi_agree(dev, comm, s);

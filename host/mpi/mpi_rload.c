@@ -22,7 +22,7 @@ typedef struct rhead {
     lci_rbf_global g;
     lc_box3 bounds;
     float bias, eps, default_dt;
-    int leaf_size, cell_max, significant;
+    int leaf_size, cell_max, significant, canonical;
     lc_rbf_accel accel;
 } rhead;
 
@@ -39,7 +39,15 @@ static lc_status read_terms(lc_device *dev, const char *path, const lc_load_desc
     const lc_rbf_desc *d = l.desc;
     lc_volume *whole = NULL;
     if (kind != LC_KIND_RBF) s = lci_error(dev, LC_ERROR_INTERNAL, "%s: not an RBF set", path);
-    if (s == LC_OK) s = lc_rbf_create(dev, d, &whole);
+    /* the whole set in the parts' order: its globals (the range bound's node sums, the values
+       at the centres) are then those of one process rendering in that order */
+    lc_rbf_desc wd;
+    memset(&wd, 0, sizeof wd);
+    if (s == LC_OK) {
+        wd = *d;
+        wd.canonical_order = lci_mpi_canonical(ld);
+        s = lc_rbf_create(dev, &wd, &whole);
+    }
     lc_rbf_info info;
     lci_frame_info fi;
     memset(&fi, 0, sizeof fi);
@@ -56,6 +64,7 @@ static lc_status read_terms(lc_device *dev, const char *path, const lc_load_desc
         h->bounds = info.bounds, h->bias = info.bias, h->eps = info.eps, h->default_dt = fi.default_dt;
         h->leaf_size = info.leaf_size, h->cell_max = info.cell_max, h->significant = info.significant;
         h->accel = info.accel;
+        h->canonical = wd.canonical_order;
         lc_box3 sb;
         *n = lci_rbf_keep(d, info.eps, xyz, *R, src, &sb);
         for (size_t j = 0; j < *n; j++) {
@@ -88,7 +97,7 @@ static lc_status make_part(lc_device *dev, const rhead *h, const float *rec, siz
     lc_rbf_desc d = {.count = n, .centres = c, .widths = sw, .weights = w, .bias = h->bias, .eps = h->eps,
                      .domain = h->bounds, .leaf_size = h->leaf_size, .accel = h->accel,
                      .cell_max = h->accel == LC_RBF_ACCEL_OCTREE ? h->cell_max : 0,
-                     .significant = h->significant};
+                     .significant = h->significant, .canonical_order = h->canonical};
     if (s == LC_OK) s = lc_rbf_create(dev, &d, out);
     free(c), free(sw), free(w);
     lci_dp_ppart *keep = s == LC_OK ? lci_dp_ppart_keep(dev, pp) : NULL;

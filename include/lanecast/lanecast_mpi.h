@@ -75,7 +75,11 @@ LC_API lc_status lc_mpi_render(lc_device *device, MPI_Comm comm, int root, const
  * radii and value range, rendered only under lc_mpi_render (a larger sigma
  * or a longer step is refused). RBF sets: rank 0 reads the file, each rank
  * keeps the terms whose support R_i grown by two steps reaches its region
- * (the whole set's eps, domain and default range). */
+ * (the whole set's eps, domain and default range). Particle and RBF parts
+ * build their BVH in the canonical order (load option canonical_order,
+ * default 1 here): each sample then sums its terms as one process loading
+ * with canonical_order = 1 does, so mip, iso and slice images are that
+ * process's bit for bit and dvr within the compositing's round-off. */
 LC_API lc_status lc_mpi_volume_load(lc_device *device, MPI_Comm comm, const char *path, const lc_load_desc *desc,
                                     float dt, lc_volume **out);
 
