@@ -517,7 +517,8 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
     if (g.num_files > 1)
         lci_log(dev, LC_LOG_INFO, "%s: one file of a %d-file snapshot (its own particles only)", a->path, g.num_files);
 out:
-    s = lci_psel_close(dev, a, &o.sel, p.n, s);
+    /* a share that needs the whole set read no rows: rank 0's whole read checks what the selection kept */
+    s = lci_psel_close(dev, a, &o.sel, sh && sh->whole ? 1 : p.n, s);
     lci_bin_close(&g.b);
     int had_hsml = s == LC_OK && o.radius <= 0.0f && o.types[0] && g.npart[0] > 0 && block(&g, "HSML");
     s = lci_plist_finish(dev, a->path, s, &p, o.by_type ? nfields : 1, o.value != V_NONE, out);

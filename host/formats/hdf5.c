@@ -131,7 +131,9 @@ static lc_status hdf5_read(lc_device *dev, const lci_read_args *a, lci_loaded *o
     }
     lci_h5_quiet_off(&q);
     if (o.sel.sel) { /* after the descriptor was made: a failed check frees it */
-        lc_status c = lci_psel_close(dev, a, &o.sel, s == LC_OK ? ((lc_particles_desc *)out->desc)->count : 0, s);
+        /* a share that needs the whole set read no rows: rank 0's whole read checks what the selection kept */
+        size_t kept = s != LC_OK ? 0 : o.share && o.share->whole ? 1 : ((lc_particles_desc *)out->desc)->count;
+        lc_status c = lci_psel_close(dev, a, &o.sel, kept, s);
         if (c != LC_OK && s == LC_OK) lci_loaded_free(out);
         s = c;
     }
