@@ -31,7 +31,8 @@
  * convention; `hsml_is = h` converts H = gamma h with the kernel's gamma);
  * with `kernel = ` an SPH kernel and a value A, k_i = m_i / rho_i A_i from
  * the gas masses (table or MASS) and RHO (gas only). Errors name the file
- * and the byte. */
+ * and the byte. With an lci_share (host/mpi/ under mpirun) each block is
+ * read from the share's first row on, after scan's checks of every size. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -13,7 +13,9 @@
  * /HydroScheme "Kernel function" the file records, else the cubic spline's;
  * `hsml_is = h|H` overrides. With an SPH kernel and a value A,
  * k_i = m_i / rho_i A_i (Masses or MassTable, Density/Densities; groups
- * without densities are skipped unless named). */
+ * without densities are skipped unless named). With an lci_share (host/mpi/
+ * under mpirun) only the share's rows of each dataset are read, by
+ * hyperslab, after the same metadata checks. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
