@@ -88,11 +88,11 @@ ortho="--eye -3,1.5,2 --at 0.3,0.3,0.3 --ortho 1.5"
 plane="--plane 0.3,0.3,0.3,0.2,0.3,1"
 
 # bit for bit: the shares' images are one process's
-bits h5-two-m4-iso $P "1 2 3 4" "$dir/two.hdf5" --kernel m4 --mode iso --iso 0.3 $inside
+bits h5-two-m4-iso $P "1 2 3 4" "$dir/two.hdf5" --kernel m4 --mode iso --iso 0.3 $ortho
 bits h5-two-u-slice $P "1 2 3 4" "$dir/two.hdf5" --kernel m4 --value u --mode slice $plane $ortho
-bits h5-two-mip $P "2 3" "$dir/two.hdf5" --mode mip $ortho
+bits h5-two-mip-inside $P "2 3" "$dir/two.hdf5" --mode mip $inside
 bits h5-norm-slice $P "2 4" "$dir/two.hdf5" --kernel wendland-c2 --value u --normalise --mode slice $plane
-bits gadget-m4-iso $P "1 2 3 4" "$dir/gas.gadget" --kernel m4 --mode iso --iso 0.3 $inside
+bits gadget-m4-iso $P "1 2 3 4" "$dir/gas.gadget" --kernel m4 --mode iso --iso 0.3 $ortho
 bits gadget-u-slice $P "1 2 3 4" "$dir/gas.gadget" --kernel m4 --value u --mode slice $plane $ortho
 bits gadget2-norm-slice $P "2 3" "$dir/gas2.gadget" --kernel m4 --value u --normalise --mode slice $plane
 
