@@ -30,6 +30,8 @@ struct lc_device {
     float load_last; /* the last fraction reported */
     /* lc_volume_load's memory limit (option max_memory) while a reader runs, 0 = the default (host/formats/checked.h) */
     unsigned long long load_max_memory;
+    /* lci_read_volume_share's lci_share while a reader runs (host/formats/format.h), else NULL */
+    void *load_share;
 };
 
 /* Reports the fraction (0..1) of the file read to lc_load_desc.progress, when

@@ -1,9 +1,10 @@
 #!/bin/sh
 # mpiexec -np K lanecast render of particle files loaded by parts
 # (host/mpi/mpi_pload.c): raw float32 files read as each rank's rows, PDB
-# and GADGET files read by rank 0 and scattered (HDF5 snapshots too when
-# h5py can write one; and --normalise of one, whose float image is the one
-# process's byte for byte), and RBF sets (mpi_rload.c: scattered from rank 0),
+# and GADGET files with k-nearest radii read by rank 0 and scattered (HDF5
+# snapshots with smoothing lengths when h5py can write one, read by shares:
+# more in test_cli_mpi_pshare.sh; and --normalise of one, whose float image
+# is the one process's byte for byte), and RBF sets (mpi_rload.c: scattered from rank 0),
 # each rank keeping its owners and ghosts: the PNG
 # rank 0 writes equals the one-process PNG byte for byte (dvr with alpha_stop
 # 1 differs from one process by float round-off, far below an 8-bit step).

@@ -10,6 +10,21 @@
 
 #include "host/kinds/kind.h"
 
+/* A share of a particle file (host/mpi/mpi_pload.c, dp.h "Particle parts"):
+ * a reader of a format with `shares` reads the particles [a, b) of the
+ * whole read's order only, a = total * rank / parts, b likewise for rank + 1,
+ * over the rows of the file it would read (total), and returns them as the
+ * whole read would (the same values, field ids and note). When the load
+ * needs the whole set (k-nearest-neighbour radii, a selection, a radius
+ * <= 0 replaced by a group's smallest) it says why in whole; what it
+ * returned is then to be thrown away. */
+typedef struct lci_share {
+    int rank, parts;   /* in */
+    size_t a, b, total; /* out: the rows read, of the total */
+    size_t offset;     /* out: the returned particles before the first one (for messages) */
+    const char *whole; /* out: why the set must be read whole, or NULL */
+} lci_share;
+
 /* What a reader gets: the file, the load request (frame, companion) and the
  * options meant for the format (the kind's build options are kept apart). */
 typedef struct lci_read_args {
@@ -19,6 +34,10 @@ typedef struct lci_read_args {
     int noptions;
     const char *format; /* the format's name (NULL from tests calling a reader directly) */
 } lci_read_args;
+
+/* The share the reader is to read (lci_read_volume_share sets it on the
+ * device while the reader runs), or NULL: the whole file. */
+static inline lci_share *lci_read_share(lc_device *dev) { return dev ? (lci_share *)dev->load_share : NULL; }
 
 /* What a reader returns: the kind's descriptor (lc_particles_desc,
  * lc_grid_desc, ...) in desc, pointing into buffers listed in mem; the
@@ -56,6 +75,7 @@ typedef struct lci_format {
     /* lc_file_describe: lines about what the file holds beyond lc_file_info
      * (DICOM: its series), written into text (size bytes); NULL: nothing */
     lc_status (*describe)(lc_device *dev, const lci_read_args *a, char *text, size_t size);
+    int shares;              /* 1: the reader reads a share of particles when lci_read_args.share is set */
 } lci_format;
 
 /* The option of the given key, or NULL. */
@@ -81,5 +101,9 @@ lc_status lci_read_grid(lc_device *dev, const char *path, const lc_load_desc *de
  * host/mpi/, which distributes the data before creating each rank's part. */
 lc_status lci_read_volume_desc(lc_device *dev, const char *path, const lc_load_desc *desc, lc_kind *kind,
                                const char **format, lci_loaded *l);
+/* The same for a share of a particle file (lci_share; the format must have
+ * `shares`, else LC_ERROR_UNSUPPORTED before anything is read). */
+lc_status lci_read_volume_share(lc_device *dev, const char *path, const lc_load_desc *desc, lci_share *share,
+                                lc_kind *kind, const char **format, lci_loaded *l);
 
 #endif

@@ -31,7 +31,8 @@
  * convention; `hsml_is = h` converts H = gamma h with the kernel's gamma);
  * with `kernel = ` an SPH kernel and a value A, k_i = m_i / rho_i A_i from
  * the gas masses (table or MASS) and RHO (gas only). Errors name the file
- * and the byte. */
+ * and the byte. With an lci_share (host/mpi/ under mpirun) each block is
+ * read from the share's first row on, after scan's checks of every size. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -312,8 +313,26 @@ static lc_status parse_opts(lc_device *dev, const lci_read_args *a, gopts *o)
     return s;
 }
 
+/* A share's rows (lci_share) of the chosen particles (types in order): the
+ * total and [a, b) of it, or in sh->whole why the set is needed whole
+ * (then no rows). scan() has checked every block's size against the
+ * header's counts, so the share's offsets are inside the blocks. */
+static void share_plan(const gsnap *g, const gopts *o, int64_t chosen, lci_share *sh)
+{
+    if (o->sel.sel) sh->whole = "a selection (select = ...) over the whole file's indices";
+    for (int t = 0; t < 6; t++)
+        if (o->types[t] && g->npart[t] > 0 && !(o->radius > 0.0f) && !(t == 0 && block(g, "HSML")))
+            sh->whole = "k-nearest-neighbour radii (particles without HSML and no radius option)";
+    sh->total = (size_t)chosen;
+    sh->a = (size_t)((uint64_t)chosen * (uint64_t)sh->rank / (uint64_t)sh->parts);
+    sh->b = (size_t)((uint64_t)chosen * (uint64_t)(sh->rank + 1) / (uint64_t)sh->parts);
+    if (sh->whole) sh->a = sh->b = 0;
+    sh->offset = 0;
+}
+
 static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded *out)
 {
+    lci_share *sh = lci_read_share(dev);
     gopts o;
     lc_status s = parse_opts(dev, a, &o);
     if (s != LC_OK) return s;
@@ -393,33 +412,46 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
                       (long long)g.npart[2], (long long)g.npart[3], (long long)g.npart[4], (long long)g.npart[5]);
         goto out;
     }
-    if (o.sph.normalise && !(wn = malloc(sizeof(float) * (size_t)chosen))) {
-        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld weights", a->path, (long long)chosen);
+    if (sh) share_plan(&g, &o, chosen, sh);
+    const int64_t held = sh ? (int64_t)(sh->b - sh->a) + 1 : chosen; /* the particles this read returns, at most */
+    if (o.sph.normalise && !(wn = malloc(sizeof(float) * (size_t)held))) {
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld weights", a->path, (long long)held);
         goto out;
     }
-    if (lci_plist_reserve(&p, (size_t)chosen)) {
-        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld particles", a->path, (long long)chosen);
+    if (lci_plist_reserve(&p, (size_t)held)) {
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld particles", a->path, (long long)held);
         goto out;
     }
+    int64_t cfirst = 0; /* the chosen particles before type t (a share's index) */
     for (int t = 0; t < 6; first += g.npart[t], mfirst += g.mass[t] == 0.0 ? g.npart[t] : 0, t++) {
-        int64_t n = g.npart[t];
-        if (!o.types[t] || n == 0) continue;
+        int64_t whole_n = g.npart[t];
+        if (!o.types[t] || whole_n == 0) continue;
+        /* the rows read: all, or the share's [a, b) of the chosen particles' order in this type */
+        int64_t lo = 0, n = whole_n;
+        if (sh) {
+            int64_t sa = (int64_t)sh->a - cfirst, sb = (int64_t)sh->b - cfirst;
+            lo = sa < 0 ? 0 : sa > whole_n ? whole_n : sa, n = (sb < 0 ? 0 : sb > whole_n ? whole_n : sb) - lo;
+            sh->offset += (size_t)lo;
+        }
+        cfirst += whole_n;
         size_t base = p.n;
         float *x = p.xyz + 3 * base, *r = p.r + base, *v = p.v + base;
-        if ((s = reals(&g, pos, 3 * first, 3 * n, x)) != LC_OK) goto out;
+        if ((s = reals(&g, pos, 3 * (first + lo), 3 * n, x)) != LC_OK) goto out;
         for (int64_t i = 0; i < 3 * n; i++)
             if (!isfinite(x[i])) {
                 s = lci_error(dev, LC_ERROR_FORMAT, "%s: byte %lld: particle %lld (type %d) has a non-finite position",
-                              a->path, (long long)(pos->off + (3 * first + i) * (g.wide ? 8 : 4)),
-                              (long long)(first + i / 3), t);
+                              a->path, (long long)(pos->off + (3 * (first + lo) + i) * (g.wide ? 8 : 4)),
+                              (long long)(first + lo + i / 3), t);
                 goto out;
             }
         /* radii */
         if (o.radius > 0.0f) {
             for (int64_t i = 0; i < n; i++) r[i] = o.radius;
         } else if (t == 0 && hsml) {
-            if ((s = reals(&g, hsml, 0, n, r)) != LC_OK) goto out;
+            if ((s = reals(&g, hsml, lo, n, r)) != LC_OK) goto out;
             for (int64_t i = 0; gamma != 1.0 && i < n; i++) r[i] = (float)(gamma * (double)r[i]);
+            for (int64_t i = 0; sh && i < n; i++) /* replaced by the type's smallest: the whole type's */
+                if (!(r[i] > 0.0f) || !isfinite(r[i])) sh->whole = "an HSML <= 0 (replaced by its type's smallest)";
         } else {
             if (lci_knn_radii(x, (size_t)n, o.knn, r)) {
                 s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for the neighbour search", a->path);
@@ -435,16 +467,16 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
         }
         /* values */
         if (o.value == V_MASS && g.mass[t] == 0.0) {
-            if ((s = reals(&g, vb, mfirst, n, v)) != LC_OK) goto out;
+            if ((s = reals(&g, vb, mfirst + lo, n, v)) != LC_OK) goto out;
         } else if (o.value == V_MASS) {
             for (int64_t i = 0; i < n; i++) v[i] = (float)g.mass[t];
         } else if (o.value != V_NONE) {
-            float *row = vc > 1 ? malloc(sizeof(float) * (size_t)(n * vc)) : v;
+            float *row = vc > 1 ? malloc(sizeof(float) * (size_t)(n * vc + 1)) : v;
             if (!row) {
                 s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for block %.4s", a->path, o.label);
                 goto out;
             }
-            s = reals(&g, vb, (gas_only ? 0 : first) * vc, n * vc, row);
+            s = reals(&g, vb, ((gas_only ? 0 : first) + lo) * vc, n * vc, row);
             if (s == LC_OK) lci_value_spec_reduce(&o.vs, row, n, (int)vc, v);
             if (row != v) free(row);
             if (s != LC_OK) goto out;
@@ -452,14 +484,14 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
             for (int64_t i = 0; i < n; i++) v[i] = 1.0f;
         }
         if (weighted) { /* t == 0: k_i = m_i / rho_i A_i */
-            float *m = NULL, *rho = malloc(sizeof(float) * (size_t)n * 2);
+            float *m = NULL, *rho = malloc(sizeof(float) * ((size_t)n * 2 + 1));
             if (!rho) {
                 s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory for %lld densities", a->path, (long long)n);
                 goto out;
             }
-            if (g.mass[0] == 0.0) m = rho + n, s = reals(&g, massb, 0, n, m);
-            if (s == LC_OK) s = reals(&g, rhob, 0, n, rho);
-            if (s == LC_OK) s = lci_sph_weigh(dev, a->path, "block RHO", 0, n, m, g.mass[0], rho, v);
+            if (g.mass[0] == 0.0) m = rho + n, s = reals(&g, massb, lo, n, m);
+            if (s == LC_OK) s = reals(&g, rhob, lo, n, rho);
+            if (s == LC_OK) s = lci_sph_weigh(dev, a->path, "block RHO", lo, n, m, g.mass[0], rho, v);
             if (s == LC_OK && wn) lci_sph_norm_weights(n, m, g.mass[0], rho, wn + base);
             free(rho);
             if (s != LC_OK) goto out;
@@ -480,13 +512,14 @@ static lc_status gadget_read(lc_device *dev, const lci_read_args *a, lci_loaded 
             n = (int64_t)(w - base);
             if (n == 0) continue; /* no field for a type the selection left empty */
         }
-        p.n += (size_t)n;
+        p.n += (size_t)n; /* a share's type keeps its field when the share holds none of it */
         nfields++;
     }
     if (g.num_files > 1)
         lci_log(dev, LC_LOG_INFO, "%s: one file of a %d-file snapshot (its own particles only)", a->path, g.num_files);
 out:
-    s = lci_psel_close(dev, a, &o.sel, p.n, s);
+    /* a share that needs the whole set read no rows: rank 0's whole read checks what the selection kept */
+    s = lci_psel_close(dev, a, &o.sel, sh && sh->whole ? 1 : p.n, s);
     lci_bin_close(&g.b);
     int had_hsml = s == LC_OK && o.radius <= 0.0f && o.types[0] && g.npart[0] > 0 && block(&g, "HSML");
     s = lci_plist_finish(dev, a->path, s, &p, o.by_type ? nfields : 1, o.value != V_NONE, out);
@@ -523,4 +556,4 @@ const lci_format lci_format_gadget = {
     .options = "radius radius_scale fields value types knn select kernel hsml_is normalise",
     .description = "GADGET-1/2 snapshot, format 1 or 2, either byte order: types as fields, radius = HSML or the k-th "
                    "neighbour distance, value = none|mass|u|rho|hsml or any block (LABEL, LABEL:K, |LABEL|)",
-    .magic = gadget_magic, .read = gadget_read, .describe = gadget_describe};
+    .magic = gadget_magic, .read = gadget_read, .describe = gadget_describe, .shares = 1};

@@ -124,12 +124,16 @@ static lc_status hdf5_read(lc_device *dev, const lci_read_args *a, lci_loaded *o
     hid_t f;
     if ((s = lci_psel_open(dev, a, &o.sel)) == LC_OK && (s = lci_h5_open(dev, a->path, &f)) == LC_OK) {
         o.sel.gives = o.dataset ? "index (a positions dataset has no types)" : "index and type (0 to 5)";
+        o.share = lci_read_share(dev);
+        if (o.share && o.dataset) o.share->whole = "a positions dataset (dataset = PATH): k-nearest-neighbour radii";
         s = o.dataset ? read_dataset(dev, a, f, &o, out) : lci_h5_read_snapshot(dev, a->path, f, &o, out);
         H5Fclose(f);
     }
     lci_h5_quiet_off(&q);
     if (o.sel.sel) { /* after the descriptor was made: a failed check frees it */
-        lc_status c = lci_psel_close(dev, a, &o.sel, s == LC_OK ? ((lc_particles_desc *)out->desc)->count : 0, s);
+        /* a share that needs the whole set read no rows: rank 0's whole read checks what the selection kept */
+        size_t kept = s != LC_OK ? 0 : o.share && o.share->whole ? 1 : ((lc_particles_desc *)out->desc)->count;
+        lc_status c = lci_psel_close(dev, a, &o.sel, kept, s);
         if (c != LC_OK && s == LC_OK) lci_loaded_free(out);
         s = c;
     }
@@ -431,4 +435,4 @@ const lci_format lci_format_hdf5 = {
     .description = "HDF5: GADGET/AREPO/SWIFT PartTypeN snapshots (types as fields, value = none|mass|u|rho|hsml or any "
                    "dataset: NAME, NAME:K, |NAME|), or dataset = PATH: 3-D as a grid, N x 3 as particles",
     .magic = hdf5_magic, .read = HDF5_READ, .package = "libhdf5-dev", .kind_of = HDF5_KIND,
-    .describe = HDF5_DESCRIBE};
+    .describe = HDF5_DESCRIBE, .shares = 1};

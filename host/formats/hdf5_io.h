@@ -67,6 +67,7 @@ typedef struct lci_h5_opts {
     const char *dataset;
     lci_psel sel; /* select: index over the file's particles (type order), type = the PartType number */
     lci_sph_opts sph;
+    lci_share *share; /* a share of the snapshot's particles (lci_read_args.share), or NULL */
 } lci_h5_opts;
 
 lc_status lci_h5_parse_opts(lc_device *dev, const lci_read_args *a, lci_h5_opts *o);

@@ -13,7 +13,9 @@
  * /HydroScheme "Kernel function" the file records, else the cubic spline's;
  * `hsml_is = h|H` overrides. With an SPH kernel and a value A,
  * k_i = m_i / rho_i A_i (Masses or MassTable, Density/Densities; groups
- * without densities are skipped unless named). */
+ * without densities are skipped unless named). With an lci_share (host/mpi/
+ * under mpirun) only the share's rows of each dataset are read, by
+ * hyperslab, after the same metadata checks. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,11 +25,37 @@
 #include "host/sph/sph_kernel.h"
 
 #if LC_HAVE_HDF5
+/* Rows [lo, lo + cnt) of ds (dims[0] rows of c values) as floats into out,
+ * checked finite as lci_h5_read_floats checks (the value's index in the
+ * dataset); all of them: lci_h5_read_floats itself, what a whole read does. */
+static lc_status read_rows(lc_device *dev, const char *path, const char *name, hid_t ds, const lci_h5_dinfo *di,
+                           int64_t lo, int64_t cnt, int64_t c, float *out)
+{
+    if (lo == 0 && cnt == (int64_t)di->dims[0]) return lci_h5_read_floats(dev, path, name, ds, di, out, (size_t)(cnt * c));
+    if (cnt == 0) return LC_OK;
+    hsize_t start[2] = {(hsize_t)lo, 0}, count[2] = {(hsize_t)cnt, di->rank == 2 ? di->dims[1] : 1};
+    hsize_t mdim = (hsize_t)(cnt * c);
+    hid_t fs = H5Dget_space(ds), ms = H5Screate_simple(1, &mdim, NULL);
+    int ok = fs >= 0 && ms >= 0 && H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+             H5Dread(ds, H5T_NATIVE_FLOAT, ms, fs, H5P_DEFAULT, out) >= 0;
+    if (fs >= 0) H5Sclose(fs);
+    if (ms >= 0) H5Sclose(ms);
+    if (!ok)
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: libhdf5 cannot read rows %lld .. %lld (%s)", path, name,
+                         di->where, (long long)lo, (long long)(lo + cnt - 1), lci_h5_why());
+    for (int64_t i = 0; i < cnt * c; i++)
+        if (!isfinite(out[i]))
+            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s%s: value %lld is not finite", path, name, di->where,
+                             (long long)(lo * c + i));
+    return LC_OK;
+}
+
 /* One per-particle dataset of group g (the first of names that lci_h5_exists): 1-D
  * of n values (or n x 1), or with comp >= 0 or LCI_VALUE_MAG (lci_value_spec)
- * the component or magnitude of n x C. *found = 0 when none lci_h5_exists. */
+ * the component or magnitude of n x C; its rows [lo, lo + cnt) into out.
+ * *found = 0 when none lci_h5_exists. */
 static lc_status per_particle(lc_device *dev, const char *path, hid_t g, int type, const char *const *names,
-                              const lci_value_spec *spec, int64_t n, float *out, int *found)
+                              const lci_value_spec *spec, int64_t n, int64_t lo, int64_t cnt, float *out, int *found)
 {
     const int comp = spec ? spec->comp : -1;
     *found = 0;
@@ -54,10 +82,10 @@ static lc_status per_particle(lc_device *dev, const char *path, hid_t g, int typ
         if (s == LC_OK && comp >= c)
             s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: %s%s: component %d of %lld x %lld values (0..%lld)", path,
                           name, di.where, comp, (long long)n, (long long)c, (long long)(c - 1));
-        float *row = s == LC_OK && c > 1 ? malloc(sizeof(float) * (size_t)(n * c)) : out;
+        float *row = s == LC_OK && c > 1 ? malloc(sizeof(float) * (size_t)(cnt * c + 1)) : out;
         if (!row) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: %s: out of memory", path, name);
-        if (s == LC_OK) s = lci_h5_read_floats(dev, path, name, ds, &di, row, (size_t)(n * c));
-        if (s == LC_OK && c > 1) lci_value_spec_reduce(spec, row, n, (int)c, out);
+        if (s == LC_OK) s = read_rows(dev, path, name, ds, &di, lo, cnt, c, row);
+        if (s == LC_OK && c > 1) lci_value_spec_reduce(spec, row, cnt, (int)c, out);
         if (row != out) free(row);
         H5Dclose(ds);
         *found = s == LC_OK;
@@ -94,8 +122,40 @@ static lc_kernel file_kernel(hid_t f)
     return k;
 }
 
+/* A share's rows (lci_share): the total over the groups the whole read
+ * reads (Coordinates' rows; a group that is not one is left to the read's
+ * checks) and [a, b) of it, or in sh->whole why the set is needed whole. */
+static void share_plan(hid_t f, const lci_h5_opts *o, lci_share *sh)
+{
+    uint64_t total = 0;
+    if (o->sel.sel) sh->whole = "a selection (select = ...) over the whole file's indices";
+    for (int t = 0; t < 6; t++) {
+        char gname[16];
+        snprintf(gname, sizeof gname, "PartType%d", t);
+        if (!o->types[t] || !lci_h5_exists(f, gname)) continue;
+        hid_t g = H5Gopen2(f, gname, H5P_DEFAULT);
+        hid_t ds = g >= 0 && lci_h5_exists(g, "Coordinates") ? H5Dopen2(g, "Coordinates", H5P_DEFAULT) : -1;
+        hid_t sp = ds >= 0 ? H5Dget_space(ds) : -1;
+        hsize_t dims[3] = {0, 0, 0};
+        if (sp >= 0 && H5Sget_simple_extent_ndims(sp) == 2) H5Sget_simple_extent_dims(sp, dims, NULL);
+        total += dims[0];
+        if (dims[0] > 0 && !(o->radius > 0.0f) && !lci_h5_exists(g, hsml_names[0]) && !lci_h5_exists(g, hsml_names[1]))
+            sh->whole = "k-nearest-neighbour radii (a group without SmoothingLength and no radius option)";
+        if (sp >= 0) H5Sclose(sp);
+        if (ds >= 0) H5Dclose(ds);
+        if (g >= 0) H5Gclose(g);
+    }
+    sh->total = (size_t)total;
+    sh->a = (size_t)(total * (uint64_t)sh->rank / (uint64_t)sh->parts);
+    sh->b = (size_t)(total * (uint64_t)(sh->rank + 1) / (uint64_t)sh->parts);
+    if (sh->whole) sh->a = sh->b = 0; /* nothing read: rank 0 reads it all */
+    sh->offset = 0;
+}
+
 lc_status lci_h5_read_snapshot(lc_device *dev, const char *path, hid_t f, lci_h5_opts *o, lci_loaded *out)
 {
+    lci_share *sh = o->share;
+    if (sh) share_plan(f, o, sh);
     size_t first = 0; /* the file's particles before this type (the selection's index) */
     lci_plist p;
     memset(&p, 0, sizeof p);
@@ -145,29 +205,39 @@ lc_status lci_h5_read_snapshot(lc_device *dev, const char *path, hid_t f, lci_h5
                               path, name, di.where, (long long)n, t, npart[t]);
         }
         if (s == LC_OK && n > 0) {
-            if (lci_plist_reserve(&p, (size_t)n)) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+            /* the rows read: all, or the share's [a, b) of the whole read's order in this group */
+            int64_t lo = 0, cnt = n;
+            if (sh) {
+                int64_t a = (int64_t)sh->a - (int64_t)first, b = (int64_t)sh->b - (int64_t)first;
+                lo = a < 0 ? 0 : a > n ? n : a, cnt = (b < 0 ? 0 : b > n ? n : b) - lo;
+            }
+            if (lci_plist_reserve(&p, (size_t)cnt + 1)) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
             size_t base = p.n;
             float *x = p.xyz + 3 * base, *r = p.r + base, *v = p.v + base;
-            if (s == LC_OK) s = lci_h5_read_floats(dev, path, name, ds, &di, x, 3 * (size_t)n);
+            if (s == LC_OK) s = read_rows(dev, path, name, ds, &di, lo, cnt, 3, x);
             int have = 0;
-            if (s == LC_OK && !(o->radius > 0.0f)) s = per_particle(dev, path, g, t, hsml_names, NULL, n, r, &have);
+            if (s == LC_OK && !(o->radius > 0.0f))
+                s = per_particle(dev, path, g, t, hsml_names, NULL, n, lo, cnt, r, &have);
             if (s == LC_OK && have) { /* SWIFT's spelling (or its /HydroScheme) means h */
                 int small = o->sph.hsml_is == LCI_HSML_FILE
                                 ? (swift || !lci_h5_exists(g, hsml_names[0]))
                                 : o->sph.hsml_is == LCI_HSML_SMALL_H;
                 double gamma = small ? lci_sph_kernel_get(gk)->swift_gamma : 1.0;
-                for (int64_t i = 0; gamma != 1.0 && i < n; i++) r[i] = (float)(gamma * (double)r[i]);
+                for (int64_t i = 0; gamma != 1.0 && i < cnt; i++) r[i] = (float)(gamma * (double)r[i]);
                 any_h |= small, any_H |= !small;
             }
-            if (s == LC_OK) s = lci_h5_fill_radii(dev, path, o, x, n, r, have);
+            for (int64_t i = 0; sh && have && i < cnt; i++) /* replaced by the group's smallest: the whole group's */
+                if (!(r[i] > 0.0f)) sh->whole = "a smoothing length <= 0 (replaced by its group's smallest)";
+            if (s == LC_OK) s = lci_h5_fill_radii(dev, path, o, x, cnt, r, have);
             int vfound = 1;
             const char *named[] = {o->vs.name, NULL};
             const char *const *vnames = o->value == LCI_H5_V_NAMED ? named : vdatasets[o->value];
             if (s == LC_OK && o->value != LCI_H5_V_NONE)
-                s = per_particle(dev, path, g, t, vnames, o->value == LCI_H5_V_NAMED ? &o->vs : NULL, n, v, &vfound);
+                s = per_particle(dev, path, g, t, vnames, o->value == LCI_H5_V_NAMED ? &o->vs : NULL, n, lo, cnt, v,
+                                 &vfound);
             if (s == LC_OK && o->value == LCI_H5_V_MASS && !vfound) {
                 if (have_mtab && mtab[t] > 0.0) {
-                    for (int64_t i = 0; i < n; i++) v[i] = (float)mtab[t];
+                    for (int64_t i = 0; i < cnt; i++) v[i] = (float)mtab[t];
                     vfound = 1;
                 } else
                     s = lci_error(dev, LC_ERROR_FORMAT, "%s: /%s: value = mass, but there is no Masses dataset and no "
@@ -181,11 +251,11 @@ lc_status lci_h5_read_snapshot(lc_device *dev, const char *path, hid_t f, lci_h5
                     lci_log(dev, LC_LOG_INFO, "%s: /%s skipped: no %s for value = %s", path, gname, vnames[0], o->vtext);
             }
             if (s == LC_OK && vfound && weighted) { /* k_i = m_i / rho_i A_i */
-                float *buf = malloc(sizeof(float) * (size_t)n * 2);
+                float *buf = malloc(sizeof(float) * ((size_t)cnt * 2 + 1));
                 int rf = 0, mf = 0;
                 if (!buf) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-                if (s == LC_OK) s = per_particle(dev, path, g, t, rho_names, NULL, n, buf, &rf);
-                if (s == LC_OK && rf) s = per_particle(dev, path, g, t, mass_names, NULL, n, buf + n, &mf);
+                if (s == LC_OK) s = per_particle(dev, path, g, t, rho_names, NULL, n, lo, cnt, buf, &rf);
+                if (s == LC_OK && rf) s = per_particle(dev, path, g, t, mass_names, NULL, n, lo, cnt, buf + cnt, &mf);
                 if (s == LC_OK && rf && !mf && !(have_mtab && mtab[t] > 0.0))
                     s = lci_error(dev, LC_ERROR_FORMAT, "%s: /%s: value = %s with kernel %s is SPH interpolation (k = m / "
                                   "rho * %s), but there is no Masses dataset and no /Header MassTable entry for type %d",
@@ -201,21 +271,23 @@ lc_status lci_h5_read_snapshot(lc_device *dev, const char *path, hid_t f, lci_h5
                 }
                 snprintf(name, sizeof name, "/%s/Density", gname);
                 if (s == LC_OK && rf)
-                    s = lci_sph_weigh(dev, path, name, 0, n, mf ? buf + n : NULL, mtab[t], buf, v);
-                if (s == LC_OK && rf && o->sph.normalise && wcap < base + (size_t)n) {
-                    float *w2 = realloc(wn, sizeof(float) * (base + (size_t)n));
+                    s = lci_sph_weigh(dev, path, name, lo, cnt, mf ? buf + cnt : NULL, mtab[t], buf, v);
+                if (s == LC_OK && rf && o->sph.normalise && wcap < base + (size_t)cnt + 1) {
+                    float *w2 = realloc(wn, sizeof(float) * (base + (size_t)cnt + 1));
                     if (!w2) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
-                    else wn = w2, wcap = base + (size_t)n;
+                    else wn = w2, wcap = base + (size_t)cnt + 1;
                 }
-                if (s == LC_OK && rf && o->sph.normalise) lci_sph_norm_weights(n, mf ? buf + n : NULL, mtab[t], buf, wn + base);
+                if (s == LC_OK && rf && o->sph.normalise)
+                    lci_sph_norm_weights(cnt, mf ? buf + cnt : NULL, mtab[t], buf, wn + base);
                 free(buf);
             }
             if (s == LC_OK && vfound) {
                 if (o->value == LCI_H5_V_NONE)
-                    for (int64_t i = 0; i < n; i++) v[i] = 1.0f;
-                for (int64_t i = 0; i < n; i++) p.f[base + (size_t)i] = (uint8_t)(o->by_type ? nfields : 0);
-                int64_t kept = lci_h5_select_range(&o->sel, &p, base, n, first, t, wn);
-                if (kept > 0) { /* no field for a type the selection left empty */
+                    for (int64_t i = 0; i < cnt; i++) v[i] = 1.0f;
+                for (int64_t i = 0; i < cnt; i++) p.f[base + (size_t)i] = (uint8_t)(o->by_type ? nfields : 0);
+                int64_t kept = lci_h5_select_range(&o->sel, &p, base, cnt, first + (size_t)lo, t, wn);
+                if (sh) sh->offset += (size_t)lo; /* a share has no selection: the whole group is kept */
+                if (kept > 0 || sh) { /* no field for a type the selection left empty */
                     p.n += (size_t)kept;
                     nfields++;
                     any = 1;

@@ -240,6 +240,12 @@ static lc_status split_options(lc_device *dev, const char *path, const lci_forma
 lc_status lci_read_volume_desc(lc_device *dev, const char *path, const lc_load_desc *d, lc_kind *kind_out,
                                const char **format, lci_loaded *l)
 {
+    return lci_read_volume_share(dev, path, d, NULL, kind_out, format, l);
+}
+
+lc_status lci_read_volume_share(lc_device *dev, const char *path, const lc_load_desc *d, lci_share *share,
+                                lc_kind *kind_out, const char **format, lci_loaded *l)
+{
     memset(l, 0, sizeof *l);
     const lci_format *f;
     int gzip;
@@ -254,6 +260,8 @@ lc_status lci_read_volume_desc(lc_device *dev, const char *path, const lc_load_d
     if (!f->read)
         return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: %s files are not supported by this build (install %s and rebuild)",
                          path, f->name, f->package ? f->package : "its library");
+    if (share && !f->shares)
+        return lci_error(dev, LC_ERROR_UNSUPPORTED, "%s: %s files are read whole, not by shares", path, f->name);
     lc_option *fopts = malloc(sizeof *fopts * (size_t)(d->noptions + 1));
     if (!fopts) return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_volume_load: out of memory");
     int nf;
@@ -266,7 +274,9 @@ lc_status lci_read_volume_desc(lc_device *dev, const char *path, const lc_load_d
         lci_read_args a = {path, d, fopts, nf, f->name};
         dev->load_progress = d->progress, dev->load_progress_user = d->progress_user, dev->load_last = 0.0f;
         if (d->progress) d->progress(d->progress_user, 0.0f);
+        dev->load_share = share;
         s = f->read(dev, &a, l);
+        dev->load_share = NULL;
         if (s == LC_OK && d->progress) d->progress(d->progress_user, 1.0f);
         dev->load_progress = NULL, dev->load_progress_user = NULL;
     }

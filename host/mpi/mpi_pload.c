@@ -1,6 +1,9 @@
 /* lc_mpi_volume_load of particle sets (dp.h "Particle parts"): every rank
- * gets a share of the particles (raw float32 files: rows [a, b) read by
- * the rank itself; other formats: read by rank 0, which holds them all),
+ * gets a share of the particles (raw float32 files, and HDF5 and GADGET
+ * snapshots whose quantities are all per particle: rows [a, b) read by the
+ * rank itself, lci_read_volume_share; other formats, and loads that need
+ * the whole set such as k-nearest-neighbour radii: read by rank 0, which
+ * holds them all),
  * the ranks reduce the share's bounds and radii, build the kd-tree balanced
  * by particle count with a distributed selection of each split
  * (lci_kd_build_dist: the same floats as one process's sort), and one
@@ -144,14 +147,20 @@ static lc_status raw_share(lc_device *dev, const char *path, const lc_load_desc 
     return s;
 }
 
-/* Rank 0 reads the whole file through its format's reader. */
-static lc_status whole_share(lc_device *dev, const char *path, const lc_load_desc *ld, share *sh, shape *sp)
+/* The particles the format's reader returns: the whole file (part NULL:
+ * rank 0) or the share *part (every rank). The test fault "whole" fails the
+ * whole read (tests: a load that must be by shares never reads whole). */
+static lc_status read_share(lc_device *dev, const char *path, const lc_load_desc *ld, lci_share *part, share *sh,
+                            shape *sp)
 {
     lci_loaded l;
     lc_kind kind;
     const char *fmt;
-    lc_status s = lci_read_volume_desc(dev, path, ld, &kind, &fmt, &l);
+    if (!part && lci_test_fault("whole"))
+        return lci_error(dev, LC_ERROR_IO, "%s: test fault 'whole': the whole file read by one rank", path);
+    lc_status s = lci_read_volume_share(dev, path, ld, part, &kind, &fmt, &l);
     if (s != LC_OK) return s;
+    if (part) sh->offset = part->offset;
     const lc_particles_desc *d = l.desc;
     if (kind != LC_KIND_PARTICLES) s = lci_error(dev, LC_ERROR_INTERNAL, "%s: not a particle set", path);
     if (s == LC_OK && d->count > 0 && !d->positions)
@@ -173,6 +182,30 @@ static lc_status whole_share(lc_device *dev, const char *path, const lc_load_des
     }
     lci_loaded_free(&l);
     return s;
+}
+
+/* HDF5 and GADGET snapshots: each rank reads its share (lci_share) unless
+ * some rank's says the load needs the whole set; then rank 0 reads it
+ * (the reason logged). 1 when the shares were read. Collective. */
+static int by_shares(lc_device *dev, MPI_Comm comm, const char *path, const lc_load_desc *ld, share *sh, shape *sp,
+                     lc_status *s)
+{
+    int rank, P;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &P);
+    lci_share part = {.rank = rank, .parts = P};
+    *s = read_share(dev, path, ld, &part, sh, sp);
+    int whole = *s == LC_OK && part.whole;
+    *s = lc_mpi_agree(dev, comm, *s);
+    MPI_Allreduce(MPI_IN_PLACE, &whole, 1, MPI_INT, MPI_MAX, comm);
+    if (*s == LC_OK && whole) {
+        if (part.whole) lci_log(dev, LC_LOG_INFO, "%s: read whole by rank 0: the load needs %s", path, part.whole);
+        share_free(sh), memset(sp, 0, sizeof *sp);
+        return 0;
+    }
+    if (*s == LC_OK)
+        lci_log(dev, LC_LOG_INFO, "%s: rank %d read particles %zu .. %zu of %zu", path, rank, part.a, part.b, part.total);
+    return *s == LC_OK;
 }
 
 /* ---------------------------------------------------------------- checks and extremes */
@@ -428,11 +461,15 @@ lc_status lci_mpi_load_particles(lc_device *dev, MPI_Comm comm, const char *path
     memset(&sp, 0, sizeof sp);
     int raw = s == LC_OK && raw_plain(path, format, &l2);
     MPI_Allreduce(MPI_IN_PLACE, &raw, 1, MPI_INT, MPI_MIN, comm); /* one way for all */
+    int parts = raw; /* every rank read its own share */
+    s = lc_mpi_agree(dev, comm, s);
     if (s == LC_OK && raw) s = raw_share(dev, path, &l2, rank, P, &sh, &sp);
-    else if (s == LC_OK && rank == 0) s = whole_share(dev, path, &l2, &sh, &sp);
+    else if (s == LC_OK && (!strcmp(format, "hdf5") || !strcmp(format, "gadget")))
+        parts = by_shares(dev, comm, path, &l2, &sh, &sp, &s);
+    if (s == LC_OK && !parts && rank == 0) s = read_share(dev, path, &l2, NULL, &sh, &sp);
     free(keep);
     s = lc_mpi_agree(dev, comm, s);
-    if (s == LC_OK && !raw) MPI_Bcast(&sp, (int)sizeof sp, MPI_BYTE, 0, comm);
+    if (s == LC_OK && !parts) MPI_Bcast(&sp, (int)sizeof sp, MPI_BYTE, 0, comm);
     if (s == LC_OK) s = validate(dev, comm, path, &sp, &sh);
     lci_particles_global g;
     lci_dp_ppart pp;
