@@ -9,6 +9,7 @@ environment: LANECAST_BASE  a second lanecast (a build of another commit), run
              REPS           runs of each program per map (default 3; medians)
              BIG=N          instead: lanecast alone on a generated file of N particles
                             (analytic smoothing lengths, big_clumps) at SIZES
+             BIG_FILE=PATH  with BIG: write that file there and keep it, or reuse it
 
 Snapshots: the shared LCDM gas initial conditions (32,768 particles, HSML =
 distance to the 32nd neighbour, RHO from GADGET-2's cubic spline: the file
@@ -118,12 +119,17 @@ def big_clumps(path, n, template_hdr, seed=2, chunk=10 ** 7):
 
 def big(exe, n, sizes, recs, work):
     """lanecast alone on a generated snapshot of n particles (peers would not fit or finish)."""
-    path = os.path.join(work, "big_%d.dat" % n)
-    src = os.path.join(work, "lcdm.dat")
-    hdr = ps.records(open(src, "rb").read(64 * 1024))[0] if os.path.exists(src) else bytes(256)
-    t0 = time.perf_counter()
-    hs = big_clumps(path, n, hdr)
-    gen = time.perf_counter() - t0
+    path = os.environ.get("BIG_FILE") or os.path.join(work, "big_%d.dat" % n)
+    keep = bool(os.environ.get("BIG_FILE")) and os.path.exists(path)
+    if keep:  # a file big_clumps wrote before (BIG_FILE): its HSML block is the last, n floats
+        hs = np.memmap(path, dtype="<f4", mode="r", offset=os.path.getsize(path) - 4 - 4 * n, shape=(n,))
+        gen = None
+    else:
+        src = os.path.join(work, "lcdm.dat")
+        hdr = ps.records(open(src, "rb").read(64 * 1024))[0] if os.path.exists(src) else bytes(256)
+        t0 = time.perf_counter()
+        hs = big_clumps(path, n, hdr)
+        gen = time.perf_counter() - t0
     for size in sizes:
         rec = {"record": "peer_sph_big", "scene": "clumps %d (analytic HSML)" % n, "size": size, "threads": 2,
                "generate_s": gen, "hsml_pixels_median": float(np.median(hs) * size), "loadavg_before": os.getloadavg()[0]}
@@ -135,7 +141,8 @@ def big(exe, n, sizes, recs, work):
         print(json.dumps(rec))
         with open(recs, "a") as f:
             f.write(json.dumps(rec) + "\n")
-    os.remove(path)
+    if not os.environ.get("BIG_FILE"):
+        os.remove(path)
 
 
 def write(path, pos, mass, hsml, rho, template_hdr):
