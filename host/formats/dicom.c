@@ -7,7 +7,8 @@
  *
  * Values: each stored value keeps its Bits Stored low bits (sign-extended
  * when Pixel Representation is 1), then the file's Rescale Slope and
- * Intercept apply (CT: Hounsfield units). Without a rescale, uint8 and
+ * Intercept apply (CT: Hounsfield units; an enhanced multi-frame file's per
+ * frame, from its functional groups). Without a rescale, uint8 and
  * uint16 stay as they are and int8/int16 become int16; with one, the values
  * are int16 (or uint16) when slope and intercept are integers and every
  * rescaled value fits, else float32. 32-bit values are read as float32.
@@ -18,11 +19,15 @@
  * sizes and the volume's centre kept), another when the slice positions lean
  * off the normal (gantry tilt: the stack is read unsheared). */
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include "host/formats/checked.h"
 #include "host/formats/dicom.h"
+#include "host/formats/guard.h"
 #include "host/formats/orient.h"
 #include "host/formats/volume_data.h"
 #include "host/kinds/grid.h"
@@ -45,19 +50,79 @@ static inline int64_t stored(const unsigned char *b, uint64_t i, int ba, int bs,
 
 static int is_int(double x) { return x == floor(x) && fabs(x) < 2147483648.0; }
 
+/* The rescale of one slice: its frame's (enhanced multi-frame files give
+ * one per frame) or its file's. */
+static void rescale_of(const lci_dcm_input *in, const lci_dcm_slice *sl, double *slope, double *inter)
+{
+    const lci_dcm_meta *m = &in->files[sl->file].m;
+    *slope = m->frame_rescale ? m->frame_rescale[2 * sl->frame] : m->slope;
+    *inter = m->frame_rescale ? m->frame_rescale[2 * sl->frame + 1] : m->intercept;
+}
+
+typedef struct px_job {
+    const char *path;
+    void *dst;
+    size_t bytes;
+} px_job;
+
+static lc_status px_child(lc_device *dev, void *ctx)
+{
+    const px_job *j = ctx;
+    char err[512];
+    if (lci_gdcm_pixels(j->path, j->dst, j->bytes, err, sizeof err))
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: %s", j->path, err);
+    return LC_OK;
+}
+
+/* One file's pixel data into dst (`bytes`). Compressed data is decoded in
+ * the guard process (guard.h) into memory shared with it: Debian's GDCM is
+ * built with assertions, and its codecs abort on damaged streams (a JPEG
+ * fragment with a start-of-image marker and no frame header:
+ * tests/fuzz_regress/dicom-jpeg-no-frame-header). Native data (GDCM's copy
+ * of bytes the element walk has placed) is read here. */
+static lc_status pixels_of(lc_device *dev, const lci_dcm_file *f, void *dst, size_t bytes)
+{
+    px_job j = {f->path, dst, bytes};
+    if (f->m.encapsulated) {
+        void *shared = mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+        if (shared != MAP_FAILED) {
+            struct stat st;
+            uint64_t lim = lci_memory_limit(dev), cap = 4 * (uint64_t)bytes + ((uint64_t)512 << 20);
+            if (stat(f->path, &st) == 0 && st.st_size >= 0) cap += 4 * (uint64_t)st.st_size;
+            lim = cap < lim ? cap : lim;
+            lc_status cs = LC_OK;
+            char msg[LCI_MSG_MAX];
+            j.dst = shared;
+            int sig = lci_guarded(dev, "LANECAST_DICOM_GUARD", lim, px_child, &j, &cs, msg, sizeof msg);
+            if (sig == 0 && cs == LC_OK) memcpy(dst, shared, bytes);
+            munmap(shared, bytes);
+            j.dst = dst;
+            if (sig == 0) return cs == LC_OK ? LC_OK : lci_error(dev, cs, "%s", msg);
+            if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP)
+                return lci_error(dev, LC_ERROR_IO, "%s: reading stopped by signal %d", f->path, sig);
+            if (sig > 0)
+                return lci_error(dev, LC_ERROR_FORMAT,
+                                 "%s: GDCM crashed decoding its pixel data (transfer syntax %s; signal %d: %s) in "
+                                 "lanecast's guard process: the compressed data is damaged", f->path, f->m.ts_uid, sig,
+                                 strsignal(sig));
+        } /* no shared memory or no child: unguarded */
+    }
+    return px_child(dev, &j);
+}
+
 /* Decodes every file of the volume into raw (slice k at k * plane bytes). */
 static lc_status decode(lc_device *dev, const lci_dcm_input *in, const lci_dcm_volume *v, unsigned char *raw)
 {
     const lci_dcm_meta *m0 = v->first;
     uint64_t plane = (uint64_t)v->cols * (uint64_t)v->rows * (uint64_t)(m0->bits_allocated / 8);
-    char err[512];
     if (v->series->nfiles == 1) { /* one multi-frame file: frames to their sorted places */
         const lci_dcm_file *f = &in->files[v->slices[0].file];
         unsigned char *tmp = lci_alloc_checked(dev, f->path, (uint64_t)v->nslices, plane, 0, "stored voxels", 0);
         if (!tmp) return LC_ERROR_OUT_OF_MEMORY;
-        if (lci_gdcm_pixels(f->path, tmp, (size_t)(plane * (uint64_t)v->nslices), err, sizeof err)) {
+        lc_status s = pixels_of(dev, f, tmp, (size_t)(plane * (uint64_t)v->nslices));
+        if (s != LC_OK) {
             free(tmp);
-            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s", f->path, err);
+            return s;
         }
         for (int k = 0; k < v->nslices; k++) memcpy(raw + (uint64_t)k * plane, tmp + (uint64_t)v->slices[k].frame * plane, plane);
         free(tmp);
@@ -66,8 +131,8 @@ static lc_status decode(lc_device *dev, const lci_dcm_input *in, const lci_dcm_v
     }
     for (int k = 0; k < v->nslices; k++) {
         const lci_dcm_file *f = &in->files[v->slices[k].file];
-        if (lci_gdcm_pixels(f->path, raw + (uint64_t)k * plane, (size_t)plane, err, sizeof err))
-            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s", f->path, err);
+        lc_status s = pixels_of(dev, f, raw + (uint64_t)k * plane, (size_t)plane);
+        if (s != LC_OK) return s;
         lci_load_progress(dev, 0.9 * (k + 1) / v->nslices);
     }
     return LC_OK;
@@ -80,10 +145,11 @@ static lc_value_type value_type(const lci_dcm_input *in, const lci_dcm_volume *v
     const lci_dcm_meta *m0 = v->first;
     int ba = m0->bits_allocated, bs = m0->bits_stored, sign = m0->pixel_rep;
     int identity = 1, integral = 1;
-    for (int i = 0; i < v->series->nfiles; i++) {
-        const lci_dcm_meta *m = &in->files[v->series->files[i]].m;
-        identity &= m->slope == 1.0 && m->intercept == 0.0;
-        integral &= is_int(m->slope) && is_int(m->intercept);
+    double slope, inter;
+    for (int k = 0; k < v->nslices; k++) {
+        rescale_of(in, &v->slices[k], &slope, &inter);
+        identity &= slope == 1.0 && inter == 0.0;
+        integral &= is_int(slope) && is_int(inter);
     }
     static const int little = 1;
     *as_is = identity && bs == ba && (ba == 16 || (ba == 8 && !sign)) && *(const char *)&little;
@@ -92,9 +158,9 @@ static lc_value_type value_type(const lci_dcm_input *in, const lci_dcm_volume *v
     double lo = INFINITY, hi = -INFINITY;
     uint64_t plane = (uint64_t)v->cols * (uint64_t)v->rows;
     for (int k = 0; k < v->nslices; k++) {
-        const lci_dcm_meta *m = &in->files[v->slices[k].file].m;
+        rescale_of(in, &v->slices[k], &slope, &inter);
         for (uint64_t i = 0; i < plane; i++) {
-            double x = (double)stored(raw, (uint64_t)k * plane + i, ba, bs, sign) * m->slope + m->intercept;
+            double x = (double)stored(raw, (uint64_t)k * plane + i, ba, bs, sign) * slope + inter;
             lo = x < lo ? x : lo, hi = x > hi ? x : hi;
         }
     }
@@ -114,7 +180,8 @@ static lc_status convert(lc_device *dev, const lci_dcm_input *in, const lci_dcm_
     uint64_t plane = (uint64_t)v->cols * (uint64_t)v->rows;
     for (int k = 0; k < v->nslices; k++) {
         const lci_dcm_file *f = &in->files[v->slices[k].file];
-        double slope = f->m.slope, inter = f->m.intercept;
+        double slope, inter;
+        rescale_of(in, &v->slices[k], &slope, &inter);
         for (uint64_t i = k * plane, e = i + plane; i < e; i++) {
             int64_t s = stored(raw, i, ba, bs, sign);
             double x = (double)s * slope + inter;
@@ -233,13 +300,16 @@ static lc_status dicom_describe(lc_device *dev, const lci_read_args *a, char *te
             continue;
         }
         int varies = 0;
-        for (int f = 1; f < se->nfiles; f++)
-            varies |= in.files[se->files[f]].m.slope != m->slope || in.files[se->files[f]].m.intercept != m->intercept;
+        for (int k = 0; k < v.nslices; k++) {
+            double slope, inter;
+            rescale_of(&in, &v.slices[k], &slope, &inter);
+            varies |= slope != m->slope || inter != m->intercept;
+        }
         ADD("  dims %d x %d x %d, spacing %g %g %g mm (columns, rows, slices), origin %g %g %g\n", v.cols, v.rows,
             v.nslices, m->spacing[1], m->spacing[0], v.step, v.m[0][3], v.m[1][3], v.m[2][3]);
         ADD("  %d-bit %s (%d stored), rescale slope %g intercept %g%s%s, syntax %s%s%s%s\n", m->bits_allocated,
             m->pixel_rep ? "signed" : "unsigned", m->bits_stored, m->slope, m->intercept,
-            varies ? " (varies per file)" : "", !strcmp(m->modality, "CT") && m->have_rescale ? " (HU)" : "",
+            varies ? se->nfiles > 1 ? " (varies per file)" : " (varies per frame)" : "", !strcmp(m->modality, "CT") && m->have_rescale ? " (HU)" : "",
             m->ts_uid[0] ? m->ts_uid : "(none)", m->ts_name[0] ? " (" : "", m->ts_name, m->ts_name[0] ? ")" : "");
         lci_dcm_volume_free(&v);
     }
