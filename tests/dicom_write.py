@@ -328,6 +328,19 @@ else:
     print("dicom_write.py: no gdcmconv (Debian libgdcm-tools): the compressed cases are left out")
 
 
+# A JPEG file of the series whose fragment holds a start-of-image marker and
+# no frame header: GDCM's codec aborts on it (an assertion), in lanecast's
+# guard process; the message names that file, not the first of its batch.
+if gdcmconv:
+    shutil.copytree(os.path.join(out, "ct_jpeg"), os.path.join(out, "jpeg_bad"))
+    bad = sorted(os.listdir(os.path.join(out, "jpeg_bad")))[5]
+    d = pydicom.dcmread(os.path.join(out, "jpeg_bad", bad))
+    d.PixelData = pydicom.encaps.encapsulate([b"\xff\xd8" + b"\0" * 62])
+    d["PixelData"].is_undefined_length = True
+    d.save_as(os.path.join(out, "jpeg_bad", bad))
+    fail("jpeg_bad", "jpeg_bad", "-", "jpeg_bad/" + bad, "GDCM crashed decoding the pixel data", "signal 6")
+
+
 # Malformed variants of the CT series, each failing with the file named.
 def variant(name):
     shutil.copytree(os.path.join(out, "ct"), os.path.join(out, name))
