@@ -88,6 +88,23 @@ static lc_status px_decode(lc_device *dev, void *ctx)
     return LC_OK;
 }
 
+/* The guard child's entry: default dispositions for the fatal signals, so
+ * that a fault in GDCM ends the child with its signal even where the host
+ * (libFuzzer, a sanitizer) installed handlers that would report the fault
+ * as the host's own and exit; "done" after the output marks a finished
+ * decode. */
+static const char done_mark[8] = "decoded";
+
+static lc_status px_child(lc_device *dev, void *ctx)
+{
+    static const int fatal[] = {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL};
+    for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++) signal(fatal[i], SIG_DFL);
+    const px_job *j = ctx;
+    lc_status s = px_decode(dev, ctx);
+    if (s == LC_OK) memcpy(j->dst + (uint64_t)(j->k1 - j->k0) * j->unit, done_mark, sizeof done_mark);
+    return s;
+}
+
 /* Runs job; compressed data is decoded in the guard process (guard.h) into
  * memory shared with it, then copied to job->dst: Debian's GDCM is built
  * with assertions, and its codecs abort on damaged streams (a JPEG fragment
@@ -99,7 +116,9 @@ static lc_status decode_job(lc_device *dev, px_job *job)
     int packed = 0;
     for (int k = job->k0; k < job->k1; k++) packed |= job->in->files[job->v->slices[k].file].m.encapsulated;
     uint64_t bytes = (uint64_t)(job->k1 - job->k0) * job->unit;
-    void *shared = packed ? mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0) : MAP_FAILED;
+    size_t mapped = (size_t)bytes + sizeof done_mark;
+    unsigned char *shared = packed ? mmap(NULL, mapped, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0)
+                                   : MAP_FAILED;
     if (shared == MAP_FAILED) return px_decode(dev, job); /* native, or no shared memory: unguarded */
     uint64_t lim = lci_memory_limit(dev), cap = 4 * bytes + ((uint64_t)512 << 20);
     for (int k = job->k0; k < job->k1; k++) {
@@ -111,12 +130,17 @@ static lc_status decode_job(lc_device *dev, px_job *job)
     char msg[LCI_MSG_MAX];
     px_job child = *job;
     child.dst = shared;
-    int sig = lci_guarded(dev, "LANECAST_DICOM_GUARD", lim, px_decode, &child, &cs, msg, sizeof msg);
-    if (sig == 0 && cs == LC_OK) memcpy(job->dst, shared, bytes);
-    munmap(shared, bytes);
-    if (sig < 0) return px_decode(dev, job); /* no child could run (or LANECAST_DICOM_GUARD=0) */
-    if (sig == 0) return cs == LC_OK ? LC_OK : lci_error(dev, cs, "%s", msg);
+    int sig = lci_guarded(dev, "LANECAST_DICOM_GUARD", lim, px_child, &child, &cs, msg, sizeof msg);
+    int done = sig == 0 && cs == LC_OK && !memcmp(shared + bytes, done_mark, sizeof done_mark);
+    if (done) memcpy(job->dst, shared, bytes);
+    munmap(shared, mapped);
     const lci_dcm_file *f = &job->in->files[job->v->slices[job->k0].file];
+    if (sig < 0) return px_decode(dev, job); /* no child could run (or LANECAST_DICOM_GUARD=0) */
+    if (sig == 0 && cs != LC_OK) return lci_error(dev, cs, "%s", msg);
+    if (sig == 0 && !done)
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: GDCM's decode in lanecast's guard process ended without finishing "
+                         "(transfer syntax %s)", f->path, f->m.ts_uid);
+    if (sig == 0) return LC_OK;
     if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP)
         return lci_error(dev, LC_ERROR_IO, "%s: reading stopped by signal %d", f->path, sig);
     for (int k = job->k0; job->k1 - job->k0 > 1 && k < job->k1; k++) { /* which file: each alone */
