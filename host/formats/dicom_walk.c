@@ -90,9 +90,11 @@ static int items(walker *w, int64_t p, int64_t end, int undefined, int raw, int 
     }
 }
 
-/* The elements from p to end (defined length), or to an item delimiter
- * (stop != NULL: *stop is just past it, or end when the data set simply
- * ends there). */
+/* The elements from p to end (defined length), or, for an item of
+ * undefined length (stop != NULL), to its item delimiter (*stop: just past
+ * it), which must come before end: GDCM asserts on an item that its
+ * sequence or the file ends first
+ * (tests/fuzz_regress/dicom-item-no-delimiter). */
 static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
 {
     unsigned char h[12];
@@ -138,7 +140,8 @@ static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
         if (g == 0x7FE0 && e == 0x0010 && depth == 0) *w->px = (lci_dcm_pixel_el){at, q, len, 0};
         p = q + len;
     }
-    if (stop) *stop = p;
+    if (stop) return fail(w, p, 0xFFFE, 0xE00D, "an item of undefined length ends with its sequence or the file, "
+                                                 "before its item delimiter");
     return 0;
 }
 
