@@ -76,14 +76,45 @@ typedef struct px_job {
     unsigned char *dst;
 } px_job;
 
+/* Native pixel data the element walk placed is read here, not by GDCM:
+ * its ImageReader asserts on headers it dislikes (a file whose Rescale
+ * Slope it reads as 0: tests/fuzz_regress/dicom-rescale-assert), and the
+ * bytes are a plain copy (words swapped for Explicit VR Big Endian).
+ * Compressed and deflated data need GDCM's decoders. */
+static int needs_gdcm(const lci_dcm_file *f) { return f->m.encapsulated || f->px.at < 0; }
+
+/* Native words of f into dst (bytes of them; pixel_room checked that the
+ * element holds them), little-endian. */
+static lc_status native_read(lc_device *dev, const lci_dcm_file *f, unsigned char *dst, uint64_t bytes)
+{
+    FILE *in = fopen(f->path, "rb");
+    int ok = in && fseeko(in, (off_t)f->px.value_at, SEEK_SET) == 0 && fread(dst, 1, (size_t)bytes, in) == bytes;
+    if (in) fclose(in);
+    if (!ok)
+        return lci_error(dev, LC_ERROR_IO, "%s: cannot read the %llu bytes of pixel data at byte %lld", f->path,
+                         (unsigned long long)bytes, (long long)f->px.value_at);
+    int wb = f->m.bits_allocated / 8;
+    if (wb > 1 && !strcmp(f->m.ts_uid, "1.2.840.10008.1.2.2"))
+        for (uint64_t i = 0; i + (uint64_t)wb <= bytes; i += (uint64_t)wb)
+            for (int a = 0, b = wb - 1; a < b; a++, b--) {
+                unsigned char t = dst[i + (uint64_t)a];
+                dst[i + (uint64_t)a] = dst[i + (uint64_t)b], dst[i + (uint64_t)b] = t;
+            }
+    return LC_OK;
+}
+
 static lc_status px_decode(lc_device *dev, void *ctx)
 {
     const px_job *j = ctx;
     char err[512];
     for (int k = j->k0; k < j->k1; k++) {
-        const char *path = j->in->files[j->v->slices[k].file].path;
-        if (lci_gdcm_pixels(path, j->dst + (uint64_t)(k - j->k0) * j->unit, (size_t)j->unit, err, sizeof err))
-            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s", path, err);
+        const lci_dcm_file *f = &j->in->files[j->v->slices[k].file];
+        unsigned char *dst = j->dst + (uint64_t)(k - j->k0) * j->unit;
+        if (!needs_gdcm(f)) {
+            lc_status s = native_read(dev, f, dst, j->unit);
+            if (s != LC_OK) return s;
+        } else if (lci_gdcm_pixels(f->path, dst, (size_t)j->unit, err, sizeof err))
+            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s", f->path, err);
     }
     return LC_OK;
 }
@@ -105,21 +136,20 @@ static lc_status px_child(lc_device *dev, void *ctx)
     return s;
 }
 
-/* Runs job; compressed data is decoded in the guard process (guard.h) into
- * memory shared with it, then copied to job->dst: Debian's GDCM is built
- * with assertions, and its codecs abort on damaged streams (a JPEG fragment
- * with a start-of-image marker and no frame header:
- * tests/fuzz_regress/dicom-jpeg-no-frame-header). Native data (GDCM's copy
- * of bytes the element walk has placed) is read here. */
+/* Runs job; what GDCM decodes is decoded in the guard process (guard.h)
+ * into memory shared with it, then copied to job->dst: Debian's GDCM is
+ * built with assertions, and its codecs abort on damaged streams (a JPEG
+ * fragment with a start-of-image marker and no frame header:
+ * tests/fuzz_regress/dicom-jpeg-no-frame-header). */
 static lc_status decode_job(lc_device *dev, px_job *job)
 {
     int packed = 0;
-    for (int k = job->k0; k < job->k1; k++) packed |= job->in->files[job->v->slices[k].file].m.encapsulated;
+    for (int k = job->k0; k < job->k1; k++) packed |= needs_gdcm(&job->in->files[job->v->slices[k].file]);
     uint64_t bytes = (uint64_t)(job->k1 - job->k0) * job->unit;
     size_t mapped = (size_t)bytes + sizeof done_mark;
     unsigned char *shared = packed ? mmap(NULL, mapped, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0)
                                    : MAP_FAILED;
-    if (shared == MAP_FAILED) return px_decode(dev, job); /* native, or no shared memory: unguarded */
+    if (shared == MAP_FAILED) return px_decode(dev, job); /* all native, or no shared memory: unguarded */
     uint64_t lim = lci_memory_limit(dev), cap = 4 * bytes + ((uint64_t)512 << 20);
     for (int k = job->k0; k < job->k1; k++) {
         struct stat st;
