@@ -119,17 +119,13 @@ static lc_status px_decode(lc_device *dev, void *ctx)
     return LC_OK;
 }
 
-/* The guard child's entry: default dispositions for the fatal signals, so
- * that a fault in GDCM ends the child with its signal even where the host
- * (libFuzzer, a sanitizer) installed handlers that would report the fault
- * as the host's own and exit; "done" after the output marks a finished
- * decode. */
+/* The guard child's entry (lci_dcm_child_signals); the mark after the
+ * output tells a finished decode from a child that exited early. */
 static const char done_mark[8] = "decoded";
 
 static lc_status px_child(lc_device *dev, void *ctx)
 {
-    static const int fatal[] = {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL};
-    for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++) signal(fatal[i], SIG_DFL);
+    lci_dcm_child_signals();
     const px_job *j = ctx;
     lc_status s = px_decode(dev, ctx);
     if (s == LC_OK) memcpy(j->dst + (uint64_t)(j->k1 - j->k0) * j->unit, done_mark, sizeof done_mark);

@@ -9,12 +9,16 @@
 #include "host/formats/dicom_gdcm.h"
 #include "host/formats/format.h"
 
-/* The top-level (7FE0,0010) Pixel Data element as the walk found it. */
+/* The top-level (7FE0,0010) Pixel Data element as the walk found it, and
+ * what else it saw. */
 typedef struct lci_dcm_pixel_el {
     int64_t at;        /* its byte offset; -1: the file has none, -2: not walked (a deflated data set) */
     int64_t value_at;  /* where its value starts */
     int64_t length;    /* its declared length; -1: undefined (encapsulated fragments) */
     int64_t fragments; /* undefined length: its items after the Basic Offset Table */
+    int mixed_vr;      /* an explicit-VR data set holds elements without a VR (read as implicit): GDCM
+                          re-reads such files in its fallback modes, where it asserts on what the walk
+                          accepted (tests/fuzz_regress/dicom-mixed-vr-assert) */
 } lci_dcm_pixel_el;
 
 typedef struct lci_dcm_file {
@@ -79,5 +83,10 @@ void lci_dcm_volume_free(lci_dcm_volume *v);
  * sequences closed; 0 with the Pixel Data element in *px, or -1 with
  * "element (GGGG,EEEE) at byte N: ..." in err. */
 int lci_dcm_walk(const char *path, lci_dcm_pixel_el *px, char *err, size_t errlen);
+/* In a guard child (guard.h): the fatal signals back to their default, so
+ * that a fault in GDCM ends the child with its signal even where the host
+ * (libFuzzer, a sanitizer) installed handlers that would exit it as if the
+ * fault were the host's. */
+void lci_dcm_child_signals(void);
 
 #endif

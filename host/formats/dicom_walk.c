@@ -120,6 +120,7 @@ static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
             } else
                 len = u16(h + 6, w->big), q = p + 8;
         } else { /* implicit VR (or an explicit file's implicit element, which GDCM reads so) */
+            if (w->expl) w->px->mixed_vr = 1;
             len = u32(h + 4, w->big), q = p + 8;
             sq = -1; /* unknown: a sequence when undefined */
         }
@@ -131,13 +132,17 @@ static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
             int64_t n = 0;
             if (items(w, q, end, 1, pixels, depth, &p, &n)) return -1;
             /* the first item is the Basic Offset Table (PS3.5 A.4) */
-            if (pixels && depth == 0) *w->px = (lci_dcm_pixel_el){at, q, -1, n > 0 ? n - 1 : 0};
+            if (pixels && depth == 0) {
+                w->px->at = at, w->px->value_at = q, w->px->length = -1;
+                w->px->fragments = n > 0 ? n - 1 : 0;
+            }
             continue;
         }
         if (q + (int64_t)len > end)
             return fail(w, p, g, e, "its value's length runs past the end of the file or of its item");
         if (sq == 1 && items(w, q, q + len, 0, 0, depth, &p, NULL)) return -1;
-        if (g == 0x7FE0 && e == 0x0010 && depth == 0) *w->px = (lci_dcm_pixel_el){at, q, len, 0};
+        if (g == 0x7FE0 && e == 0x0010 && depth == 0)
+            w->px->at = at, w->px->value_at = q, w->px->length = len, w->px->fragments = 0;
         p = q + len;
     }
     if (stop) return fail(w, p, 0xFFFE, 0xE00D, "an item of undefined length ends with its sequence or the file, "
@@ -147,7 +152,7 @@ static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
 
 int lci_dcm_walk(const char *path, lci_dcm_pixel_el *px, char *err, size_t errlen)
 {
-    *px = (lci_dcm_pixel_el){-1, -1, -1, 0};
+    *px = (lci_dcm_pixel_el){-1, -1, -1, 0, 0};
     walker w = {fopen(path, "rb"), 0, 1, 0, px, err, errlen};
     struct stat st;
     if (!w.f || fstat(fileno(w.f), &st)) {
