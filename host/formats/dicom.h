@@ -16,9 +16,11 @@ typedef struct lci_dcm_pixel_el {
     int64_t value_at;  /* where its value starts */
     int64_t length;    /* its declared length; -1: undefined (encapsulated fragments) */
     int64_t fragments; /* undefined length: its items after the Basic Offset Table */
-    int mixed_vr;      /* an explicit-VR data set holds elements without a VR (read as implicit): GDCM
-                          re-reads such files in its fallback modes, where it asserts on what the walk
-                          accepted (tests/fuzz_regress/dicom-mixed-vr-assert) */
+    int ambiguous;     /* GDCM may read the file otherwise than the walk did: no transfer syntax in a File
+                          Meta Information (GDCM guesses it: a guess that read a length as 1.5 GB), or
+                          an explicit-VR data set with elements without a VR (read as implicit; GDCM
+                          re-reads such files in fallback modes, where it asserted:
+                          tests/fuzz_regress/dicom-mixed-vr-assert) */
 } lci_dcm_pixel_el;
 
 typedef struct lci_dcm_file {

@@ -120,7 +120,7 @@ static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
             } else
                 len = u16(h + 6, w->big), q = p + 8;
         } else { /* implicit VR (or an explicit file's implicit element, which GDCM reads so) */
-            if (w->expl) w->px->mixed_vr = 1;
+            if (w->expl) w->px->ambiguous = 1;
             len = u32(h + 4, w->big), q = p + 8;
             sq = -1; /* unknown: a sequence when undefined */
         }
@@ -224,6 +224,7 @@ int lci_dcm_walk(const char *path, lci_dcm_pixel_el *px, char *err, size_t errle
             int wide;
             w.expl = known_vr(h + 4, &wide);
         }
+        if (!ts[0]) px->ambiguous = 1; /* GDCM guesses the syntax its own way */
         rc = data_set(&w, p, w.size, 0, NULL);
     }
     fclose(w.f);
