@@ -85,10 +85,13 @@ void lci_dcm_volume_free(lci_dcm_volume *v);
  * sequences closed; 0 with the Pixel Data element in *px, or -1 with
  * "element (GGGG,EEEE) at byte N: ..." in err. */
 int lci_dcm_walk(const char *path, lci_dcm_pixel_el *px, char *err, size_t errlen);
-/* In a guard child (guard.h): the fatal signals back to their default, so
- * that a fault in GDCM ends the child with its signal even where the host
- * (libFuzzer, a sanitizer) installed handlers that would exit it as if the
- * fault were the host's. */
-void lci_dcm_child_signals(void);
+void lci_dcm_meta_free(lci_dcm_meta *m);
+/* dicom_guard.c: what runs GDCM in the guard process (guard.h). The header
+ * of a file the walk found ambiguous: 1 when the guard ran (0 in *rc and *m
+ * filled, or -1 with why in err), 0 when no child could run. */
+int lci_dcm_header_guarded(lc_device *dev, const char *path, lci_dcm_meta *m, int *rc, char *err, size_t errlen);
+/* Every slice of v into raw (slice k at k x its bytes): native pixel data
+ * read here, compressed data decoded by GDCM in guard children. */
+lc_status lci_dcm_decode(lc_device *dev, const lci_dcm_input *in, const lci_dcm_volume *v, unsigned char *raw);
 
 #endif

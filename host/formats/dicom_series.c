@@ -16,15 +16,12 @@
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include "host/formats/checked.h"
 #include "host/formats/dicom.h"
-#include "host/formats/guard.h"
 
 #if LC_HAVE_GDCM
 
@@ -34,7 +31,7 @@
  * differs by 100 %. */
 #define SPACING_TOLERANCE 0.01
 
-static void free_meta(lci_dcm_meta *m)
+void lci_dcm_meta_free(lci_dcm_meta *m)
 {
     free(m->frame_ipp), free(m->frame_offset), free(m->frame_rescale);
     m->frame_ipp = m->frame_offset = m->frame_rescale = NULL;
@@ -42,7 +39,7 @@ static void free_meta(lci_dcm_meta *m)
 
 void lci_dcm_input_free(lci_dcm_input *in)
 {
-    for (int i = 0; i < in->nfiles; i++) free(in->files[i].path), free_meta(&in->files[i].m);
+    for (int i = 0; i < in->nfiles; i++) free(in->files[i].path), lci_dcm_meta_free(&in->files[i].m);
     for (int i = 0; i < in->nseries; i++) free(in->series[i].files);
     free(in->files), free(in->series);
     memset(in, 0, sizeof *in);
@@ -111,79 +108,6 @@ static lc_status list_folder(lc_device *dev, const char *dir, char ***out, int *
     return LC_OK;
 }
 
-void lci_dcm_child_signals(void)
-{
-    static const int fatal[] = {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL};
-    for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++) signal(fatal[i], SIG_DFL);
-}
-
-/* The header of one file read in a guard child: the header (and its
- * per-frame arrays after it) come back through shared memory. */
-typedef struct header_job {
-    const char *path;
-    unsigned char *shared; /* lci_dcm_meta, then frames x 6 doubles at most, then "read" */
-} header_job;
-
-#define HEADER_ROOM (sizeof(lci_dcm_meta) + (size_t)6 * 1000000 * sizeof(double) + 8)
-
-static lc_status header_child(lc_device *dev, void *ctx)
-{
-    lci_dcm_child_signals();
-    const header_job *j = ctx;
-    lci_dcm_meta m;
-    char err[512];
-    if (lci_gdcm_header(j->path, &m, err, sizeof err)) return lci_error(dev, LC_ERROR_FORMAT, "%s", err);
-    size_t n = (size_t)m.frames, at = sizeof m;
-    memcpy(j->shared, &m, sizeof m);
-    double *arrays[3] = {m.frame_ipp, m.frame_offset, m.frame_rescale};
-    const size_t len[3] = {3 * n, n, 2 * n};
-    for (int i = 0; i < 3; i++)
-        if (arrays[i]) memcpy(j->shared + at, arrays[i], len[i] * sizeof(double)), at += len[i] * sizeof(double);
-    memcpy(j->shared + HEADER_ROOM - 8, "read", 5);
-    free_meta(&m);
-    return LC_OK;
-}
-
-/* Where GDCM may read a file otherwise than the walk did (no syntax given,
- * elements without a VR in an explicit-VR data set: lci_dcm_pixel_el
- * ambiguous), its header is read in the guard process alone, with at most
- * 512 MB more address space: GDCM's fallback modes asserted on such files,
- * and one allocated (and cleared) 1.4 GB for a 322-byte file where a failed
- * allocation only had it try another mode. Other files are read here (a
- * fork costs up to ~20 ms). 1 when the guard ran (0 in *rc, *m filled; or
- * -1 with why in err), 0 when no child could run. */
-static int header_guarded(lc_device *dev, const char *path, lci_dcm_meta *m, int *rc, char *err, size_t errlen)
-{
-    header_job j = {path, mmap(NULL, HEADER_ROOM, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0)};
-    if (j.shared == MAP_FAILED) return 0;
-    lc_status cs = LC_OK;
-    char msg[LCI_MSG_MAX];
-    int sig = lci_guarded(dev, "LANECAST_DICOM_GUARD", (uint64_t)512 << 20, header_child, &j, &cs, msg, sizeof msg);
-    *rc = -1;
-    if (sig == 0 && cs != LC_OK) snprintf(err, errlen, "%.400s", msg);
-    else if (sig > 0)
-        snprintf(err, errlen, "GDCM crashed reading its header (signal %d: %s) in lanecast's guard process: the file is "
-                 "damaged", sig, strsignal(sig));
-    else if (sig == 0 && memcmp(j.shared + HEADER_ROOM - 8, "read", 5))
-        snprintf(err, errlen, "GDCM's header read in lanecast's guard process ended without finishing");
-    else if (sig == 0) {
-        memcpy(m, j.shared, sizeof *m);
-        size_t n = (size_t)m->frames, at = sizeof *m;
-        double **arrays[3] = {&m->frame_ipp, &m->frame_offset, &m->frame_rescale};
-        const size_t len[3] = {3 * n, n, 2 * n};
-        *rc = 0;
-        for (int i = 0; i < 3; i++) {
-            if (!*arrays[i]) continue; /* the child's pointer: only whether the array is there */
-            if (!(*arrays[i] = malloc(len[i] * sizeof(double)))) *rc = -1;
-            else memcpy(*arrays[i], j.shared + at, len[i] * sizeof(double));
-            at += len[i] * sizeof(double);
-        }
-        if (*rc) free_meta(m), snprintf(err, errlen, "out of memory");
-    }
-    munmap(j.shared, HEADER_ROOM);
-    return sig >= 0;
-}
-
 /* Adds path (taken over) with its header to in; *added = 0 when it holds no
  * image (a DICOMDIR, a report) or, with skip_bad, a header GDCM refuses. */
 static lc_status add_file(lc_device *dev, lci_dcm_input *in, char *path, int skip_bad, int *added)
@@ -193,7 +117,7 @@ static lc_status add_file(lc_device *dev, lci_dcm_input *in, char *path, int ski
     lci_dcm_pixel_el px;
     char err[512];
     int rc = lci_dcm_walk(path, &px, err, sizeof err);
-    if (!rc && !(px.ambiguous && header_guarded(dev, path, &m, &rc, err, sizeof err)))
+    if (!rc && !(px.ambiguous && lci_dcm_header_guarded(dev, path, &m, &rc, err, sizeof err)))
         rc = lci_gdcm_header(path, &m, err, sizeof err);
     if (rc) {
         if (skip_bad) lci_log(dev, LC_LOG_WARNING, "%s: skipped: %s", path, err);
@@ -202,13 +126,13 @@ static lc_status add_file(lc_device *dev, lci_dcm_input *in, char *path, int ski
         return s;
     }
     if (m.rows == 0 || m.cols == 0) {
-        free_meta(&m);
+        lci_dcm_meta_free(&m);
         free(path);
         return LC_OK;
     }
     lci_dcm_file *f = realloc(in->files, sizeof *f * (size_t)(in->nfiles + 1));
     if (!f) {
-        free_meta(&m);
+        lci_dcm_meta_free(&m);
         free(path);
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", in->where);
     }
@@ -316,7 +240,7 @@ lc_status lci_dcm_scan(lc_device *dev, const lci_read_args *a, lci_dcm_input *in
                 if (s == LC_OK && added && strcmp(in->files[in->nfiles - 1].m.series_uid, in->files[0].m.series_uid)) {
                     in->nfiles--; /* another series */
                     free(in->files[in->nfiles].path);
-                    free_meta(&in->files[in->nfiles].m);
+                    lci_dcm_meta_free(&in->files[in->nfiles].m);
                 }
             }
             free(paths);
