@@ -305,13 +305,15 @@ static int by_key(const void *a, const void *b)
     return x->file != y->file ? x->file - y->file : x->frame - y->frame;
 }
 
-/* Does the Pixel Data element hold the frames the header declares? GDCM
- * sizes its image by Number of Frames x Rows x Columns and zero-fills what
- * the element lacks: a 403-byte file declaring 10^6 frames had it allocate
- * and clear gigabytes (docs/FUZZING.md), and a short element would read as
- * zeros. Native data must hold every frame's bytes; encapsulated data one
- * fragment a frame at least (PS3.5 A.4: a fragment holds one frame at most).
- * A deflated data set is not walked (GDCM inflates it). */
+/* Does the Pixel Data element hold the frames the header declares? Before
+ * this check GDCM sized its image by Number of Frames x Rows x Columns and
+ * zero-filled what the element lacked: a 464-byte file declaring 10^6
+ * frames of 10 x 10 loaded as 200 MB of zeros, and a short element followed
+ * by other data read as zeros (docs/FUZZING.md). Native data (read from the
+ * element itself, dicom_guard.c) must hold every frame's bytes;
+ * encapsulated data one fragment a frame at least (PS3.5 A.4: a fragment
+ * holds one frame at most). A deflated data set is not walked (GDCM
+ * inflates it). */
 static lc_status pixel_room(lc_device *dev, const lci_dcm_file *f)
 {
     const lci_dcm_meta *m = &f->m;
