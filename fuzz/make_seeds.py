@@ -198,33 +198,57 @@ put("vtk", "binary", b"# vtk DataFile Version 2.0\nfuzz\nBINARY\nDATASET STRUCTU
     + struct.pack(">8H", *range(8)) + b"\nFIELD f 1\nw 1 8 float\n" + struct.pack(">8f", *range(8)))
 
 # ---- DICOM: multi-frame Part 10 files (a file alone is a volume), explicit
-# VR little endian, written element by element (PS3.5 7.1.2, PS3.10 7.1)
-def dcm_el(group, elem, vr, value):
+# VR little endian (or big endian, retired), written element by element
+# (PS3.5 7.1.2, PS3.10 7.1)
+def dcm_el(group, elem, vr, value, big=False):
     if isinstance(value, str):
         value = value.encode()
     if len(value) % 2:
         value += b"\0" if vr in ("UI", "OB") else b" "
-    head = struct.pack("<HH", group, elem) + vr.encode()
+    e = ">" if big else "<"
+    head = struct.pack(e + "HH", group, elem) + vr.encode()
     if vr in ("OB", "OW", "SQ", "UN", "UT"):
-        return head + struct.pack("<HI", 0, len(value)) + value
-    return head + struct.pack("<H", len(value)) + value
+        return head + struct.pack(e + "HI", 0, len(value)) + value
+    return head + struct.pack(e + "H", len(value)) + value
 
 
-def dicom(rows, cols, frames, bits, signed, pixels, extra=()):
-    ts = "1.2.840.10008.1.2.1"
+def dcm_items(items, big=False):
+    """A sequence's or encapsulated pixel data's items (defined lengths)."""
+    return b"".join(struct.pack(">HHI" if big else "<HHI", 0xFFFE, 0xE000, len(i)) + i for i in items)
+
+
+def dicom(rows, cols, frames, bits, signed, pixels, extra=(), ts="1.2.840.10008.1.2.1", fragments=None):
+    """pixels: the native words (in the syntax's byte order), or with
+    fragments (a list of byte strings) encapsulated pixel data after an
+    empty Basic Offset Table."""
+    big = ts == "1.2.840.10008.1.2.2"
     meta = dcm_el(2, 1, "OB", b"\0\1") + dcm_el(2, 2, "UI", "1.2.840.10008.5.1.4.1.1.4") + \
         dcm_el(2, 3, "UI", "1.2.3.4") + dcm_el(2, 0x10, "UI", ts)
     meta = dcm_el(2, 0, "UL", struct.pack("<I", len(meta))) + meta
+    us = ">H" if big else "<H"
     els = [(0x0008, 0x0060, "CS", "MR"), (0x0018, 0x0088, "DS", "2.5"), (0x0020, 0x000E, "UI", "1.2.3.5"),
            (0x0020, 0x0032, "DS", "-1\\2.5\\3"), (0x0020, 0x0037, "DS", "1\\0\\0\\0\\1\\0"),
-           (0x0028, 0x0002, "US", struct.pack("<H", 1)), (0x0028, 0x0004, "CS", "MONOCHROME2"),
-           (0x0028, 0x0008, "IS", str(frames)), (0x0028, 0x0010, "US", struct.pack("<H", rows)),
-           (0x0028, 0x0011, "US", struct.pack("<H", cols)), (0x0028, 0x0030, "DS", "0.5\\0.75"),
-           (0x0028, 0x0100, "US", struct.pack("<H", bits)), (0x0028, 0x0101, "US", struct.pack("<H", bits)),
-           (0x0028, 0x0102, "US", struct.pack("<H", bits - 1)), (0x0028, 0x0103, "US", struct.pack("<H", signed))]
+           (0x0028, 0x0002, "US", struct.pack(us, 1)), (0x0028, 0x0004, "CS", "MONOCHROME2"),
+           (0x0028, 0x0008, "IS", str(frames)), (0x0028, 0x0010, "US", struct.pack(us, rows)),
+           (0x0028, 0x0011, "US", struct.pack(us, cols)), (0x0028, 0x0030, "DS", "0.5\\0.75"),
+           (0x0028, 0x0100, "US", struct.pack(us, bits)), (0x0028, 0x0101, "US", struct.pack(us, bits)),
+           (0x0028, 0x0102, "US", struct.pack(us, bits - 1)), (0x0028, 0x0103, "US", struct.pack(us, signed))]
     els += list(extra)
-    body = b"".join(dcm_el(*e) for e in sorted(els))
-    return b"\0" * 128 + b"DICM" + meta + body + dcm_el(0x7FE0, 0x0010, "OB" if bits == 8 else "OW", pixels)
+    body = b"".join(dcm_el(*e, big=big) for e in sorted(els))
+    if fragments is None:
+        pix = dcm_el(0x7FE0, 0x0010, "OB" if bits == 8 else "OW", pixels, big)
+    else:
+        pix = struct.pack("<HH", 0x7FE0, 0x10) + b"OB" + struct.pack("<HI", 0, 0xFFFFFFFF) + \
+            dcm_items([b""] + fragments) + struct.pack("<HHI", 0xFFFE, 0xE0DD, 0)
+    return b"\0" * 128 + b"DICM" + meta + body + pix
+
+
+def rle_frame(b):
+    """One 8-bit frame in DICOM RLE (PS3.5 G): a 64-byte header naming one
+    segment, then PackBits literal runs of at most 128 bytes."""
+    seg = b"".join(bytes([len(b[i:i + 128]) - 1]) + b[i:i + 128] for i in range(0, len(b), 128))
+    seg += b"\x80" * (len(seg) % 2)  # -128: PackBits' no-op, to an even length
+    return struct.pack("<16I", 1, 64, *([0] * 14)) + seg
 
 
 put("dicom", "u8_frames", dicom(3, 4, 2, 8, 0, bytes(range(24))))
@@ -232,6 +256,24 @@ put("dicom", "s16_rescaled", dicom(2, 3, 3, 16, 1, struct.pack("<18h", *range(-9
                                    [(0x0028, 0x1052, "DS", "-1024"), (0x0028, 0x1053, "DS", "0.5")]))
 put("dicom", "offsets", dicom(2, 2, 3, 16, 0, struct.pack("<12H", *range(12)),
                               [(0x3004, 0x000C, "DS", "0\\3\\1.5")]))
+put("dicom", "big_endian", dicom(2, 3, 2, 16, 1, struct.pack(">12h", *range(-6, 6)), ts="1.2.840.10008.1.2.2"))
+put("dicom", "rle", dicom(3, 4, 2, 8, 0, None, ts="1.2.840.10008.1.2.5",
+                          fragments=[rle_frame(bytes(range(12))), rle_frame(bytes(range(12, 24)))]))
+
+
+# Enhanced multi-frame: shared pixel measures and orientation, per frame a
+# plane position and a rescale (functional groups, PS3.3 C.7.6.16)
+def sq(group, elem, items):
+    return (group, elem, "SQ", dcm_items(items))
+
+
+per = [dcm_el(*sq(0x0020, 0x9113, [dcm_el(0x0020, 0x0032, "DS", "0\\0\\%d" % (3 - 2 * f))])) +
+       dcm_el(*sq(0x0028, 0x9145, [dcm_el(0x0028, 0x1052, "DS", str(-10 * f)) + dcm_el(0x0028, 0x1053, "DS", "0.5")]))
+       for f in range(3)]
+shared = dcm_el(*sq(0x0020, 0x9116, [dcm_el(0x0020, 0x0037, "DS", "1\\0\\0\\0\\1\\0")])) + \
+    dcm_el(*sq(0x0028, 0x9110, [dcm_el(0x0028, 0x0030, "DS", "0.5\\0.5")]))
+put("dicom", "enhanced", dicom(2, 2, 3, 16, 0, struct.pack("<12H", *range(12)),
+                               [sq(0x5200, 0x9229, [shared]), sq(0x5200, 0x9230, per)]))
 
 # ---- RBF sets
 put("rbf_text", "two", "lanecast-rbf 1\n# a comment\nbias 0.25\ncount 2\n0 0 0 1 1\n1 0 0 0.5 -1\n")

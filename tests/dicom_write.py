@@ -33,7 +33,7 @@ try:
     import pydicom
     from pydicom.dataset import Dataset, FileDataset, FileMetaDataset
     from pydicom.sequence import Sequence
-    from pydicom.uid import ExplicitVRLittleEndian, ImplicitVRLittleEndian
+    from pydicom.uid import ExplicitVRBigEndian, ExplicitVRLittleEndian, ImplicitVRLittleEndian
 except ImportError as e:
     print("dicom_write.py: %s (Debian python3-pydicom, python3-numpy): skipped" % e)
     sys.exit(77)
@@ -74,7 +74,7 @@ def dataset(path, series, modality, rows, cols, alloc, bits, signed, ts=Explicit
     meta.MediaStorageSOPInstanceUID = uid()
     meta.TransferSyntaxUID = ts
     ds = FileDataset(path, {}, file_meta=meta, preamble=b"\0" * 128)
-    ds.is_little_endian = True
+    ds.is_little_endian = ts != ExplicitVRBigEndian
     ds.is_implicit_VR = ts == ImplicitVRLittleEndian
     ds.SOPClassUID = meta.MediaStorageSOPClassUID
     ds.SOPInstanceUID = meta.MediaStorageSOPInstanceUID
@@ -140,8 +140,14 @@ def stack(folder, prefix, series, modality, rows, cols, nz, alloc, bits, signed,
         ds.ImagePositionPatient = ipp
         if slope is not None:
             ds.RescaleSlope, ds.RescaleIntercept = slope, intercept
-        ds.PixelData = words(v, alloc, bits, signed, garbage).tobytes()
+        w = words(v, alloc, bits, signed, garbage)
+        # big endian: pydicom writes the PixelData bytes as given; it must read its own words back
+        ds.PixelData = (w.byteswap() if ts == ExplicitVRBigEndian else w).tobytes()
         ds.save_as(path, write_like_original=False)
+        if ts == ExplicitVRBigEndian:
+            back = pydicom.dcmread(path).pixel_array
+            mask = (1 << alloc) - 1
+            assert np.array_equal(back.astype(np.int64) & mask, w.astype(np.int64)), "pydicom reads other words back"
         scaled = v * (1 if slope is None else float(slope)) + (0 if intercept is None else float(intercept))
         slices.append((ipp, scaled))
     return slices
@@ -194,6 +200,17 @@ sag = stack("sag", "sg", uid(), "MR", 12, 14, 5, 16, 12, True, (0.9, 0.7), Y, NZ
 n, o = expected("sag", sag, (0.9, 0.7), Y, NZ, (1.1, 0.7, 0.9), np.int16)
 ok("sag", "sag", "-", np.int16, n, (1.1, 0.7, 0.9), o)
 
+# Explicit VR Big Endian (1.2.840.10008.1.2.2, retired), 16-bit signed with a
+# rescale and 8-bit: the values must be the writer's.
+be = stack("be", "be", uid(), "CT", 6, 7, 4, 16, 12, True, (1.0, 1.25), X, Y, (0.0, 1.0, 2.0), 2.0, "1", "-1024",
+           ts=ExplicitVRBigEndian)
+n, o = expected("be", be, (1.0, 1.25), X, Y, (1.25, 1.0, 2.0), np.int16)
+ok("be", "be", "-", np.int16, n, (1.25, 1.0, 2.0), o)
+be8 = stack("be8", "b", uid(), "MR", 5, 6, 3, 8, 8, False, (1.0, 1.0), X, Y, (0.0, 0.0, 0.0), 1.0,
+            ts=ExplicitVRBigEndian)
+n, o = expected("be8", be8, (1.0, 1.0), X, Y, (1.0, 1.0, 1.0), np.uint8)
+ok("be8", "be8", "-", np.uint8, n, (1.0, 1.0, 1.0), o)
+
 # Oblique (10 degrees about z): nearest frame, a warning.
 c, s_ = np.cos(np.radians(10)), np.sin(np.radians(10))
 row, col = np.array([c, s_, 0]), np.array([-s_, c, 0])
@@ -202,34 +219,86 @@ stack("obl", "ob", uid(), "CT", 6, 8, 4, 16, 16, True, (1.0, 1.0), list(row), li
 centre = 0.5 * (7 * 1.0 * row + 5 * 1.0 * col + 3 * 2.0 * np.cross(row, col))
 ok("obl", "obl", "-", np.int16, (8, 6, 4), (1.0, 1.0, 2.0), centre - 0.5 * np.array([7.0, 5.0, 6.0]), "oblique")
 
+
+def enhanced(name, modality, rows, cols, alloc, bits, signed, ipps, ps, thickness, per=None, shared=None, frames=None):
+    """An enhanced multi-frame file NAME.dcm, frame f at ipps[f] (axial),
+    rescaled by per[f] = (slope, intercept) in its per-frame functional
+    groups, or by shared in the shared ones; frames: a Number of Frames
+    other than len(ipps) (a lying header). Returns [(ipp, rescaled values)]."""
+    path = os.path.join(out, name + ".dcm")
+    ds = dataset(path, uid(), modality, rows, cols, alloc, bits, signed)
+    ds.file_meta.MediaStorageSOPClassUID = ds.SOPClassUID = (
+        "1.2.840.10008.5.1.4.1.1.2.1" if modality == "CT" else "1.2.840.10008.5.1.4.1.1.4.1")
+    ds.NumberOfFrames = len(ipps) if frames is None else frames
+    sh, pm, po = Dataset(), Dataset(), Dataset()
+    pm.PixelSpacing = [ps[0], ps[1]]
+    pm.SliceThickness = thickness
+    po.ImageOrientationPatient = X + Y
+    sh.PixelMeasuresSequence = Sequence([pm])
+    sh.PlaneOrientationSequence = Sequence([po])
+    if shared is not None:
+        vt = Dataset()
+        vt.RescaleSlope, vt.RescaleIntercept, vt.RescaleType = shared[0], shared[1], "US"
+        sh.PixelValueTransformationSequence = Sequence([vt])
+    ds.SharedFunctionalGroupsSequence = Sequence([sh])
+    items, slices, pixels = [], [], []
+    for f, ipp in enumerate(ipps):
+        item, pp = Dataset(), Dataset()
+        pp.ImagePositionPatient = list(ipp)
+        item.PlanePositionSequence = Sequence([pp])
+        scale = shared if shared is not None else (1, 0)
+        if per is not None and per[f] is not None:
+            vt = Dataset()
+            vt.RescaleSlope, vt.RescaleIntercept, vt.RescaleType = per[f][0], per[f][1], "US"
+            item.PixelValueTransformationSequence = Sequence([vt])
+            scale = per[f]
+        items.append(item)
+        v = stored_of(bits, signed, (rows, cols))
+        pixels.append(words(v, alloc, bits, signed, False).tobytes())
+        slices.append((list(ipp), v * float(scale[0]) + float(scale[1])))
+    ds.PerFrameFunctionalGroupsSequence = Sequence(items)
+    ds.PixelData = b"".join(pixels)
+    ds.save_as(path, write_like_original=False)
+    return slices
+
+
 # Multi-frame (Enhanced MR): 8-bit, per-frame positions stored top down.
-rows, cols, nf = 12, 16, 5
-path = os.path.join(out, "mf.dcm")
-ds = dataset(path, uid(), "MR", rows, cols, 8, 8, False)
-ds.file_meta.MediaStorageSOPClassUID = ds.SOPClassUID = "1.2.840.10008.5.1.4.1.1.4.1"
-ds.NumberOfFrames = nf
-sh = Dataset()
-pm = Dataset()
-pm.PixelSpacing = [0.75, 0.5]
-pm.SliceThickness = 3.0
-po = Dataset()
-po.ImageOrientationPatient = X + Y
-sh.PixelMeasuresSequence = Sequence([pm])
-sh.PlaneOrientationSequence = Sequence([po])
-ds.SharedFunctionalGroupsSequence = Sequence([sh])
-frames, per = [], []
-for f in range(nf):
-    ipp = [-3.0, 4.0, 10.0 - 3.0 * f]
-    item, pp = Dataset(), Dataset()
-    pp.ImagePositionPatient = ipp
-    item.PlanePositionSequence = Sequence([pp])
-    per.append(item)
-    frames.append((ipp, stored_of(8, False, (rows, cols))))
-ds.PerFrameFunctionalGroupsSequence = Sequence(per)
-ds.PixelData = b"".join(words(v, 8, 8, False, False).tobytes() for _, v in frames)
-ds.save_as(path, write_like_original=False)
+frames = enhanced("mf", "MR", 12, 16, 8, 8, False, [(-3.0, 4.0, 10.0 - 3.0 * f) for f in range(5)], (0.75, 0.5), 3.0)
 n, o = expected("mf", frames, (0.75, 0.5), X, Y, (0.5, 0.75, 3.0), np.uint8)
 ok("mf", "mf.dcm", "-", np.uint8, n, (0.5, 0.75, 3.0), o)
+
+# Enhanced CT with a rescale per frame (Pixel Value Transformation in the
+# per-frame functional groups) and frames stored out of position order:
+# each frame keeps its own slope and intercept; non-integer ones make
+# float32 (as a series of files whose rescales differ); slopes and
+# intercepts exact in binary, so the float32 values are the writer's.
+order = [3, 0, 5, 1, 4, 2]
+ipps = [(2.0, -1.0, -20.0 + 1.5 * k) for k in order]
+per = [(0.5, -1024), (1, -1000.5), (1.5, -1024), (2, -999.25), (0.25, -1024), (1, -1030)]
+frames = enhanced("mf_ct", "CT", 10, 14, 16, 12, True, ipps, (0.6, 0.7), 1.5, per=per)
+n, o = expected("mf_ct", frames, (0.6, 0.7), X, Y, (0.7, 0.6, 1.5), np.float32)
+ok("mf_ct", "mf_ct.dcm", "-", np.float32, n, (0.7, 0.6, 1.5), o)
+# integer rescales that differ per frame: int16 when every value fits (as a series)
+per = [(1, -1024), (1, -1000), (2, -1024), (1, -980), (1, -1010), (3, -2000)]
+frames = enhanced("mf_ct_int", "CT", 9, 8, 16, 10, False, ipps, (0.6, 0.7), 1.5, per=per)
+n, o = expected("mf_ct_int", frames, (0.6, 0.7), X, Y, (0.7, 0.6, 1.5), np.int16)
+ok("mf_ct_int", "mf_ct_int.dcm", "-", np.int16, n, (0.7, 0.6, 1.5), o)
+# one rescale for every frame, in the shared functional groups
+frames = enhanced("mf_shared", "CT", 9, 8, 16, 12, False, ipps, (0.6, 0.7), 1.5, shared=(2, -100))
+n, o = expected("mf_shared", frames, (0.6, 0.7), X, Y, (0.7, 0.6, 1.5), np.int16)
+ok("mf_shared", "mf_shared.dcm", "-", np.int16, n, (0.7, 0.6, 1.5), o)
+# a rescale for 5 of the 6 frames
+enhanced("mf_part", "CT", 9, 8, 16, 12, False, ipps, (0.6, 0.7), 1.5, per=[(1, -1024)] * 5 + [None])
+fail("mf_part", "mf_part.dcm", "-", "mf_part.dcm", "(0028,9145) Pixel Value Transformation Sequence",
+     "5 of 6 frames")
+# a Number of Frames the pixel data cannot hold (7 declared, 6 stored): refused before GDCM sizes its buffer
+enhanced("mf_lying", "CT", 9, 8, 16, 12, False, ipps + [(2.0, -1.0, -11.0)], (0.6, 0.7), 1.5, frames=7)
+d = pydicom.dcmread(os.path.join(out, "mf_lying.dcm"))  # the per-frame groups say 7 too; cut one frame's pixels
+d.PixelData = d.PixelData[: 6 * 9 * 8 * 2]
+d.DataSetTrailingPadding = b"\0" * 400  # the file is long enough: the element's own length must be the check
+d.save_as(os.path.join(out, "mf_lying.dcm"))
+fail("mf_lying", "mf_lying.dcm", "-", "mf_lying.dcm", "element (7FE0,0010) Pixel Data at byte", "holds 864 bytes",
+     "(0028,0008) Number of Frames 7 x (0028,0010) Rows 9 x (0028,0011) Columns 8 x 2 bytes", "need 1008")
 
 # A transfer syntax GDCM does not decode (MPEG-2 video), encapsulated.
 path = os.path.join(out, "mpeg.dcm")
@@ -257,6 +326,19 @@ if gdcmconv:
         ok(name, name, "-", np.int16, n, (0.6, 0.8, 2.5), o)
 else:
     print("dicom_write.py: no gdcmconv (Debian libgdcm-tools): the compressed cases are left out")
+
+
+# A JPEG file of the series whose fragment holds a start-of-image marker and
+# no frame header: GDCM's codec aborts on it (an assertion), in lanecast's
+# guard process; the message names that file, not the first of its batch.
+if gdcmconv:
+    shutil.copytree(os.path.join(out, "ct_jpeg"), os.path.join(out, "jpeg_bad"))
+    bad = sorted(os.listdir(os.path.join(out, "jpeg_bad")))[5]
+    d = pydicom.dcmread(os.path.join(out, "jpeg_bad", bad))
+    d.PixelData = pydicom.encaps.encapsulate([b"\xff\xd8" + b"\0" * 62])
+    d["PixelData"].is_undefined_length = True
+    d.save_as(os.path.join(out, "jpeg_bad", bad))
+    fail("jpeg_bad", "jpeg_bad", "-", "jpeg_bad/" + bad, "GDCM crashed decoding the pixel data", "signal 6")
 
 
 # Malformed variants of the CT series, each failing with the file named.

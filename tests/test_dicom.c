@@ -210,6 +210,11 @@ int main(int argc, char **argv)
               strstr(about, "CT") && strstr(about, "dims 9 x 10 x 7") && strstr(about, "dims 11 x 8 x 5") &&
               strstr(about, "intercept -10"),
           "lc_file_describe lists both series:\n%s", about);
+    /* an enhanced file whose frames carry their own rescales says so */
+    snprintf(two, sizeof two, "%s/mf_ct.dcm", dir);
+    s = lc_file_describe(dev, two, NULL, about, sizeof about);
+    CHECK(s == LC_OK && strstr(about, "dims 14 x 10 x 6") && strstr(about, "(varies per frame)"),
+          "lc_file_describe of mf_ct.dcm: rescale varies per frame:\n%s", about);
     /* the command line: --series, several files as inputs, the listing */
     if (argc > 3) {
         char out[8192];

@@ -7,7 +7,8 @@
  *
  * Values: each stored value keeps its Bits Stored low bits (sign-extended
  * when Pixel Representation is 1), then the file's Rescale Slope and
- * Intercept apply (CT: Hounsfield units). Without a rescale, uint8 and
+ * Intercept apply (CT: Hounsfield units; an enhanced multi-frame file's per
+ * frame, from its functional groups). Without a rescale, uint8 and
  * uint16 stay as they are and int8/int16 become int16; with one, the values
  * are int16 (or uint16) when slope and intercept are integers and every
  * rescaled value fits, else float32. 32-bit values are read as float32.
@@ -45,32 +46,13 @@ static inline int64_t stored(const unsigned char *b, uint64_t i, int ba, int bs,
 
 static int is_int(double x) { return x == floor(x) && fabs(x) < 2147483648.0; }
 
-/* Decodes every file of the volume into raw (slice k at k * plane bytes). */
-static lc_status decode(lc_device *dev, const lci_dcm_input *in, const lci_dcm_volume *v, unsigned char *raw)
+/* The rescale of one slice: its frame's (enhanced multi-frame files give
+ * one per frame) or its file's. */
+static void rescale_of(const lci_dcm_input *in, const lci_dcm_slice *sl, double *slope, double *inter)
 {
-    const lci_dcm_meta *m0 = v->first;
-    uint64_t plane = (uint64_t)v->cols * (uint64_t)v->rows * (uint64_t)(m0->bits_allocated / 8);
-    char err[512];
-    if (v->series->nfiles == 1) { /* one multi-frame file: frames to their sorted places */
-        const lci_dcm_file *f = &in->files[v->slices[0].file];
-        unsigned char *tmp = lci_alloc_checked(dev, f->path, (uint64_t)v->nslices, plane, 0, "stored voxels", 0);
-        if (!tmp) return LC_ERROR_OUT_OF_MEMORY;
-        if (lci_gdcm_pixels(f->path, tmp, (size_t)(plane * (uint64_t)v->nslices), err, sizeof err)) {
-            free(tmp);
-            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s", f->path, err);
-        }
-        for (int k = 0; k < v->nslices; k++) memcpy(raw + (uint64_t)k * plane, tmp + (uint64_t)v->slices[k].frame * plane, plane);
-        free(tmp);
-        lci_load_progress(dev, 0.9);
-        return LC_OK;
-    }
-    for (int k = 0; k < v->nslices; k++) {
-        const lci_dcm_file *f = &in->files[v->slices[k].file];
-        if (lci_gdcm_pixels(f->path, raw + (uint64_t)k * plane, (size_t)plane, err, sizeof err))
-            return lci_error(dev, LC_ERROR_FORMAT, "%s: %s", f->path, err);
-        lci_load_progress(dev, 0.9 * (k + 1) / v->nslices);
-    }
-    return LC_OK;
+    const lci_dcm_meta *m = &in->files[sl->file].m;
+    *slope = m->frame_rescale ? m->frame_rescale[2 * sl->frame] : m->slope;
+    *inter = m->frame_rescale ? m->frame_rescale[2 * sl->frame + 1] : m->intercept;
 }
 
 /* The voxel type the values fit (see the top of the file); *as_is = 1 when
@@ -80,10 +62,11 @@ static lc_value_type value_type(const lci_dcm_input *in, const lci_dcm_volume *v
     const lci_dcm_meta *m0 = v->first;
     int ba = m0->bits_allocated, bs = m0->bits_stored, sign = m0->pixel_rep;
     int identity = 1, integral = 1;
-    for (int i = 0; i < v->series->nfiles; i++) {
-        const lci_dcm_meta *m = &in->files[v->series->files[i]].m;
-        identity &= m->slope == 1.0 && m->intercept == 0.0;
-        integral &= is_int(m->slope) && is_int(m->intercept);
+    double slope, inter;
+    for (int k = 0; k < v->nslices; k++) {
+        rescale_of(in, &v->slices[k], &slope, &inter);
+        identity &= slope == 1.0 && inter == 0.0;
+        integral &= is_int(slope) && is_int(inter);
     }
     static const int little = 1;
     *as_is = identity && bs == ba && (ba == 16 || (ba == 8 && !sign)) && *(const char *)&little;
@@ -92,9 +75,9 @@ static lc_value_type value_type(const lci_dcm_input *in, const lci_dcm_volume *v
     double lo = INFINITY, hi = -INFINITY;
     uint64_t plane = (uint64_t)v->cols * (uint64_t)v->rows;
     for (int k = 0; k < v->nslices; k++) {
-        const lci_dcm_meta *m = &in->files[v->slices[k].file].m;
+        rescale_of(in, &v->slices[k], &slope, &inter);
         for (uint64_t i = 0; i < plane; i++) {
-            double x = (double)stored(raw, (uint64_t)k * plane + i, ba, bs, sign) * m->slope + m->intercept;
+            double x = (double)stored(raw, (uint64_t)k * plane + i, ba, bs, sign) * slope + inter;
             lo = x < lo ? x : lo, hi = x > hi ? x : hi;
         }
     }
@@ -114,7 +97,8 @@ static lc_status convert(lc_device *dev, const lci_dcm_input *in, const lci_dcm_
     uint64_t plane = (uint64_t)v->cols * (uint64_t)v->rows;
     for (int k = 0; k < v->nslices; k++) {
         const lci_dcm_file *f = &in->files[v->slices[k].file];
-        double slope = f->m.slope, inter = f->m.intercept;
+        double slope, inter;
+        rescale_of(in, &v->slices[k], &slope, &inter);
         for (uint64_t i = k * plane, e = i + plane; i < e; i++) {
             int64_t s = stored(raw, i, ba, bs, sign);
             double x = (double)s * slope + inter;
@@ -153,7 +137,7 @@ static lc_status dicom_read(lc_device *dev, const lci_read_args *a, lci_loaded *
         s = LC_ERROR_OUT_OF_MEMORY;
         goto out;
     }
-    if ((s = decode(dev, &in, &v, raw)) != LC_OK) goto out;
+    if ((s = lci_dcm_decode(dev, &in, &v, raw)) != LC_OK) goto out;
     int as_is;
     lc_value_type t = value_type(&in, &v, raw, &as_is);
     int es = lci_value_size(t);
@@ -233,13 +217,16 @@ static lc_status dicom_describe(lc_device *dev, const lci_read_args *a, char *te
             continue;
         }
         int varies = 0;
-        for (int f = 1; f < se->nfiles; f++)
-            varies |= in.files[se->files[f]].m.slope != m->slope || in.files[se->files[f]].m.intercept != m->intercept;
+        for (int k = 0; k < v.nslices; k++) {
+            double slope, inter;
+            rescale_of(&in, &v.slices[k], &slope, &inter);
+            varies |= slope != m->slope || inter != m->intercept;
+        }
         ADD("  dims %d x %d x %d, spacing %g %g %g mm (columns, rows, slices), origin %g %g %g\n", v.cols, v.rows,
             v.nslices, m->spacing[1], m->spacing[0], v.step, v.m[0][3], v.m[1][3], v.m[2][3]);
         ADD("  %d-bit %s (%d stored), rescale slope %g intercept %g%s%s, syntax %s%s%s%s\n", m->bits_allocated,
             m->pixel_rep ? "signed" : "unsigned", m->bits_stored, m->slope, m->intercept,
-            varies ? " (varies per file)" : "", !strcmp(m->modality, "CT") && m->have_rescale ? " (HU)" : "",
+            varies ? se->nfiles > 1 ? " (varies per file)" : " (varies per frame)" : "", !strcmp(m->modality, "CT") && m->have_rescale ? " (HU)" : "",
             m->ts_uid[0] ? m->ts_uid : "(none)", m->ts_name[0] ? " (" : "", m->ts_name, m->ts_name[0] ? ")" : "");
         lci_dcm_volume_free(&v);
     }

@@ -5,12 +5,28 @@
 #ifndef LC_HOST_DICOM_H
 #define LC_HOST_DICOM_H
 
+#include <stdint.h>
 #include "host/formats/dicom_gdcm.h"
 #include "host/formats/format.h"
+
+/* The top-level (7FE0,0010) Pixel Data element as the walk found it, and
+ * what else it saw. */
+typedef struct lci_dcm_pixel_el {
+    int64_t at;        /* its byte offset; -1: the file has none, -2: not walked (a deflated data set) */
+    int64_t value_at;  /* where its value starts */
+    int64_t length;    /* its declared length; -1: undefined (encapsulated fragments) */
+    int64_t fragments; /* undefined length: its items after the Basic Offset Table */
+    int ambiguous;     /* GDCM may read the file otherwise than the walk did: no transfer syntax in a File
+                          Meta Information (GDCM guesses it: a guess that read a length as 1.5 GB), or
+                          an explicit-VR data set with elements without a VR (read as implicit; GDCM
+                          re-reads such files in fallback modes, where it asserted:
+                          tests/fuzz_regress/dicom-mixed-vr-assert) */
+} lci_dcm_pixel_el;
 
 typedef struct lci_dcm_file {
     char *path;
     lci_dcm_meta m;
+    lci_dcm_pixel_el px;
 } lci_dcm_file;
 
 typedef struct lci_dcm_series {
@@ -66,8 +82,16 @@ lc_status lci_dcm_volume_of(lc_device *dev, const lci_dcm_input *in, int s, lci_
 void lci_dcm_volume_free(lci_dcm_volume *v);
 /* Checks every element header of path (dicom_walk.c) before GDCM reads it:
  * each declared length within the file and its enclosing sequence or item,
- * sequences closed; 0, or -1 with "element (GGGG,EEEE) at byte N: ..." in
- * err. */
-int lci_dcm_walk(const char *path, char *err, size_t errlen);
+ * sequences closed; 0 with the Pixel Data element in *px, or -1 with
+ * "element (GGGG,EEEE) at byte N: ..." in err. */
+int lci_dcm_walk(const char *path, lci_dcm_pixel_el *px, char *err, size_t errlen);
+void lci_dcm_meta_free(lci_dcm_meta *m);
+/* dicom_guard.c: what runs GDCM in the guard process (guard.h). The header
+ * of a file the walk found ambiguous: 1 when the guard ran (0 in *rc and *m
+ * filled, or -1 with why in err), 0 when no child could run. */
+int lci_dcm_header_guarded(lc_device *dev, const char *path, lci_dcm_meta *m, int *rc, char *err, size_t errlen);
+/* Every slice of v into raw (slice k at k x its bytes): native pixel data
+ * read here, compressed data decoded by GDCM in guard children. */
+lc_status lci_dcm_decode(lc_device *dev, const lci_dcm_input *in, const lci_dcm_volume *v, unsigned char *raw);
 
 #endif

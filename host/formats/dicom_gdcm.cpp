@@ -24,7 +24,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
-#include <fstream>
 #include <set>
 #include <string>
 #include <vector>
@@ -134,6 +133,18 @@ const gdcm::Tag IPP(0x0020, 0x0032), IOP(0x0020, 0x0037), SPACING(0x0028, 0x0030
 const gdcm::Tag SHARED_FG(0x5200, 0x9229), PER_FRAME_FG(0x5200, 0x9230), PLANE_POSITION(0x0020, 0x9113),
     PLANE_ORIENTATION(0x0020, 0x9116), PIXEL_MEASURES(0x0028, 0x9110), VALUE_TRANSFORM(0x0028, 0x9145);
 
+// Rescale Slope and Intercept of one data set (0028,1053), (0028,1052):
+// false when it has neither; a zero slope fails, naming `where`.
+bool rescale(const gdcm::DataSet &ds, double *slope, double *intercept, const std::string &where)
+{
+    double s = 1.0, b = 0.0;
+    int hs = numbers(ds, SLOPE, "Rescale Slope", &s, 1), hb = numbers(ds, INTERCEPT, "Rescale Intercept", &b, 1);
+    if (!hs && !hb) return false;
+    if (s == 0.0) throw bad_element(tag_name(SLOPE, "Rescale Slope") + " is 0" + where);
+    *slope = s, *intercept = b;
+    return true;
+}
+
 // The geometry and rescale elements of one data set (the top level, or a
 // functional group's macros), each only where m lacks it yet.
 void geometry(const gdcm::DataSet &ds, lci_dcm_meta *m)
@@ -142,16 +153,22 @@ void geometry(const gdcm::DataSet &ds, lci_dcm_meta *m)
     if (!m->have_spacing) m->have_spacing = numbers(ds, SPACING, "Pixel Spacing", m->spacing, 2);
     if (!m->have_between) m->have_between = numbers(ds, BETWEEN, "Spacing Between Slices", &m->between, 1);
     if (!m->have_thickness) m->have_thickness = numbers(ds, THICKNESS, "Slice Thickness", &m->thickness, 1);
-    if (!m->have_rescale) {
-        double s = 1.0, b = 0.0;
-        int hs = numbers(ds, SLOPE, "Rescale Slope", &s, 1), hb = numbers(ds, INTERCEPT, "Rescale Intercept", &b, 1);
-        if (hs || hb) m->have_rescale = 1, m->slope = s, m->intercept = b;
-    }
+    if (!m->have_rescale) m->have_rescale = rescale(ds, &m->slope, &m->intercept, "");
+}
+
+// A copy of v in malloc'd memory (the C side frees it).
+double *c_copy(const std::vector<double> &v)
+{
+    double *p = static_cast<double *>(std::malloc(sizeof(double) * v.size()));
+    if (!p) throw std::bad_alloc();
+    std::memcpy(p, v.data(), sizeof(double) * v.size());
+    return p;
 }
 
 // Enhanced multi-frame files (CT, MR, PET): the shared functional groups,
-// then the first frame's, for the geometry and rescale; every frame's
-// plane position.
+// then the first frame's, for the geometry; every frame's plane position
+// and Pixel Value Transformation (rescale), which may differ per frame
+// (PS3.3 C.7.6.16.2.9: a macro is shared or given per frame).
 void functional_groups(const gdcm::DataSet &ds, lci_dcm_meta *m)
 {
     gdcm::SmartPointer<gdcm::SequenceOfItems> k1, k2;
@@ -169,21 +186,31 @@ void functional_groups(const gdcm::DataSet &ds, lci_dcm_meta *m)
     if (n != static_cast<size_t>(m->frames))
         throw bad_element(tag_name(PER_FRAME_FG, "Per-frame Functional Groups Sequence") + " has " + std::to_string(n) +
                           " items for " + std::to_string(m->frames) + " frames");
-    std::vector<double> pos(3 * n);
-    size_t have = 0;
+    std::vector<double> pos(3 * n), scale(2 * n);
+    size_t have = 0, scaled = 0;
     for (size_t f = 0; f < n; f++) {
         const gdcm::DataSet &fds = sq->GetItem(f + 1).GetNestedDataSet();
         const gdcm::DataSet *pp = item(fds, PLANE_POSITION, 1, k2);
         if (pp && numbers(*pp, IPP, "Image Position (Patient)", &pos[3 * f], 3)) have++;
+        const gdcm::DataSet *vt = item(fds, VALUE_TRANSFORM, 1, k2);
+        if (vt && rescale(*vt, &scale[2 * f], &scale[2 * f + 1], " in frame " + std::to_string(f) + "'s " +
+                                                                    tag_name(VALUE_TRANSFORM, "Pixel Value Transformation Sequence")))
+            scaled++;
     }
-    if (have == 0) return;
-    if (have != n)
+    if (have != 0 && have != n)
         throw bad_element(tag_name(PLANE_POSITION, "Plane Position Sequence") + " gives positions for " +
                           std::to_string(have) + " of " + std::to_string(n) + " frames");
-    m->frame_ipp = static_cast<double *>(std::malloc(sizeof(double) * 3 * n));
-    if (!m->frame_ipp) throw std::bad_alloc();
-    std::memcpy(m->frame_ipp, pos.data(), sizeof(double) * 3 * n);
-    if (!m->have_ipp) std::memcpy(m->ipp, m->frame_ipp, sizeof m->ipp), m->have_ipp = 1;
+    if (scaled != 0 && scaled != n)
+        throw bad_element(tag_name(VALUE_TRANSFORM, "Pixel Value Transformation Sequence") + " gives a rescale for " +
+                          std::to_string(scaled) + " of " + std::to_string(n) + " frames");
+    if (have) {
+        m->frame_ipp = c_copy(pos);
+        if (!m->have_ipp) std::memcpy(m->ipp, m->frame_ipp, sizeof m->ipp), m->have_ipp = 1;
+    }
+    if (scaled) {
+        m->frame_rescale = c_copy(scale);
+        m->have_rescale = 1, m->slope = scale[0], m->intercept = scale[1];
+    }
 }
 
 // Decoders GDCM 3.0 has: everything it names but video and JPIP references.
@@ -209,18 +236,6 @@ void header(const char *path, lci_dcm_meta *m)
     if (!r.ReadUpToTag(gdcm::Tag(0x7fe0, 0x0010), skip))
         throw bad_element("GDCM cannot parse it as DICOM (not a DICOM file, or damaged before its pixel data)");
     const gdcm::File &file = r.GetFile();
-    // The reader stops after the pixel data element's header (its value
-    // skipped): check the tag there and note where the value starts.
-    m->pixel_at = m->pixel_value_at = -1;
-    {
-        bool expl = file.GetHeader().GetDataSetTransferSyntax().IsExplicit();
-        long long at = static_cast<long long>(r.GetStreamCurrentPosition()), h = expl ? 12 : 8;
-        std::ifstream is(path, std::ios::binary);
-        unsigned char t[4];
-        if (at >= h && is.seekg(static_cast<std::streamoff>(at - h)) && is.read(reinterpret_cast<char *>(t), 4) &&
-            t[0] == 0xe0 && t[1] == 0x7f && t[2] == 0x10 && t[3] == 0x00)
-            m->pixel_at = at - h, m->pixel_value_at = at;
-    }
     const gdcm::FileMetaInformation &fmi = file.GetHeader();
     const gdcm::DataSet &ds = file.GetDataSet();
     std::string s;
@@ -272,6 +287,12 @@ void header(const char *path, lci_dcm_meta *m)
     }
 }
 
+void drop(lci_dcm_meta *m)
+{
+    std::free(m->frame_ipp), std::free(m->frame_offset), std::free(m->frame_rescale);
+    m->frame_ipp = m->frame_offset = m->frame_rescale = nullptr;
+}
+
 } // namespace
 
 extern "C" int lci_gdcm_header(const char *path, lci_dcm_meta *m, char *err, size_t errlen)
@@ -282,16 +303,13 @@ extern "C" int lci_gdcm_header(const char *path, lci_dcm_meta *m, char *err, siz
         header(path, m);
         return 0;
     } catch (const bad_element &e) {
-        std::free(m->frame_ipp), std::free(m->frame_offset);
-        m->frame_ipp = m->frame_offset = nullptr;
+        drop(m);
         return fail(err, errlen, e.msg);
     } catch (const std::exception &e) {
-        std::free(m->frame_ipp), std::free(m->frame_offset);
-        m->frame_ipp = m->frame_offset = nullptr;
+        drop(m);
         return fail(err, errlen, std::string("GDCM: ") + e.what());
     } catch (...) {
-        std::free(m->frame_ipp), std::free(m->frame_offset);
-        m->frame_ipp = m->frame_offset = nullptr;
+        drop(m);
         return fail(err, errlen, "GDCM: unknown exception");
     }
 }

@@ -21,8 +21,6 @@ typedef struct lci_dcm_meta {
     char ts_name[96];      /* GDCM's name of the syntax, "" when it has none */
     int ts_known;          /* 1: a transfer syntax GDCM 3.0 has a decoder for */
     int encapsulated;      /* 1: compressed (encapsulated pixel data), 0: native */
-    long long pixel_at;    /* byte offset of the (7FE0,0010) element, -1 when none was reached */
-    long long pixel_value_at; /* native: where its value starts (after the element's header) */
     char photometric[20];  /* (0028,0004) */
     int rows, cols, frames;                         /* frames: (0028,0008), 1 when absent */
     int bits_allocated, bits_stored, high_bit, pixel_rep, samples;
@@ -39,6 +37,11 @@ typedef struct lci_dcm_meta {
      * offsets along the normal from (3004,000C) (frames, malloc'd; NULL) */
     double *frame_ipp;
     double *frame_offset;
+    /* enhanced multi-frame: each frame's Rescale Slope and Intercept from its
+     * Pixel Value Transformation (0028,9145) in the per-frame functional
+     * groups (frames x 2, malloc'd; NULL when they give none: then slope and
+     * intercept above hold for every frame; else those are frame 0's) */
+    double *frame_rescale;
 } lci_dcm_meta;
 
 /* Reads path's header up to its pixel data into m (zeroed first). */

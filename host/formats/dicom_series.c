@@ -31,15 +31,15 @@
  * differs by 100 %. */
 #define SPACING_TOLERANCE 0.01
 
-static void free_meta(lci_dcm_meta *m)
+void lci_dcm_meta_free(lci_dcm_meta *m)
 {
-    free(m->frame_ipp), free(m->frame_offset);
-    m->frame_ipp = m->frame_offset = NULL;
+    free(m->frame_ipp), free(m->frame_offset), free(m->frame_rescale);
+    m->frame_ipp = m->frame_offset = m->frame_rescale = NULL;
 }
 
 void lci_dcm_input_free(lci_dcm_input *in)
 {
-    for (int i = 0; i < in->nfiles; i++) free(in->files[i].path), free_meta(&in->files[i].m);
+    for (int i = 0; i < in->nfiles; i++) free(in->files[i].path), lci_dcm_meta_free(&in->files[i].m);
     for (int i = 0; i < in->nseries; i++) free(in->series[i].files);
     free(in->files), free(in->series);
     memset(in, 0, sizeof *in);
@@ -114,26 +114,31 @@ static lc_status add_file(lc_device *dev, lci_dcm_input *in, char *path, int ski
 {
     *added = 0;
     lci_dcm_meta m;
+    lci_dcm_pixel_el px;
     char err[512];
-    if (lci_dcm_walk(path, err, sizeof err) || lci_gdcm_header(path, &m, err, sizeof err)) {
+    int rc = lci_dcm_walk(path, &px, err, sizeof err);
+    if (!rc && !(px.ambiguous && lci_dcm_header_guarded(dev, path, &m, &rc, err, sizeof err)))
+        rc = lci_gdcm_header(path, &m, err, sizeof err);
+    if (rc) {
         if (skip_bad) lci_log(dev, LC_LOG_WARNING, "%s: skipped: %s", path, err);
         lc_status s = skip_bad ? LC_OK : lci_error(dev, LC_ERROR_FORMAT, "%s: %s", path, err);
         free(path);
         return s;
     }
     if (m.rows == 0 || m.cols == 0) {
-        free_meta(&m);
+        lci_dcm_meta_free(&m);
         free(path);
         return LC_OK;
     }
     lci_dcm_file *f = realloc(in->files, sizeof *f * (size_t)(in->nfiles + 1));
     if (!f) {
-        free_meta(&m);
+        lci_dcm_meta_free(&m);
         free(path);
         return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "%s: out of memory", in->where);
     }
     in->files = f;
     f[in->nfiles].path = path;
+    f[in->nfiles].px = px;
     f[in->nfiles++].m = m;
     *added = 1;
     return LC_OK;
@@ -235,7 +240,7 @@ lc_status lci_dcm_scan(lc_device *dev, const lci_read_args *a, lci_dcm_input *in
                 if (s == LC_OK && added && strcmp(in->files[in->nfiles - 1].m.series_uid, in->files[0].m.series_uid)) {
                     in->nfiles--; /* another series */
                     free(in->files[in->nfiles].path);
-                    free_meta(&in->files[in->nfiles].m);
+                    lci_dcm_meta_free(&in->files[in->nfiles].m);
                 }
             }
             free(paths);
@@ -300,11 +305,50 @@ static int by_key(const void *a, const void *b)
     return x->file != y->file ? x->file - y->file : x->frame - y->frame;
 }
 
+/* Does the Pixel Data element hold the frames the header declares? Before
+ * this check GDCM sized its image by Number of Frames x Rows x Columns and
+ * zero-filled what the element lacked: a 464-byte file declaring 10^6
+ * frames of 10 x 10 loaded as 200 MB of zeros, and a short element followed
+ * by other data read as zeros (docs/FUZZING.md). Native data (read from the
+ * element itself, dicom_guard.c) must hold every frame's bytes;
+ * encapsulated data one fragment a frame at least (PS3.5 A.4: a fragment
+ * holds one frame at most). A deflated data set is not walked (GDCM
+ * inflates it). */
+static lc_status pixel_room(lc_device *dev, const lci_dcm_file *f)
+{
+    const lci_dcm_meta *m = &f->m;
+    const lci_dcm_pixel_el *px = &f->px;
+    if (px->at == -2) return LC_OK;
+    if (px->at < 0)
+        return lci_error(dev, LC_ERROR_FORMAT, "%s: no (7FE0,0010) Pixel Data element at the top level of the data set",
+                         f->path);
+    uint64_t need = (uint64_t)m->rows * (uint64_t)m->cols * (uint64_t)m->frames * (uint64_t)(m->bits_allocated / 8);
+    if (m->encapsulated != (px->length < 0))
+        return lci_error(dev, LC_ERROR_FORMAT,
+                         "%s: element (7FE0,0010) Pixel Data at byte %lld: %s, but transfer syntax %s is %s", f->path,
+                         (long long)px->at, px->length < 0 ? "encapsulated (undefined length)" : "a defined length",
+                         m->ts_uid[0] ? m->ts_uid : "(implicit VR little endian)",
+                         m->encapsulated ? "encapsulated" : "native");
+    if (px->length >= 0 && (uint64_t)px->length < need)
+        return lci_error(dev, LC_ERROR_FORMAT,
+                         "%s: element (7FE0,0010) Pixel Data at byte %lld holds %lld bytes, but (0028,0008) Number of "
+                         "Frames %d x (0028,0010) Rows %d x (0028,0011) Columns %d x %d bytes ((0028,0100) Bits "
+                         "Allocated %d) need %llu", f->path, (long long)px->at, (long long)px->length, m->frames,
+                         m->rows, m->cols, m->bits_allocated / 8, m->bits_allocated, (unsigned long long)need);
+    if (px->length < 0 && px->fragments < m->frames)
+        return lci_error(dev, LC_ERROR_FORMAT,
+                         "%s: element (7FE0,0010) Pixel Data at byte %lld holds %lld fragments after its offset table, "
+                         "but (0028,0008) Number of Frames is %d (a fragment holds one frame at most)", f->path,
+                         (long long)px->at, (long long)px->fragments, m->frames);
+    return LC_OK;
+}
+
 /* What every file of a series must share with the first, and what lanecast
  * reads at all; the message names the file. */
 static lc_status check_file(lc_device *dev, const lci_dcm_file *f, const lci_dcm_meta *m0)
 {
     const lci_dcm_meta *m = &f->m;
+    lc_status s;
     if (!m->ts_known)
         return lci_error(dev, LC_ERROR_UNSUPPORTED,
                          "%s: transfer syntax %s%s%s%s is not one GDCM %s decodes (convert it, e.g. gdcmconv --raw)",
@@ -331,15 +375,7 @@ static lc_status check_file(lc_device *dev, const lci_dcm_file *f, const lci_dcm
     if (!(m->slope != 0.0 && isfinite(m->slope) && isfinite(m->intercept)))
         return lci_error(dev, LC_ERROR_FORMAT, "%s: (0028,1053) Rescale Slope %g is not a finite non-zero number",
                          f->path, m->slope);
-    if (!m->encapsulated && m->pixel_at >= 0) { /* GDCM pads a cut native pixel data silently */
-        struct stat st;
-        uint64_t need = (uint64_t)m->rows * (uint64_t)m->cols * (uint64_t)m->frames * (uint64_t)(m->bits_allocated / 8);
-        if (stat(f->path, &st) == 0 && (uint64_t)st.st_size < (uint64_t)m->pixel_value_at + need)
-            return lci_error(dev, LC_ERROR_FORMAT,
-                             "%s: byte %lld: the file ends inside its pixel data, which starts at byte %lld and needs "
-                             "%llu bytes (%d x %d x %d frames of %d bits)", f->path, (long long)st.st_size,
-                             m->pixel_value_at, (unsigned long long)need, m->cols, m->rows, m->frames, m->bits_allocated);
-    }
+    if ((s = pixel_room(dev, f)) != LC_OK) return s;
     if (m == m0) return LC_OK;
     if (m->rows != m0->rows || m->cols != m0->cols)
         return lci_error(dev, LC_ERROR_FORMAT, "%s: %d x %d pixels (columns x rows), but the series' first file has %d x %d",

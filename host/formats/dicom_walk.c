@@ -7,7 +7,10 @@
  * enclosing sequence or item), sequences and items are walked down to their
  * delimiters, and encapsulated pixel data down to its fragments; values are
  * skipped, never read. The walk stops at the first element it cannot place
- * and names it with its byte offset. */
+ * and names it with its byte offset, and notes where the top-level Pixel
+ * Data element is and what it declares (its length, or its fragments), so
+ * that frame counts can be held against it before GDCM sizes a buffer by
+ * them (dicom_series.c). */
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -20,6 +23,7 @@ typedef struct walker {
     FILE *f;
     int64_t size;
     int expl, big; /* the data set's syntax */
+    lci_dcm_pixel_el *px; /* the top-level Pixel Data element, as found */
     char *err;
     size_t errlen;
 } walker;
@@ -58,11 +62,14 @@ static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
 
 /* The items of a sequence (or the fragments of encapsulated pixel data,
  * raw = 1) from p: up to end when the length is defined, else to the
- * sequence delimiter; *stop: just past it. */
-static int items(walker *w, int64_t p, int64_t end, int undefined, int raw, int depth, int64_t *stop)
+ * sequence delimiter; *stop: just past it; *count: how many (NULL: not
+ * counted). */
+static int items(walker *w, int64_t p, int64_t end, int undefined, int raw, int depth, int64_t *stop,
+                 int64_t *count)
 {
     unsigned char h[8];
-    for (;;) {
+    for (int64_t n = 0;; n++) {
+        if (count) *count = n;
         if (!undefined && p == end) return *stop = p, 0;
         if (p + 8 > end) return fail(w, p, 0xFFFE, 0xE000, "the sequence ends inside an item's header");
         if (get(w, p, h, 8)) return fail(w, p, 0xFFFE, 0xE000, "cannot read the item's header");
@@ -83,14 +90,17 @@ static int items(walker *w, int64_t p, int64_t end, int undefined, int raw, int 
     }
 }
 
-/* The elements from p to end (defined length), or to an item delimiter
- * (stop != NULL: *stop is just past it, or end when the data set simply
- * ends there). */
+/* The elements from p to end (defined length), or, for an item of
+ * undefined length (stop != NULL), to its item delimiter (*stop: just past
+ * it), which must come before end: GDCM asserts on an item that its
+ * sequence or the file ends first
+ * (tests/fuzz_regress/dicom-item-no-delimiter). */
 static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
 {
     unsigned char h[12];
     if (depth > MAX_DEPTH) return fail(w, p, 0, 0, "sequences nested more than 32 deep");
     while (p < end) {
+        int64_t at = p;
         if (p + 8 > end) return fail(w, p, 0, 0, "the file or its item ends inside an element's header");
         if (get(w, p, h, 8)) return fail(w, p, 0, 0, "cannot read the element's header");
         unsigned g = u16(h, w->big), e = u16(h + 2, w->big);
@@ -110,6 +120,7 @@ static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
             } else
                 len = u16(h + 6, w->big), q = p + 8;
         } else { /* implicit VR (or an explicit file's implicit element, which GDCM reads so) */
+            if (w->expl) w->px->ambiguous = 1;
             len = u32(h + 4, w->big), q = p + 8;
             sq = -1; /* unknown: a sequence when undefined */
         }
@@ -118,21 +129,31 @@ static int data_set(walker *w, int64_t p, int64_t end, int depth, int64_t *stop)
             int pixels = g == 0x7FE0 && e == 0x0010;
             if (!(sq || un || pixels || (w->expl && h[4] == 'O')))
                 return fail(w, p, g, e, "an undefined length on an element that is not a sequence");
-            if (items(w, q, end, 1, pixels, depth, &p)) return -1;
+            int64_t n = 0;
+            if (items(w, q, end, 1, pixels, depth, &p, &n)) return -1;
+            /* the first item is the Basic Offset Table (PS3.5 A.4) */
+            if (pixels && depth == 0) {
+                w->px->at = at, w->px->value_at = q, w->px->length = -1;
+                w->px->fragments = n > 0 ? n - 1 : 0;
+            }
             continue;
         }
         if (q + (int64_t)len > end)
             return fail(w, p, g, e, "its value's length runs past the end of the file or of its item");
-        if (sq == 1 && items(w, q, q + len, 0, 0, depth, &p)) return -1;
+        if (sq == 1 && items(w, q, q + len, 0, 0, depth, &p, NULL)) return -1;
+        if (g == 0x7FE0 && e == 0x0010 && depth == 0)
+            w->px->at = at, w->px->value_at = q, w->px->length = len, w->px->fragments = 0;
         p = q + len;
     }
-    if (stop) *stop = p;
+    if (stop) return fail(w, p, 0xFFFE, 0xE00D, "an item of undefined length ends with its sequence or the file, "
+                                                 "before its item delimiter");
     return 0;
 }
 
-int lci_dcm_walk(const char *path, char *err, size_t errlen)
+int lci_dcm_walk(const char *path, lci_dcm_pixel_el *px, char *err, size_t errlen)
 {
-    walker w = {fopen(path, "rb"), 0, 1, 0, err, errlen};
+    *px = (lci_dcm_pixel_el){-1, -1, -1, 0, 0};
+    walker w = {fopen(path, "rb"), 0, 1, 0, px, err, errlen};
     struct stat st;
     if (!w.f || fstat(fileno(w.f), &st)) {
         if (w.f) fclose(w.f);
@@ -195,13 +216,15 @@ int lci_dcm_walk(const char *path, char *err, size_t errlen)
         p = q + len;
     }
     /* the data set, in its syntax; a deflated one is GDCM's to inflate */
-    if (rc == 0 && strcmp(ts, "1.2.840.10008.1.2.1.99")) {
+    if (rc == 0 && !strcmp(ts, "1.2.840.10008.1.2.1.99")) px->at = -2;
+    else if (rc == 0) {
         w.expl = strcmp(ts, "1.2.840.10008.1.2") != 0 && (ts[0] || meta_expl);
         w.big = !strcmp(ts, "1.2.840.10008.1.2.2");
         if (!ts[0] && p + 6 <= w.size && !get(&w, p, h, 6)) { /* no meta header: as the first element looks */
             int wide;
             w.expl = known_vr(h + 4, &wide);
         }
+        if (!ts[0]) px->ambiguous = 1; /* GDCM guesses the syntax its own way */
         rc = data_set(&w, p, w.size, 0, NULL);
     }
     fclose(w.f);
