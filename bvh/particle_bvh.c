@@ -197,16 +197,22 @@ static lci_pbvh_builder env_builder(lci_pbvh_builder b)
     return !strcmp(e, "embree") ? LCI_PBVH_EMBREE : !strcmp(e, "sah") ? LCI_PBVH_SAH : b;
 }
 
-int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
-                      lci_pbvh_builder builder, lci_pbvh *out, char *err, size_t errlen)
+int lci_pbvh_check_size(size_t n, int leaf_size, char *err, size_t errlen)
 {
-    memset(out, 0, sizeof *out);
-    if (n == 0) return 0;
     if (n > (size_t)INT32_MAX / 2 || leaf_size < 1 || leaf_size > 32) {
         snprintf(err, errlen, "%zu particles with leaves of %d: at most %d particles, leaves of 1 to 32", n, leaf_size,
                  INT32_MAX / 2);
         return -1;
     }
+    return 0;
+}
+
+int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
+                      lci_pbvh_builder builder, lci_pbvh *out, char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    if (n == 0) return 0;
+    if (lci_pbvh_check_size(n, leaf_size, err, errlen)) return -1;
     if (builder == LCI_PBVH_DEFAULT) builder = env_builder(LCI_PBVH_EMBREE);
     if (builder == LCI_PBVH_SAH) {
         int th = lci_embree_threads(embree_device);

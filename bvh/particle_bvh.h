@@ -34,6 +34,9 @@ int lci_pbvh_build(void *embree_device, const float *xyz, const float *r, float 
 int lci_pbvh_build_sah(const float *xyz, const float *r, float r_all, size_t n, int leaf_size, int threads,
                        lci_pbvh *out, char *err, size_t errlen);
 /* As lci_pbvh_build with a builder. embree_device may be NULL for LCI_PBVH_SAH. */
+/* The sizes every builder takes (n particles in int32 node indices, leaves
+ * of 1 to 32): 0, or -1 with the message in err. */
+int lci_pbvh_check_size(size_t n, int leaf_size, char *err, size_t errlen);
 int lci_pbvh_build_ex(void *embree_device, const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
                       lci_pbvh_builder builder, lci_pbvh *out, char *err, size_t errlen);
 /* What orders the canonical BVH (bvh/particle_bvh_canon.c): the box of the

@@ -206,11 +206,7 @@ int lci_pbvh_build_canonical(const float *xyz, const float *r, float r_all, size
 {
     memset(out, 0, sizeof *out);
     if (n == 0) return 0;
-    if (n > (size_t)INT32_MAX / 2 || leaf_size < 1 || leaf_size > 32) {
-        snprintf(err, errlen, "%zu particles with leaves of %d: at most %d particles, leaves of 1 to 32", n, leaf_size,
-                 INT32_MAX / 2);
-        return -1;
-    }
+    if (lci_pbvh_check_size(n, leaf_size, err, errlen)) return -1;
     size_t cap = 2 * n - 1;
     ckey *k = malloc(n * sizeof *k), *tmp = malloc(n * sizeof *tmp);
     out->nodes = malloc(cap * sizeof *out->nodes);
