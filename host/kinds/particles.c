@@ -42,7 +42,7 @@ typedef struct particles {
     int canonical;         /* desc.canonical_order, and its box (resolved at creation) */
     lc_box3 order_box;
     pthread_mutex_t bvh_mu; /* guards the deferred build and the arrays' pointers while it swaps them */
-    void *retired[10];     /* the desc-ordered arrays a deferred build replaced: a projection or a
+    void *retired[9];      /* the desc-ordered arrays a deferred build replaced: a projection or a
                               resample on another thread may still read them (freed by destroy) */
     pthread_mutex_t cs_mu; /* guards cs */
     lci_vcache_entry *cs;  /* an lci_pcstep: the recurrence ratios for the last step (particles_cstep.c) */
@@ -69,7 +69,7 @@ static void destroy(lc_volume *v)
     lci_vcache_release(p->cs);
     pthread_mutex_destroy(&p->cs_mu);
     pthread_mutex_destroy(&p->bvh_mu);
-    for (int i = 0; i < 10; i++) free(p->retired[i]);
+    for (size_t i = 0; i < sizeof p->retired / sizeof p->retired[0]; i++) free(p->retired[i]);
     free(p->node_ksum);
     free(p->node_fbound);
     free(p->node_ksph);
@@ -518,6 +518,7 @@ static lc_status permute_all(lc_device *dev, particles *p)
     void **arr[] = {(void **)&p->px, (void **)&p->py, (void **)&p->pz, (void **)&p->r, (void **)&p->nir,
                     (void **)&p->k, (void **)&p->kn, (void **)&p->src, (void **)&p->field};
     const size_t el[] = {4, 4, 4, 4, 4, 4, 4, 4, 1}, n = p->info.count;
+    _Static_assert(sizeof arr / sizeof arr[0] == sizeof p->retired / sizeof p->retired[0], "one retired slot per array");
     const uint32_t *order = p->bvh.order;
     char *o[9] = {0};
     int ok = 1;
