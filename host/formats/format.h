@@ -75,7 +75,7 @@ typedef struct lci_format {
     /* lc_file_describe: lines about what the file holds beyond lc_file_info
      * (DICOM: its series), written into text (size bytes); NULL: nothing */
     lc_status (*describe)(lc_device *dev, const lci_read_args *a, char *text, size_t size);
-    int shares;              /* 1: the reader reads a share of particles when lci_read_args.share is set */
+    int shares;              /* 1: the reader reads a share of particles when lci_read_share(dev) returns one */
 } lci_format;
 
 /* The option of the given key, or NULL. */
