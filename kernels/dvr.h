@@ -304,6 +304,27 @@ static inline void dvr_packet_pixels(int x, int y, vint *px, vint *py)
 #endif
 }
 
+/* The (C, A) the rays of the packet at pixel block (x, y) start from:
+ * zero, or with t->carry what the tile holds there (lc_ktile). Lanes
+ * outside the tile start at zero and are never stored. */
+static inline vcolor dvr_start(const lc_ktile *t, int x, int y)
+{
+    vcolor c = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
+    if (!t->carry) return c;
+    float v[4][LC_W];
+    for (int l = 0; l < LC_W; l++) {
+        int px = x + l % DVR_PW, py = y + l / DVR_PW; /* dvr_packet_pixels */
+        if (px >= t->x1 || py >= t->y1) {
+            v[0][l] = v[1][l] = v[2][l] = v[3][l] = 0.0f;
+            continue;
+        }
+        const float *o = t->rgba + ((size_t)py * (size_t)t->stride + (size_t)px) * 4;
+        for (int j = 0; j < 4; j++) v[j][l] = o[j];
+    }
+    c.r = vf_load(v[0]), c.g = vf_load(v[1]), c.b = vf_load(v[2]), c.a = vf_load(v[3]);
+    return c;
+}
+
 /* Writes premultiplied (C, A) of the lanes inside the tile, lane by lane. */
 static inline void dvr_store_lanes(const lc_ktile *t, vint px, vint py, const vcolor *c)
 {

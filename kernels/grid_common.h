@@ -115,7 +115,7 @@ static inline __attribute__((always_inline)) void grid_packlet_init(const lc_kgr
     dvr_region(f, &p->ray, mode_pairs(f), &p->knext, &p->klast);
     vmask in = vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1)));
     p->live = vm_and(in, vm_not(vi_gt(p->knext, p->klast)));
-    p->c.r = p->c.g = p->c.b = p->c.a = vf_zero();
+    p->c = dvr_start(t, x, y); /* zero unless the tile carries (C, A) in */
     p->prev = vf_zero();
     p->kprev = vi_set1(-2);
     p->pa = vi_set1(1);

@@ -21,7 +21,7 @@ static inline __attribute__((always_inline)) void direct_tile(const lc_kparticle
     for (int y = t->y0; y < t->y1; y += DVR_PH) {
         if (lc_ktile_stopped(t)) return;
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
-            vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
+            vcolor col = dvr_start(t, x, y); /* zero unless the tile carries (C, A) in */
             vcolor surf = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
             vray r;
             vint kf, kl;

@@ -250,8 +250,9 @@ static inline __attribute__((always_inline)) void setup_group(const lc_kparticle
         vf_store(c.iy + o, dvr_inv_dir(r.dy));
         vf_store(c.iz + o, dvr_inv_dir(r.dz));
         vi_store(c.kf + o, kf), vi_store(c.kl + o, kl);
-        vf_store(c.cr + o, vf_zero()), vf_store(c.cg + o, vf_zero());
-        vf_store(c.cb + o, vf_zero()), vf_store(c.ca + o, vf_zero());
+        vcolor c0 = dvr_start(t, x, y); /* zero unless the tile carries (C, A) in */
+        vf_store(c.cr + o, c0.r), vf_store(c.cg + o, c0.g);
+        vf_store(c.cb + o, c0.b), vf_store(c.ca + o, c0.a);
         vf_store(c.sr + o, surf.r), vf_store(c.sg + o, surf.g);
         vf_store(c.sb + o, surf.b), vf_store(c.sa + o, surf.a);
         vmask valid = vm_not(vi_lt(kl, kf)); /* kf <= kl */

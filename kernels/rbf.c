@@ -98,7 +98,7 @@ static inline __attribute__((always_inline)) void render_tile_as(const lc_krbf *
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vint px, py, kf, kl;
             vray r;
-            vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
+            vcolor col = dvr_start(t, x, y); /* zero unless the tile carries (C, A) in */
             if (!rbf_packet_begin(s, f, mode, t, x, y, &probe, &px, &py, &r, &kf, &kl, &col, st)) continue;
             int k0 = 1 << 30, k1 = -(1 << 30);
             for (int l = 0; l < LC_W; l++) {

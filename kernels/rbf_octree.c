@@ -182,7 +182,7 @@ static inline __attribute__((always_inline)) void octree_tile(const lc_krbf *s, 
         for (int x = t->x0; x < t->x1; x += DVR_PW) {
             vint px, py, kf, kl;
             vray r;
-            vcolor col = {vf_zero(), vf_zero(), vf_zero(), vf_zero()};
+            vcolor col = dvr_start(t, x, y); /* zero unless the tile carries (C, A) in */
             if (!rbf_packet_begin(s, f, mode, t, x, y, &probe, &px, &py, &r, &kf, &kl, &col, st)) continue;
             int32_t kfa[LC_W], kla[LC_W];
             float ro[3][LC_W], rd[3][LC_W];

@@ -197,6 +197,23 @@ static void compare(lc_device *dev, const char *kind, const lc_volume *v, const 
             continue;
         }
         dp_check_image(label, got, want, &d);
+        if (mode == LC_MODE_DVR) { /* the chain: the same bits without early termination */
+            uint64_t cs[8];
+            s = lci_dp_render_chain(dev, &d, P, pi % 2 ? 1 : 5, got, NULL, cs); /* one band or five of 6-7 rows */
+            CHECK_QUIET(s == LC_OK, "%s chain: %s", label, lc_device_last_error(dev));
+            if (s == LC_OK && alpha_stop == 1.0f) {
+                double e = 0.0;
+                for (size_t i = 0; i < 4 * np; i++) e = fmax(e, fabs((double)got[i] - (double)want[i]));
+                CHECK_QUIET(!memcmp(got, want, sizeof(float) * 4 * np), "%s chain: not one render's bits (max |diff| %.3g)",
+                            label, e);
+                uint64_t sum = 0;
+                for (int p = 0; p < P; p++) sum += cs[p];
+                CHECK_QUIET(sum == st1.samples, "%s chain: summed region samples %llu != one render's %llu", label,
+                            (unsigned long long)sum, (unsigned long long)st1.samples);
+            } else if (s == LC_OK) {
+                dp_check_image(label, got, want, &d);
+            }
+        }
         if ((mode == LC_MODE_DVR || mode == LC_MODE_MIP) && alpha_stop == 1.0f) { /* early termination stops rays per region */
             uint64_t sum = 0;
             for (int p = 0; p < P; p++) sum += samples[p];

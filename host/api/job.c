@@ -121,12 +121,9 @@ lc_status lc_render_begin(lc_device *dev, const lc_render_desc *d, const lc_job_
     j->desc = *d;
     if (jd) j->jd = *jd;
     j->rgba = rgba;
-    const lc_tf *tf = d->tf;
-    if (!tf) {
-        s = lc_tf_preset(dev, "heat", 1, 1.0f, &j->own_tf);
-        if (s != LC_OK) goto fail;
-        tf = j->own_tf;
-    }
+    const lc_tf *tf = NULL;
+    s = lci_render_tf(dev, d, &tf, &j->own_tf);
+    if (s != LC_OK) goto fail;
     int scales[2], n = 0;
     if (d->pixel_scale > 1) {
         scales[n++] = d->pixel_scale; /* navigation quality: one pass */

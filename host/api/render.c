@@ -222,6 +222,7 @@ typedef struct pass_run {
     const lci_pass_ctl *ctl;
     float *rgba, *depth;  /* the full image */
     atomic_int stopped;   /* a tile saw the stop flag or the cancel callback */
+    int task0;            /* the first tile (ctl's rows) */
 } pass_run;
 
 static int stop_asked(const lci_pass_ctl *c)
@@ -274,16 +275,21 @@ static void run_tile(void *ctx, int task, int worker)
         return;
     }
     lc_ktile t;
+    task += r->task0;
     t.x0 = (task % p->ntx) * p->tile;
     t.y0 = (task / p->ntx) * p->tile;
     t.x1 = t.x0 + p->tile < p->pw ? t.x0 + p->tile : p->pw;
     t.y1 = t.y0 + p->tile < p->ph ? t.y0 + p->tile : p->ph;
+    if (c->row1 > c->row0) { /* a band of rows: the tiles it cuts are cut too */
+        t.y0 = t.y0 > c->row0 ? t.y0 : c->row0;
+        t.y1 = t.y1 < c->row1 ? t.y1 : c->row1;
+    }
     t.stride = p->pw;
-    t.pad = 0;
+    t.carry = p->carry;
     t.rgba = p->scale > 1 ? p->small : r->rgba;
     t.depth = p->scale > 1 ? p->small_depth : r->depth;
     t.stop = (const int32_t *)c->stop; /* atomic_int, read by the kernels with __atomic_load_n */
-    clear_tile(&t);
+    if (!t.carry) clear_tile(&t);
     lc_kscratch sc = {p->scratch + (size_t)worker * p->scratch_bytes, p->scratch_bytes};
     p->prep.tile(p->prep.kscene, p->frame, &t, &sc, &p->ws[worker].s);
     /* the kernel may have returned early on the flag (it is never cleared, so
@@ -302,9 +308,14 @@ int lci_pass_run(lc_device *dev, lci_pass *p, const lci_pass_ctl *ctl, float *rg
     atomic_int own_done = 0;
     lci_pass_ctl c = *ctl;
     if (!c.done) c.done = &own_done;
-    pass_run r = {p, &c, rgba, depth, 0};
+    pass_run r = {p, &c, rgba, depth, 0, 0};
+    int ntasks = p->ntasks;
+    if (c.row1 > c.row0) { /* the tile rows meeting [row0, row1) */
+        int ty0 = c.row0 / p->tile, ty1 = (c.row1 + p->tile - 1) / p->tile;
+        r.task0 = ty0 * p->ntx, ntasks = (ty1 - ty0) * p->ntx;
+    }
     memset(p->ws, 0, (size_t)p->nthreads * sizeof *p->ws);
-    if (!lci_pool_run_until(dev->pool, p->ntasks, run_tile, &r, c.stop)) return 0;
+    if (!lci_pool_run_until(dev->pool, ntasks, run_tile, &r, c.stop)) return 0;
     return !atomic_load(&r.stopped);
 }
 
@@ -336,6 +347,15 @@ lc_status lci_render(lc_device *dev, const lc_render_desc *d, float *rgba, float
     return lci_render_region(dev, d, NULL, rgba, depth, stats);
 }
 
+lc_status lci_render_tf(lc_device *dev, const lc_render_desc *d, const lc_tf **tf, lc_tf **own)
+{
+    *own = NULL, *tf = d->tf;
+    if (*tf) return LC_OK;
+    lc_status s = lc_tf_preset(dev, "heat", 1, 1.0f, own);
+    *tf = *own;
+    return s;
+}
+
 lc_status lci_render_region(lc_device *dev, const lc_render_desc *d, const lc_kregion *region, float *rgba,
                             float *depth, lc_render_stats *stats)
 {
@@ -343,12 +363,9 @@ lc_status lci_render_region(lc_device *dev, const lc_render_desc *d, const lc_kr
     if (s != LC_OK) return s;
     double t0 = lci_now();
     lc_tf *own_tf = NULL;
-    const lc_tf *tf = d->tf;
-    if (!tf) {
-        s = lc_tf_preset(dev, "heat", 1, 1.0f, &own_tf);
-        if (s != LC_OK) return s;
-        tf = own_tf;
-    }
+    const lc_tf *tf = NULL;
+    s = lci_render_tf(dev, d, &tf, &own_tf);
+    if (s != LC_OK) return s;
     lci_pass p;
     s = lci_pass_prepare_region(dev, d, tf, d->pixel_scale > 1 ? d->pixel_scale : 1, depth != NULL, region, &p);
     if (s == LC_OK) {

@@ -24,6 +24,7 @@ typedef struct lci_pass {
     uint64_t scratch_bytes; /* per worker */
     lci_pass_stats *ws;
     float *small, *small_depth; /* scale > 1: the pw x ph pixels before filling blocks */
+    int carry;           /* dvr at scale 1: rays go on from the (C, A) in the image (lc_ktile carry) */
 } lci_pass;
 
 /* Checks what lc_render checks before the frame (handles, sizes, tile,
@@ -39,6 +40,9 @@ void lci_pass_release(lci_pass *p);
  * it; kernels/dvr.h dvr_region), for data-parallel rendering (host/mpi/). */
 lc_status lci_pass_prepare_region(lc_device *dev, const lc_render_desc *d, const lc_tf *tf, int scale, int depth,
                                   const lc_kregion *region, lci_pass *out);
+/* The TF a desc renders with: its own, or the default ("heat"), which *own
+ * then holds (lc_tf_destroy; NULL otherwise). */
+lc_status lci_render_tf(lc_device *dev, const lc_render_desc *d, const lc_tf **tf, lc_tf **own);
 /* lci_render (host/internal.h) of the samples inside region (NULL: all). */
 lc_status lci_render_region(lc_device *dev, const lc_render_desc *d, const lc_kregion *region, float *rgba,
                             float *depth, lc_render_stats *stats);
@@ -55,6 +59,7 @@ typedef struct lci_pass_ctl {
     void (*progress)(void *user, float fraction);
     void *progress_user;
     float base, span;
+    int row0, row1;      /* row1 > row0: only the pixel rows [row0, row1), the rest untouched */
 } lci_pass_ctl;
 
 /* Renders the pass into rgba (and depth, when not NULL): width x height,

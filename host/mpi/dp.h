@@ -11,6 +11,7 @@
 #include "host/internal.h"
 #include "kernels/shared/kframe.h"
 #include "host/kinds/kind.h"
+#include "host/api/render.h"
 
 /* A kd-tree of nleaves regions over a box: node 0 is the root; a node with
  * leaf >= 0 is region `leaf`, else it splits at `split` on `axis` into
@@ -152,6 +153,28 @@ void lci_cimage_free(lci_cimage *img);
  * P counts. */
 lc_status lci_dp_render_local(lc_device *dev, const lc_render_desc *d, int P, float *rgba, lc_render_stats *stats,
                               uint64_t *region_samples);
+
+/* The chain (dvr to the bit): region `leaf`'s pass, run on bands of rows
+ * of an image that holds the (C, A) the regions in front of it left; the
+ * rays go on from there (lc_ktile carry), so after the last region in
+ * visibility order every pixel has had one process's operations in one
+ * process's order. host/mpi/chain.c hands the bands from rank to rank. */
+typedef struct lci_dp_chain {
+    lci_pass pass;
+    lc_tf *own_tf;
+    lc_render_stats stats; /* summed over the bands run */
+    int ready;
+} lci_dp_chain;
+lc_status lci_dp_chain_begin(lc_device *dev, const lc_render_desc *d, const lci_kdtree *t, int leaf, lci_dp_chain *c);
+/* Rows [row0, row1) of rgba (w x h of the desc). */
+lc_status lci_dp_chain_rows(lc_device *dev, lci_dp_chain *c, const lc_render_desc *d, float *rgba, int row0, int row1);
+void lci_dp_chain_end(lci_dp_chain *c);
+/* The first row of band b of `bands` (1 .. h) over h rows; b = bands gives h. */
+int lci_dp_band_row(int h, int bands, int b);
+/* lci_dp_render_local by the chain: band by band, the P regions in
+ * visibility order on one image. */
+lc_status lci_dp_render_chain(lc_device *dev, const lc_render_desc *d, int P, int bands, float *rgba,
+                              lc_render_stats *stats, uint64_t *region_samples);
 
 /* ---------------------------------------------------------------- partial grids (window.c) */
 

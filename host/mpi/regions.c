@@ -1,6 +1,7 @@
 /* The regions of a render (dp.h): the partition of a volume, one region's
  * image, and a whole data-parallel render in one process. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/api/render.h"
@@ -142,3 +143,91 @@ lc_status lci_dp_render_local(lc_device *dev, const lc_render_desc *d, int P, fl
     lci_kd_release(&t);
     return s;
 }
+
+lc_status lci_dp_chain_begin(lc_device *dev, const lc_render_desc *d, const lci_kdtree *t, int leaf, lci_dp_chain *c)
+{
+    memset(c, 0, sizeof *c);
+    const float probe = 0.0f;
+    lc_status s = lci_render_check(dev, d, &probe, "data-parallel render");
+    if (s == LC_OK && d->mode != LC_MODE_DVR)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "data-parallel render: the chain composites dvr only (mode %d)",
+                      (int)d->mode);
+    if (s == LC_OK && d->pixel_scale > 1)
+        s = lci_error(dev, LC_ERROR_UNSUPPORTED, "data-parallel render: pixel_scale %d (previews are one process's)",
+                      d->pixel_scale);
+    if (s == LC_OK) s = lci_dp_grid_check(dev, d, t->nleaves, leaf);
+    if (s == LC_OK) s = lci_dp_particles_check(dev, d, t->nleaves, leaf);
+    const lc_tf *tf = NULL;
+    if (s == LC_OK) s = lci_render_tf(dev, d, &tf, &c->own_tf);
+    if (s == LC_OK) s = lci_pass_prepare_region(dev, d, tf, 1, 0, &t->cell[leaf], &c->pass);
+    if (s != LC_OK) {
+        lci_dp_chain_end(c);
+        return s;
+    }
+    c->pass.carry = 1;
+    c->ready = 1;
+    return LC_OK;
+}
+
+lc_status lci_dp_chain_rows(lc_device *dev, lci_dp_chain *c, const lc_render_desc *d, float *rgba, int row0, int row1)
+{
+    if (row1 <= row0) return LC_OK; /* an empty band (more bands than rows) */
+    double t0 = lci_now();
+    lci_pass_ctl ctl = {.cancel = d->cancel, .cancel_user = d->cancel_user, .row0 = row0, .row1 = row1};
+    if (!lci_pass_run(dev, &c->pass, &ctl, rgba, NULL)) {
+        lci_error(NULL, LC_CANCELLED, "data-parallel render: cancelled by desc->cancel; the image is not complete");
+        snprintf(dev->last_error, sizeof dev->last_error, "%s", lc_last_error());
+        return LC_CANCELLED;
+    }
+    lci_pass_stats_add(&c->pass, &c->stats);
+    c->stats.seconds += lci_now() - t0;
+    c->stats.target = dev->target, c->stats.threads = c->pass.nthreads;
+    return LC_OK;
+}
+
+void lci_dp_chain_end(lci_dp_chain *c)
+{
+    lci_pass_release(&c->pass);
+    lc_tf_destroy(c->own_tf);
+    c->own_tf = NULL, c->ready = 0;
+}
+
+lc_status lci_dp_render_chain(lc_device *dev, const lc_render_desc *d, int P, int bands, float *rgba,
+                              lc_render_stats *stats, uint64_t *region_samples)
+{
+    lci_kdtree t;
+    lc_status s = lci_dp_partition(dev, d, P, &t);
+    if (s != LC_OK) return s;
+    lc_kcamera cam;
+    s = lci_dp_camera(dev, d, &cam);
+    int *order = malloc(sizeof(int) * (size_t)P);
+    lci_dp_chain *c = calloc((size_t)P, sizeof *c);
+    if (s == LC_OK && (!order || !c)) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel render: out of memory");
+    if (s == LC_OK) {
+        memset(rgba, 0, sizeof(float) * 4 * (size_t)d->width * (size_t)d->height);
+        lci_kd_order(&t, &cam, order);
+        for (int i = 0; i < P && s == LC_OK; i++) s = lci_dp_chain_begin(dev, d, &t, order[i], &c[i]);
+        /* band by band, each through the regions in order: what the ranks do */
+        for (int b = 0; b < bands && s == LC_OK; b++) {
+            int y0 = lci_dp_band_row(d->height, bands, b), y1 = lci_dp_band_row(d->height, bands, b + 1);
+            for (int i = 0; i < P && s == LC_OK; i++) s = lci_dp_chain_rows(dev, &c[i], d, rgba, y0, y1);
+        }
+    }
+    if (stats) memset(stats, 0, sizeof *stats);
+    for (int i = 0; c && i < P; i++) {
+        if (s == LC_OK && region_samples) region_samples[order[i]] = c[i].stats.samples;
+        if (s == LC_OK && stats) {
+            lc_render_stats *a = stats, *b = &c[i].stats;
+            a->rays += b->rays, a->samples += b->samples, a->kernel_evals += b->kernel_evals;
+            a->nodes += b->nodes, a->leaves += b->leaves, a->passes += b->passes;
+            a->seconds += b->seconds, a->target = b->target, a->threads = b->threads;
+        }
+        lci_dp_chain_end(&c[i]);
+    }
+    free(c);
+    free(order);
+    lci_kd_release(&t);
+    return s;
+}
+
+int lci_dp_band_row(int h, int bands, int b) { return (int)((int64_t)h * b / bands); }

@@ -108,7 +108,13 @@ _Static_assert(sizeof(lc_kframe) == 80 + 32 * LC_KMAX_FIELDS + 64 + 32 * LC_KMAX
 typedef struct lc_ktile {
     int32_t x0, y0, x1, y1;
     int32_t stride;
-    int32_t pad;
+    /* non-zero (dvr only): each ray starts from the premultiplied (C, A)
+       already in rgba instead of zero and goes on blending, so a
+       data-parallel render that hands the image from region to region in
+       visibility order makes the same operations, in the same order, as one
+       process (host/mpi/pipeline.c); pixels no ray of the tile meets keep
+       what they hold */
+    int32_t carry;
     float *rgba;
     float *depth;
     /* a render job's cancel flag (non-zero: stop), or NULL: kernels read it
