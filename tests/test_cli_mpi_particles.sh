@@ -13,7 +13,8 @@
 # mpirun, so against one process with --canonical-order 1 (RBF:
 # --rbf-canonical-order 1) mip, iso and slice images are the same floats at
 # K = 1..4 (a PDB molecule, raw particles, GADGET with k-nearest radii, an
-# RBF set; eye inside the data, orthographic), dvr within the "over"
+# RBF set; eye inside the data, orthographic), dvr too by the chain (the
+# default), by binary swap (--composite swap) within the "over"
 # compositing's round-off (2e-5, as for grids); with the canonical order off
 # under mpirun (--canonical-order 0) some of three images differ. Without
 # bits: an HDF5 SPH snapshot with varying smoothing lengths (iso, K = 2, 4)
@@ -83,9 +84,12 @@ if [ "$mode" = bits ]; then
     bits gadget-m4-slice $P "1 2 3 4" "$dir/snap.gadget" --kernel m4 --mode slice --plane 0,0,0.1,0.1,0.2,1 $ortho
     bits rbf-iso $R "1 2 3 4" "$dir/terms.rbf" --mode iso --iso 0.3 $ortho
     bits rbf-slice-inside $R "2 4" "$dir/terms.rbf" --mode slice --plane 0.1,0,0,1,0.3,0.2 $inside
-    near=0.0051 # dvr: within the over's round-off (2e-5)
-    bits raw-dvr $P "2 4" $raw
+    # dvr by the chain (the default): the same floats too
+    bits raw-dvr $P "2 3 4" $raw
     bits rbf-dvr-inside $R "3" "$dir/terms.rbf" $inside
+    bits mol-dvr-bands $P "4" "$dir/mol.pdb" --bands 7 $ortho
+    near=0.0051 # dvr by binary swap: within the over's round-off (2e-5)
+    bits raw-dvr-swap $P "2 4" $raw --composite swap
     near=
     # the canonical order off under mpirun: some image of three differs from one process's
     differ=0

@@ -1,8 +1,8 @@
 /* lc_mpi_render under mpiexec -np K (tests/meson.build runs K = 1..4):
- * rank 0 compares the composited image with its own lc_render of the same
- * desc: mip, iso and slice to the bit, dvr within float round-off of the
- * "over" (2e-5) with alpha_stop = 1 and within 1 - alpha_stop with the
- * default, for particles, a grid and an RBF set, four views (outside, eye
+ * the root (rank 0, 1, ...) compares the composited image with its own
+ * lc_render of the same desc: mip, iso and slice to the bit; dvr by the
+ * chain to the bit with alpha_stop = 1, by binary swap within float
+ * round-off of the "over" (2e-5), and within 1 - alpha_stop with 0.97, for particles, a grid and an RBF set, four views (outside, eye
  * inside, orthographic, along an axis); particles fewer than the ranks
  * (ranks with no data), 1x1 and 13x7 images; a bad desc on one rank makes
  * every rank fail with that rank's message. */
@@ -17,23 +17,45 @@
 
 static int rank, nranks;
 
+/* One render on MPI_COMM_WORLD against lc_render on the root. dvr twice:
+ * by the chain (bands of the default count or 5; to the bit with
+ * alpha_stop 1) and by binary swap (within the round-off of the "over"). */
 static void compare(lc_device *dev, const char *kind, const lc_volume *v, const lc_tf *tf, lc_mode mode, int vi,
                     float alpha_stop, int w, int h, float iso)
 {
     lc_render_desc d = dp_desc(v, tf, mode, vi, alpha_stop, w, h, iso);
     size_t np = (size_t)w * (size_t)h;
-    float *got = rank == 0 ? malloc(sizeof(float) * 4 * np) : NULL, *want = malloc(sizeof(float) * 4 * np);
-    char label[160];
-    snprintf(label, sizeof label, "%s-%s-%s-a%g-np%d-%dx%d", kind, dp_mode_names[mode], dp_view_names[vi],
-             (double)alpha_stop, nranks, w, h);
-    lc_mpi_stats st;
-    lc_status s = lc_mpi_render(dev, MPI_COMM_WORLD, 0, &d, got, &st);
-    CHECK_QUIET(s == LC_OK, "%s: %s", label, lc_device_last_error(dev));
-    if (rank == 0 && s == LC_OK) {
-        lc_render(dev, &d, want, NULL);
-        dp_check_image(label, got, want, &d);
+    int root = vi % nranks; /* the root first, last or inside the visibility order */
+    float *got = rank == root ? malloc(sizeof(float) * 4 * np) : NULL, *want = malloc(sizeof(float) * 4 * np);
+    for (int way = 0; way < (mode == LC_MODE_DVR ? 2 : 1); way++) {
+        lc_mpi_options o = {way == 0 ? LC_MPI_AUTO : LC_MPI_SWAP, vi % 2 ? 0 : 5};
+        char label[160];
+        snprintf(label, sizeof label, "%s-%s-%s-a%g-np%d-%dx%d-%s", kind, dp_mode_names[mode], dp_view_names[vi],
+                 (double)alpha_stop, nranks, w, h, way ? "swap" : "auto");
+        lc_mpi_stats st;
+        lc_status s = lc_mpi_render_with(dev, MPI_COMM_WORLD, root, &d, &o, got, &st);
+        CHECK_QUIET(s == LC_OK, "%s: %s", label, lc_device_last_error(dev));
+        CHECK_QUIET(s != LC_OK || st.chain == (mode == LC_MODE_DVR && way == 0), "%s: chain %d", label, st.chain);
+        if (rank == root && s == LC_OK) {
+            lc_render(dev, &d, want, NULL);
+            if (st.chain && alpha_stop == 1.0f) {
+                double e = 0.0;
+                for (size_t i = 0; i < 4 * np; i++) e = fmax(e, fabs((double)got[i] - (double)want[i]));
+                CHECK_QUIET(!memcmp(got, want, sizeof(float) * 4 * np), "%s: not one process's bits (max |diff| %.3g)",
+                            label, e);
+            } else {
+                dp_check_image(label, got, want, &d);
+            }
+        }
     }
     free(got), free(want);
+}
+
+/* Cancels from its third call on: after the chain's first bands. */
+static int cancel_later(void *user)
+{
+    int *calls = user;
+    return ++*calls > 2;
 }
 
 int main(int argc, char **argv)
@@ -90,6 +112,19 @@ int main(int argc, char **argv)
                                    : strncmp(lc_device_last_error(dev), want, strlen(want)) == 0;
     CHECK(s == LC_ERROR_INVALID_ARGUMENT && named, "rank %d: a bad width on rank %d fails here too: %s", rank,
           nranks - 1, lc_device_last_error(dev));
+    /* a cancel on one rank in the middle of the chain: every rank returns, none waits */
+    for (int who = 0; who < nranks; who++) {
+        lc_render_desc dc = dp_desc(gv, tf1, LC_MODE_DVR, 0, 1.0f, 32, 24, 0.0f);
+        int calls = 0;
+        dc.cancel = rank == who ? cancel_later : NULL, dc.cancel_user = &calls;
+        float *cimg = malloc(sizeof(float) * 4 * 32 * 24);
+        lc_mpi_options o = {LC_MPI_CHAIN, 6};
+        s = lc_mpi_render_with(dev, MPI_COMM_WORLD, 0, &dc, &o, cimg, NULL);
+        CHECK_QUIET(s == LC_CANCELLED, "rank %d: a cancel on rank %d in the chain gives LC_CANCELLED here too (%d): %s", rank,
+                    who, (int)s, lc_device_last_error(dev));
+        free(cimg);
+    }
+    if (rank == 0) CHECK(check_failures == before, "np %d: a cancel on any rank during the chain's bands ends every rank", nranks);
     /* a bad root is refused on every rank without a collective */
     s = lc_mpi_render(dev, MPI_COMM_WORLD, nranks, &bad, img, NULL);
     CHECK(s == LC_ERROR_INVALID_ARGUMENT, "rank %d: root %d refused: %s", rank, nranks, lc_device_last_error(dev));

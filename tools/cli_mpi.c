@@ -110,7 +110,8 @@ static void print_ranks(const lc_mpi_stats *m)
     MPI_Gather(mine, NSTAT, MPI_DOUBLE, all, NSTAT, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     if (myrank != 0) return;
     if (!all) return;
-    printf("mpi           %d ranks, render imbalance %.3f (max / mean render time %.4f / %.4f s)\n", nranks,
+    printf("mpi           %d ranks, %s, render imbalance %.3f (max / mean render time %.4f / %.4f s)\n", nranks,
+           m->chain ? "the chain (dvr to the bit; rounds = bands)" : "binary swap",
            m->render_mean > 0.0 ? m->render_max / m->render_mean : 1.0, m->render_max, m->render_mean);
     printf("rank region     weight   render_s  composite_s      bytes  messages  rounds    samples  peak_MB\n");
     for (int r = 0; r < nranks; r++) {
@@ -122,18 +123,20 @@ static void print_ranks(const lc_mpi_stats *m)
 }
 #endif
 
-lc_status cli_mpi_render(lc_device *dev, const lc_render_desc *d, float *rgba, int stats, lc_render_stats *st)
+lc_status cli_mpi_render(lc_device *dev, const lc_render_desc *d, int composite, int bands, float *rgba, int stats,
+                         lc_render_stats *st)
 {
 #if LC_HAVE_MPI
     lc_mpi_stats m;
-    lc_status s = lc_mpi_render(dev, MPI_COMM_WORLD, 0, d, rgba, &m);
+    lc_mpi_options o = {(lc_mpi_compositing)composite, bands};
+    lc_status s = lc_mpi_render_with(dev, MPI_COMM_WORLD, 0, d, &o, rgba, &m);
     agreed_failure |= s != LC_OK;
     *st = m.render;
     st->seconds = m.render_seconds + m.composite_seconds;
     if (s == LC_OK && stats) print_ranks(&m);
     return s;
 #else
-    (void)stats;
+    (void)stats, (void)composite, (void)bands;
     return lc_render(dev, d, rgba, st);
 #endif
 }

@@ -30,6 +30,7 @@ lc_status cli_mpi_load(lc_device *dev, const char *path, const lc_load_desc *ld,
  * line per rank: its region, weight, render and composite seconds, bytes
  * and messages sent, compositing steps, samples, its peak resident memory
  * (getrusage ru_maxrss, MB) and the imbalance. */
-lc_status cli_mpi_render(lc_device *dev, const lc_render_desc *d, float *rgba, int stats, lc_render_stats *st);
+lc_status cli_mpi_render(lc_device *dev, const lc_render_desc *d, int composite, int bands, float *rgba, int stats,
+                         lc_render_stats *st);
 
 #endif

@@ -290,7 +290,7 @@ static lc_status render_one(ropts *o, lc_device *dev, int demo, const cli_kind *
         o->rd.volume = rs.grid ? rs.grid : vol;
         o->rd.tf = rs.tf ? rs.tf : *tf;
         lc_render_stats st;
-        if (s == LC_OK) s = cli_mpi_ranks() > 1 ? cli_mpi_render(dev, &o->rd, rgba, o->stats, &st) : lc_render(dev, &o->rd, rgba, &st);
+        if (s == LC_OK) s = cli_mpi_ranks() > 1 ? cli_mpi_render(dev, &o->rd, o->composite, o->bands, rgba, o->stats, &st) : lc_render(dev, &o->rd, rgba, &st);
         progress_clear(&ps);
         o->rd.camera = given;
         lc_image_desc id = {o->rd.width, o->rd.height, rgba, o->background, o->alpha};

@@ -100,7 +100,13 @@ static const char render_help[] =
     "                        targets); avx512_8 = AVX-512 instructions at 8 lanes, for width studies\n"
     "  --threads N           worker threads (default: all CPUs)\n"
     "  --tile N              tile side in pixels (default 32)\n"
-    "  --stats               print load, build and render times and counters\n"
+    "  --stats               print load, build and render times and counters (under mpirun: per rank)\n"
+    "  --composite C         under mpirun, how dvr regions become one image: chain (the default) hands\n"
+    "                        the image from rank to rank in visibility order and each rank's rays go\n"
+    "                        on from what the ranks in front left: one process's image to the bit;\n"
+    "                        swap blends each region alone, then binary swap (fewer bytes a rank,\n"
+    "                        no fill time; round-off of the \"over\", ~1e-5). mip, iso, slice: swap\n"
+    "  --bands N             the chain's bands of rows (default max(16, 4 x ranks))\n"
     "  --progress            progress on stderr, one line updated in place, for reading (a bar:\n"
     "                        the part of the file read), BVH builds (elapsed time) and renders\n"
     "                        (a bar) that take over a second\n"
@@ -265,7 +271,8 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
     }
     static const char *const flags[] = {"--tf",     "--tau",    "--range",   "--dt",   "--alpha-stop", "--method",
                                         "--packet", "--target", "--threads", "--tile", "--mode",       "--colormap",
-                                        "--opacity", "--iso",   "--plane",   "--field", "--lighting"};
+                                        "--opacity", "--iso",   "--plane",   "--field", "--lighting", "--composite",
+                                        "--bands"};
     int known = 0;
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++) known |= !strcmp(a, flags[k]);
     if (!known) return 0;
@@ -297,6 +304,14 @@ static int parse_render(ropts *o, int argc, char **argv, int *i)
     if (!strcmp(a, "--packet")) return arg_int(o->cmd, a, v, 1, 64, &o->rd.packet) ? -1 : 1;
     if (!strcmp(a, "--threads")) return arg_int(o->cmd, a, v, 1, 1024, &o->threads) ? -1 : 1;
     if (!strcmp(a, "--tile")) return arg_int(o->cmd, a, v, 1, 4096, &o->rd.tile) ? -1 : 1;
+    if (!strcmp(a, "--bands")) return arg_int(o->cmd, a, v, 1, 1 << 20, &o->bands) ? -1 : 1;
+    if (!strcmp(a, "--composite")) {
+        static const char *const ways[] = {"auto", "chain", "swap"};
+        for (int k = 0; k < 3; k++)
+            if (!strcmp(v, ways[k])) return o->composite = k, 1;
+        fprintf(stderr, "%s: --composite: '%s' is not chain, swap or auto\n", o->cmd, v);
+        return -1;
+    }
     if (!strcmp(a, "--mode")) {
         if (!strcmp(v, "dvr")) o->rd.mode = LC_MODE_DVR;
         else if (!strcmp(v, "mip")) o->rd.mode = LC_MODE_MIP;

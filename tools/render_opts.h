@@ -35,6 +35,7 @@ typedef struct ropts {
     int camera_set, view_set;
     lc_vec3 background;
     int alpha, stats, quiet, progress;
+    int composite, bands;   /* under mpirun: --composite (0 auto, 1 chain, 2 swap: lc_mpi_compositing), --bands */
     /* trajectories: --frame, or --frames first:end:step (end -1 = to the last) */
     int64_t frame, first, end, step;
     int seq;

@@ -40,6 +40,7 @@ typedef struct mpi_run {
     MPI_Comm comm;
     int rank, P, root;
     const lc_render_desc *d;
+    lc_mpi_options opt;
     lci_kdtree tree;
     int *order, *pos_of; /* visibility position -> region (= rank) and back */
     lci_cimage img;
@@ -205,6 +206,15 @@ lc_status lci_mpi_composite(lc_device *dev, MPI_Comm comm, int root, int op, lci
     return s;
 }
 
+/* The render times' mean and maximum over the ranks. */
+static void render_spread(mpi_run *r)
+{
+    double sum = 0.0, mx = 0.0;
+    MPI_Allreduce(&r->st.render_seconds, &sum, 1, MPI_DOUBLE, MPI_SUM, r->comm);
+    MPI_Allreduce(&r->st.render_seconds, &mx, 1, MPI_DOUBLE, MPI_MAX, r->comm);
+    r->st.render_mean = sum / r->P, r->st.render_max = mx;
+}
+
 static lc_status render_and_composite(mpi_run *r, float *rgba)
 {
     lc_device *dev = r->dev;
@@ -225,8 +235,20 @@ static lc_status render_and_composite(mpi_run *r, float *rgba)
         for (int p = 0; p < r->P; p++) r->pos_of[r->order[p]] = p;
         r->st.region = r->rank;
         r->st.region_weight = r->tree.weight[r->rank];
-        s = lci_dp_render_region(dev, d, &r->tree, r->rank, &r->img, &r->st.render);
     }
+    /* what the ranks chose alike (the same desc and options): no collective needed */
+    if (d->mode == LC_MODE_DVR && r->opt.compositing != LC_MPI_SWAP) {
+        s = lc_mpi_agree(dev, r->comm, s);
+        if (s != LC_OK) return s;
+        int bands = r->opt.bands > 0 ? r->opt.bands : r->P * 4 > 16 ? r->P * 4 : 16;
+        bands = bands < d->height ? bands : d->height;
+        r->st.chain = 1;
+        s = lci_mpi_chain(dev, r->comm, r->root, d, &r->tree, r->order, r->pos_of, bands, rgba, &r->st);
+        s = lc_mpi_agree(dev, r->comm, s);
+        render_spread(r);
+        return s;
+    }
+    if (s == LC_OK) s = lci_dp_render_region(dev, d, &r->tree, r->rank, &r->img, &r->st.render);
     int op = lci_dp_op(d);
     if (s == LC_OK) {
         r->cap = lci_cpack_max(r->img.w, r->img.h, op);
@@ -239,15 +261,18 @@ static lc_status render_and_composite(mpi_run *r, float *rgba)
     double t1 = MPI_Wtime();
     s = composite(r, op, rgba);
     r->st.composite_seconds = MPI_Wtime() - t1;
-    double sum = 0.0, mx = 0.0;
-    MPI_Allreduce(&r->st.render_seconds, &sum, 1, MPI_DOUBLE, MPI_SUM, r->comm);
-    MPI_Allreduce(&r->st.render_seconds, &mx, 1, MPI_DOUBLE, MPI_MAX, r->comm);
-    r->st.render_mean = sum / r->P, r->st.render_max = mx;
+    render_spread(r);
     return s;
 }
 
 lc_status lc_mpi_render(lc_device *dev, MPI_Comm comm, int root, const lc_render_desc *desc, float *rgba,
                         lc_mpi_stats *stats)
+{
+    return lc_mpi_render_with(dev, comm, root, desc, NULL, rgba, stats);
+}
+
+lc_status lc_mpi_render_with(lc_device *dev, MPI_Comm comm, int root, const lc_render_desc *desc,
+                             const lc_mpi_options *opts, float *rgba, lc_mpi_stats *stats)
 {
     if (!dev) return lci_error(NULL, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: device is NULL");
     int inited = 0;
@@ -256,6 +281,7 @@ lc_status lc_mpi_render(lc_device *dev, MPI_Comm comm, int root, const lc_render
     mpi_run r;
     memset(&r, 0, sizeof r);
     r.dev = dev, r.d = desc, r.root = root;
+    if (opts) r.opt = *opts;
     if (MPI_Comm_dup(comm, &r.comm) != MPI_SUCCESS)
         return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: MPI_Comm_dup of the communicator failed");
     MPI_Comm_set_errhandler(r.comm, MPI_ERRORS_RETURN);
@@ -268,6 +294,9 @@ lc_status lc_mpi_render(lc_device *dev, MPI_Comm comm, int root, const lc_render
                       root, r.P - 1);
     else if (!desc)
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: desc is NULL");
+    else if (r.opt.compositing < LC_MPI_AUTO || r.opt.compositing > LC_MPI_SWAP || r.opt.bands < 0)
+        s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: options compositing %d, bands %d (expected 0 .. 2, >= 0)",
+                      (int)r.opt.compositing, r.opt.bands);
     /* a bad root is every rank's error alike: no collective needs it */
     if (s == LC_OK) s = render_and_composite(&r, rgba);
     if (stats) *stats = r.st;

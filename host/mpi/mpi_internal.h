@@ -6,6 +6,7 @@
 #include <mpi.h>
 #include <string.h>
 #include "host/mpi/dp.h"
+#include "lanecast/lanecast_mpi.h"
 
 /* What one rank's compositing took, step by step (fold, swap rounds, gather). */
 typedef struct lci_mpi_cstats {
@@ -23,6 +24,13 @@ typedef struct lci_mpi_cstats {
  * cs may be NULL. */
 lc_status lci_mpi_composite(lc_device *dev, MPI_Comm comm, int root, int op, lci_cimage *img, const int *order,
                             float *rgba, lci_mpi_cstats *cs);
+
+/* The chain (host/mpi/chain.c): desc (dvr) rendered by regions of t, the
+ * image handed from rank to rank in visibility order `order` (pos_of: its
+ * inverse) in `bands` bands of rows; rank root gets it in rgba. Fills st's
+ * render and message fields. Collective. */
+lc_status lci_mpi_chain(lc_device *dev, MPI_Comm comm, int root, const lc_render_desc *d, const lci_kdtree *t,
+                        const int *order, const int *pos_of, int bands, float *rgba, lc_mpi_stats *st);
 
 /* lc_mpi_volume_load of a particle file (host/mpi/mpi_pload.c): this
  * rank's part (dp.h "Particle parts"). Collective. */

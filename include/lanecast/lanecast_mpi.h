@@ -8,10 +8,10 @@
  * samples of the global eye-anchored lattice inside its region (SPEC.md
  * "Regions"); the images are composited front to back in the kd-tree's
  * order from the eye (premultiplied float RGBA "over" for dvr, the nearest
- * depth for mip, iso and slice) by binary swap with folding, and rank
- * `root` gets the image: the one a single process renders, up to float
- * round-off of the "over" (below 1e-5 per channel in the tests; mip, iso and
- * slice to the bit).
+ * depth for mip, iso and slice) by binary swap with folding, or for dvr by
+ * the chain (lc_mpi_compositing), and rank `root` gets the image: the one a
+ * single process renders, to the bit (by binary swap, dvr up to the float
+ * round-off of the "over").
  *
  * lanecast never calls MPI_Init: the caller initialises MPI (MPI_THREAD_FUNNELED
  * is enough: only the calling thread talks MPI). The communicator is
@@ -37,18 +37,40 @@ typedef struct lc_mpi_stats {
     int region;              /* the kd-tree region this rank rendered (= rank) */
     uint64_t region_weight;  /* particles, RBF terms or voxels the region holds */
     double render_seconds;   /* its region's render */
-    double composite_seconds; /* binary swap and the gather to root */
+    double composite_seconds; /* binary swap and the gather to root (the chain: its messages and waits) */
     uint64_t bytes_sent, messages_sent;
-    int rounds;              /* compositing steps (fold, swap rounds, gather) */
+    int rounds;              /* compositing steps (fold, swap rounds, gather; the chain: its bands) */
+    int chain;               /* 1: dvr went by the chain (LC_MPI_CHAIN), 0: by binary swap */
     double render_max, render_mean; /* over ranks; imbalance = render_max / render_mean */
     lc_render_stats render;  /* the region render's counters */
 } lc_mpi_stats;
 
+/* How the regions' dvr images become one. */
+typedef enum lc_mpi_compositing {
+    LC_MPI_AUTO = 0,  /* the chain for dvr; mip, iso and slice by binary swap (exact for them) */
+    LC_MPI_CHAIN = 1, /* dvr: the image goes from rank to rank in visibility order in bands of
+                         rows and each rank's rays go on from the (C, A) the ranks in front of it
+                         left: one process's image to the bit. Each rank sends the whole image
+                         once; the chain fills in P - 1 band times */
+    LC_MPI_SWAP = 2   /* each region's segments blended alone, then "over" by binary swap with
+                         folding: S (1 - 1/P) bytes a rank, within the float round-off of the
+                         "over" of one process's image (below 1e-5 per channel in the tests) */
+} lc_mpi_compositing;
+
+typedef struct lc_mpi_options {
+    lc_mpi_compositing compositing;
+    int bands; /* the chain's bands of rows; 0: max(16, 4 P), at most the image's height */
+} lc_mpi_options;
+
 /* Renders desc (pixel_scale 0 or 1) data-parallel over comm; rgba (width *
  * height * 4 floats, premultiplied, as lc_render) is written on rank root
- * only and may be NULL elsewhere. stats may be NULL. Opaque particle spheres
- * and grids' differential sampling leave the lattice and are refused
+ * only and may be NULL elsewhere. opts may be NULL (LC_MPI_AUTO); every
+ * rank passes the same. stats may be NULL. Opaque particle spheres and
+ * grids' differential sampling leave the lattice and are refused
  * (LC_ERROR_UNSUPPORTED). */
+LC_API lc_status lc_mpi_render_with(lc_device *device, MPI_Comm comm, int root, const lc_render_desc *desc,
+                                    const lc_mpi_options *opts, float *rgba, lc_mpi_stats *stats);
+/* lc_mpi_render_with(device, comm, root, desc, NULL, rgba, stats). */
 LC_API lc_status lc_mpi_render(lc_device *device, MPI_Comm comm, int root, const lc_render_desc *desc, float *rgba,
                                lc_mpi_stats *stats);
 
