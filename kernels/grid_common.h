@@ -114,8 +114,9 @@ static inline __attribute__((always_inline)) void grid_packlet_init(const lc_kgr
     grid_lattice(g, f->dt, t0, t1, &p->knext, &p->klast);
     dvr_region(f, &p->ray, mode_pairs(f), &p->knext, &p->klast);
     vmask in = vm_and(vi_lt(p->px, vi_set1(t->x1)), vi_lt(p->py, vi_set1(t->y1)));
-    p->live = vm_and(in, vm_not(vi_gt(p->knext, p->klast)));
     p->c = dvr_start(t, x, y); /* zero unless the tile carries (C, A) in */
+    /* a carried-in ray may have stopped already */
+    p->live = vm_and(vm_and(in, vm_not(vi_gt(p->knext, p->klast))), grid_below_stop(p->c.a, vf_set1(f->alpha_stop)));
     p->prev = vf_zero();
     p->kprev = vi_set1(-2);
     p->pa = vi_set1(1);

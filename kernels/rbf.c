@@ -106,7 +106,7 @@ static inline __attribute__((always_inline)) void render_tile_as(const lc_krbf *
                 k0 = vi_lane(kf, l) < k0 ? vi_lane(kf, l) : k0;
                 k1 = vi_lane(kl, l) > k1 ? vi_lane(kl, l) : k1;
             }
-            vmask live = vi_lt(kf, vi_add(kl, vi_set1(1)));
+            vmask live = vm_and(vi_lt(kf, vi_add(kl, vi_set1(1))), vf_lt(col.a, vf_set1(f->alpha_stop))); /* a carried-in ray may have stopped already */
             for (int k = k0; k <= k1; k++) {
                 vmask m = vm_and(live, vm_and(vi_lt(kf, vi_set1(k + 1)), vi_gt(kl, vi_set1(k - 1))));
                 if (vm_none(m)) continue;

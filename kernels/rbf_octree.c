@@ -195,7 +195,7 @@ static inline __attribute__((always_inline)) void octree_tile(const lc_krbf *s, 
                 k0 = kfa[l] < k0 ? kfa[l] : k0;
                 k1 = kla[l] > k1 ? kla[l] : k1;
             }
-            vmask live = vi_lt(kf, vi_add(kl, vi_set1(1)));
+            vmask live = vm_and(vi_lt(kf, vi_add(kl, vi_set1(1))), vf_lt(col.a, vf_set1(f->alpha_stop))); /* a carried-in ray may have stopped already */
             int len = CHUNK_MIN;
             for (int kc = k0; kc <= k1 && vm_any(live); kc += len, len = len < CHUNK_MAX ? 2 * len : CHUNK_MAX) {
                 const int ke = kc + len - 1 < k1 ? kc + len - 1 : k1;
