@@ -51,10 +51,12 @@ static int pixel_empty(const lci_cimage *img, int op, size_t i)
     return c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f && c[3] == 0.0f;
 }
 
-void lci_cimage_rect(lci_cimage *img, int op)
+void lci_cimage_rect(lci_cimage *img, int op) { lci_cimage_rect_rows(img, op, 0, img->h); }
+
+void lci_cimage_rect_rows(lci_cimage *img, int op, int r0, int r1)
 {
     int x0 = img->w, y0 = img->h, x1 = 0, y1 = 0;
-    for (int y = 0; y < img->h; y++) {
+    for (int y = r0; y < r1; y++) {
         for (int x = 0; x < img->w; x++) {
             if (pixel_empty(img, op, (size_t)y * (size_t)img->w + (size_t)x)) continue;
             if (x < x0) x0 = x;

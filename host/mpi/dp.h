@@ -85,8 +85,10 @@ typedef struct lci_cimage {
     int rect[4];
 } lci_cimage;
 
-/* Sets img->rect to the bounding rectangle of its non-empty pixels. */
+/* Sets img->rect to the bounding rectangle of its non-empty pixels (of
+ * rows [r0, r1) only). */
 void lci_cimage_rect(lci_cimage *img, int op);
+void lci_cimage_rect_rows(lci_cimage *img, int op, int r0, int r1);
 
 /* One step of the schedule for the rank at visibility position pos of P:
  * SEND: send rows [y0, y1) to partner (then, for FOLD, stop); RECV_BLEND: receive
