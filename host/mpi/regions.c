@@ -110,31 +110,46 @@ lc_status lci_dp_render_region(lc_device *dev, const lc_render_desc *d, const lc
     return LC_OK;
 }
 
+/* A region render's counters added to *a (the target and threads: the last's). */
+static void stats_add(lc_render_stats *a, const lc_render_stats *b)
+{
+    a->rays += b->rays, a->samples += b->samples, a->kernel_evals += b->kernel_evals;
+    a->nodes += b->nodes, a->leaves += b->leaves, a->passes += b->passes;
+    a->seconds += b->seconds, a->target = b->target, a->threads = b->threads;
+}
+
+/* The P regions of desc and their visibility order (malloc'ed), for the
+ * renders in one process below. */
+static lc_status local_plan(lc_device *dev, const lc_render_desc *d, int P, lci_kdtree *t, int **order)
+{
+    *order = NULL;
+    lc_status s = lci_dp_partition(dev, d, P, t);
+    if (s != LC_OK) return s;
+    lc_kcamera cam;
+    s = lci_dp_camera(dev, d, &cam);
+    if (s == LC_OK && !(*order = malloc(sizeof(int) * (size_t)P)))
+        s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel render: out of memory");
+    if (s == LC_OK) lci_kd_order(t, &cam, *order);
+    if (s != LC_OK) lci_kd_release(t);
+    return s;
+}
+
 lc_status lci_dp_render_local(lc_device *dev, const lc_render_desc *d, int P, float *rgba, lc_render_stats *stats,
                               uint64_t *region_samples)
 {
     lci_kdtree t;
-    lc_status s = lci_dp_partition(dev, d, P, &t);
+    int *order;
+    lc_status s = local_plan(dev, d, P, &t, &order);
     if (s != LC_OK) return s;
-    lc_kcamera cam;
-    s = lci_dp_camera(dev, d, &cam);
-    int *order = malloc(sizeof(int) * (size_t)P);
     lci_cimage *imgs = calloc((size_t)P, sizeof *imgs);
-    if (s == LC_OK && (!order || !imgs)) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel render: out of memory");
+    if (!imgs) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel render: out of memory");
     if (stats) memset(stats, 0, sizeof *stats);
-    if (s == LC_OK) {
-        lci_kd_order(&t, &cam, order);
-        for (int i = 0; i < P && s == LC_OK; i++) {
-            lc_render_stats rs;
-            s = lci_dp_render_region(dev, d, &t, order[i], &imgs[i], &rs);
-            if (s != LC_OK) break;
-            if (region_samples) region_samples[order[i]] = rs.samples;
-            if (stats) {
-                stats->rays += rs.rays, stats->samples += rs.samples, stats->kernel_evals += rs.kernel_evals;
-                stats->nodes += rs.nodes, stats->leaves += rs.leaves, stats->passes += rs.passes;
-                stats->seconds += rs.seconds, stats->target = rs.target, stats->threads = rs.threads;
-            }
-        }
+    for (int i = 0; i < P && s == LC_OK; i++) {
+        lc_render_stats rs;
+        s = lci_dp_render_region(dev, d, &t, order[i], &imgs[i], &rs);
+        if (s != LC_OK) break;
+        if (region_samples) region_samples[order[i]] = rs.samples;
+        if (stats) stats_add(stats, &rs);
     }
     if (s == LC_OK) s = lci_dp_composite_local(dev, P, imgs, lci_dp_op(d), rgba, NULL, NULL, NULL);
     for (int i = 0; imgs && i < P; i++) lci_cimage_free(&imgs[i]);
@@ -196,32 +211,22 @@ lc_status lci_dp_render_chain(lc_device *dev, const lc_render_desc *d, int P, in
                               lc_render_stats *stats, uint64_t *region_samples)
 {
     lci_kdtree t;
-    lc_status s = lci_dp_partition(dev, d, P, &t);
+    int *order;
+    lc_status s = local_plan(dev, d, P, &t, &order);
     if (s != LC_OK) return s;
-    lc_kcamera cam;
-    s = lci_dp_camera(dev, d, &cam);
-    int *order = malloc(sizeof(int) * (size_t)P);
     lci_dp_chain *c = calloc((size_t)P, sizeof *c);
-    if (s == LC_OK && (!order || !c)) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel render: out of memory");
-    if (s == LC_OK) {
-        memset(rgba, 0, sizeof(float) * 4 * (size_t)d->width * (size_t)d->height);
-        lci_kd_order(&t, &cam, order);
-        for (int i = 0; i < P && s == LC_OK; i++) s = lci_dp_chain_begin(dev, d, &t, order[i], &c[i]);
-        /* band by band, each through the regions in order: what the ranks do */
-        for (int b = 0; b < bands && s == LC_OK; b++) {
-            int y0 = lci_dp_band_row(d->height, bands, b), y1 = lci_dp_band_row(d->height, bands, b + 1);
-            for (int i = 0; i < P && s == LC_OK; i++) s = lci_dp_chain_rows(dev, &c[i], d, rgba, y0, y1);
-        }
+    if (!c) s = lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "data-parallel render: out of memory");
+    if (s == LC_OK) memset(rgba, 0, sizeof(float) * 4 * (size_t)d->width * (size_t)d->height);
+    for (int i = 0; i < P && s == LC_OK; i++) s = lci_dp_chain_begin(dev, d, &t, order[i], &c[i]);
+    /* band by band, each through the regions in order: what the ranks do */
+    for (int b = 0; b < bands && s == LC_OK; b++) {
+        int y0 = lci_dp_band_row(d->height, bands, b), y1 = lci_dp_band_row(d->height, bands, b + 1);
+        for (int i = 0; i < P && s == LC_OK; i++) s = lci_dp_chain_rows(dev, &c[i], d, rgba, y0, y1);
     }
     if (stats) memset(stats, 0, sizeof *stats);
     for (int i = 0; c && i < P; i++) {
         if (s == LC_OK && region_samples) region_samples[order[i]] = c[i].stats.samples;
-        if (s == LC_OK && stats) {
-            lc_render_stats *a = stats, *b = &c[i].stats;
-            a->rays += b->rays, a->samples += b->samples, a->kernel_evals += b->kernel_evals;
-            a->nodes += b->nodes, a->leaves += b->leaves, a->passes += b->passes;
-            a->seconds += b->seconds, a->target = b->target, a->threads = b->threads;
-        }
+        if (s == LC_OK && stats) stats_add(stats, &c[i].stats);
         lci_dp_chain_end(&c[i]);
     }
     free(c);
