@@ -242,6 +242,7 @@ static lc_status render_and_composite(mpi_run *r, float *rgba)
         if (s != LC_OK) return s;
         int bands = r->opt.bands > 0 ? r->opt.bands : r->P * 4 > 16 ? r->P * 4 : 16;
         bands = bands < d->height ? bands : d->height;
+        bands = bands < 4096 ? bands : 4096; /* 4 tags a band stay below MPI's least MPI_TAG_UB, 32767 */
         r->st.chain = 1;
         s = lci_mpi_chain(dev, r->comm, r->root, d, &r->tree, r->order, r->pos_of, bands, rgba, &r->st);
         s = lc_mpi_agree(dev, r->comm, s);

@@ -59,7 +59,7 @@ typedef enum lc_mpi_compositing {
 
 typedef struct lc_mpi_options {
     lc_mpi_compositing compositing;
-    int bands; /* the chain's bands of rows; 0: max(16, 4 P), at most the image's height */
+    int bands; /* the chain's bands of rows; 0: max(16, 4 P); at most the image's height and 4096 */
 } lc_mpi_options;
 
 /* Renders desc (pixel_scale 0 or 1) data-parallel over comm; rgba (width *
