@@ -319,5 +319,20 @@ int main(void)
     test_counts(dev);
     test_kinds(dev);
     lc_device_destroy(dev);
+    /* the kinds' region and chain renders on every other target this CPU runs (the carry-in is per target) */
+    lc_device_desc dd = {.threads = 2};
+    lc_device_create(&dd, &dev);
+    lc_target best = LC_TARGET_AUTO;
+    lc_device_target(dev, &best);
+    lc_device_destroy(dev);
+    for (int t = LC_TARGET_SCALAR; t < LC_TARGET_COUNT; t++) {
+        if (t == (int)best || !lc_target_compiled((lc_target)t) || !lc_target_supported((lc_target)t)) continue;
+        dd.target = (lc_target)t;
+        if (lc_device_create(&dd, &dev) != LC_OK) continue;
+        int before = check_failures;
+        test_kinds(dev);
+        CHECK(check_failures == before, "target %s: the kinds' regions and chains", lc_target_name((lc_target)t));
+        lc_device_destroy(dev);
+    }
     return check_summary("test_dp");
 }
