@@ -197,6 +197,13 @@ static lci_pbvh_builder env_builder(lci_pbvh_builder b)
     return !strcmp(e, "embree") ? LCI_PBVH_EMBREE : !strcmp(e, "sah") ? LCI_PBVH_SAH : b;
 }
 
+int lci_pbvh_canonical(int canonical_order)
+{
+    if (canonical_order != 0) return canonical_order > 0;
+    const char *e = getenv("LANECAST_PBVH_BUILDER");
+    return !(e && (!strcmp(e, "embree") || !strcmp(e, "sah")));
+}
+
 int lci_pbvh_check_size(size_t n, int leaf_size, char *err, size_t errlen)
 {
     if (n > (size_t)INT32_MAX / 2 || leaf_size < 1 || leaf_size > 32) {

@@ -1,6 +1,7 @@
-/* The particle BVH as flat lc_kpnode arrays: Embree's rtcBuildBVH (MEDIUM)
- * by default; the own binned SAH builder (bvh/particle_bvh_sah.c) for A/B
- * runs (bvh/particle_bvh.c). */
+/* The particle BVH as flat lc_kpnode arrays: the canonical build
+ * (bvh/particle_bvh_canon.c) by default, Embree's rtcBuildBVH (MEDIUM) when
+ * a set asks for it, the own binned SAH builder (bvh/particle_bvh_sah.c)
+ * for A/B runs (bvh/particle_bvh.c). */
 #ifndef LC_PARTICLE_BVH_H
 #define LC_PARTICLE_BVH_H
 
@@ -58,6 +59,11 @@ typedef struct lci_pbvh_keys {
  * set bit for bit). Returns 0, else writes a message into err. */
 int lci_pbvh_build_canonical(const float *xyz, const float *r, float r_all, size_t n, int leaf_size,
                              const lci_pbvh_keys *keys, lci_pbvh *out, char *err, size_t errlen);
+/* 1 when a set's canonical_order (lc_particles_desc, lc_rbf_desc: 1 or -1,
+ * 0 the default) means the canonical build: 1, or 0 unless
+ * LANECAST_PBVH_BUILDER names embree or sah (A/B runs: lanecast bench
+ * --builders). Else lci_pbvh_build (Embree's, or the variable's builder). */
+int lci_pbvh_canonical(int canonical_order);
 void lci_pbvh_free(lci_pbvh *b);
 
 #endif

@@ -88,6 +88,8 @@ lc_status lci_option_float(lc_device *dev, const char *file, const lc_option *o,
 /* n comma-separated floats or ints */
 lc_status lci_option_floats(lc_device *dev, const char *file, const lc_option *o, int n, float *out);
 lc_status lci_option_ints(lc_device *dev, const char *file, const lc_option *o, int n, int lo, int hi, int *out);
+/* The load option canonical_order, 0 or 1, as the descs' canonical_order: 1, or -1 for 0 */
+lc_status lci_option_order(lc_device *dev, const char *file, const lc_option *o, int *out);
 /* An integer knob from the environment (tests and A/B runs, e.g.
  * LANECAST_PARTICLE_SKIP): its value when set to a whole number in [lo, hi],
  * else unset. */

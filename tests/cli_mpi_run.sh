@@ -2,11 +2,10 @@
 # skips without mpiexec, makes $dir (removed on exit) and defines
 # run K NAME EXT ARGS...: one process and K ranks render ARGS (default size
 # 40x30) and the files must be the same bytes; sets fail=1 otherwise.
-# bits NAME FLAG KS ARGS...: one process with FLAG 1 (--canonical-order 1)
-# renders ARGS (40x30, --alpha-stop 1) once as a float EXR, mpiexec -np K for
+# bits NAME KS ARGS...: one process renders ARGS (40x30, --alpha-stop 1) once
+# as a float EXR with its defaults (the canonical BVH), mpiexec -np K for
 # each K in KS too, and each K's image must be the one process's exactly
 # (view_imgcmp exact, $imgcmp), or with near=D set within D 8-bit steps.
-# -np 1 renders as one process does, so K = 1 gets FLAG 1 as well.
 if [ -z "$mpiexec" ]; then
     echo "mpiexec not found (Debian: openmpi-bin): skipped"
     exit 77
@@ -28,16 +27,14 @@ run() {
     fi
 }
 bits() {
-    name=$1 flag=$2 ks=$3
-    shift 3
+    name=$1 ks=$2
+    shift 2
     set -- --size 40x30 --alpha-stop 1 "$@"
     how=exact
     [ -n "${near:-}" ] && how="max=$near"
-    "$exe" render "$@" "$flag" 1 --threads 1 --quiet -o "$dir/one-$name.exr" 2> "$dir/err1" || true
+    "$exe" render "$@" --threads 1 --quiet -o "$dir/one-$name.exr" 2> "$dir/err1" || true
     for k in $ks; do
-        one=
-        [ "$k" = 1 ] && one="$flag 1"
-        if timeout 60 "$mpiexec" --oversubscribe -np "$k" "$exe" render "$@" $one --threads 1 --quiet \
+        if timeout 60 "$mpiexec" --oversubscribe -np "$k" "$exe" render "$@" --threads 1 --quiet \
             -o "$dir/np$k-$name.exr" 2> "$dir/err" &&
             "$imgcmp" "$dir/np$k-$name.exr" "$dir/one-$name.exr" "$how" > "$dir/cmp" 2>&1; then
             echo "ok   np $k $name ($how)"

@@ -9,9 +9,9 @@
 # rank 0 writes equals the one-process PNG byte for byte (dvr with alpha_stop
 # 1 differs from one process by float round-off, far below an 8-bit step).
 # Float images (EXR, view_imgcmp exact; with the argument bits, test
-# cli_mpi_bits): the parts' BVHs are in the canonical order by default under
-# mpirun, so against one process with --canonical-order 1 (RBF:
-# --rbf-canonical-order 1) mip, iso and slice images are the same floats at
+# cli_mpi_bits): the parts' BVHs are in the canonical order, as one process's
+# by default, so against one process with its defaults mip, iso and slice
+# images are the same floats at
 # K = 1..4 (a PDB molecule, raw particles, GADGET with k-nearest radii, an
 # RBF set; eye inside the data, orthographic), dvr too by the chain (the
 # default), by binary swap (--composite swap) within the "over"
@@ -73,29 +73,29 @@ prun() { # K, name, args...: as run, dvr without early termination
     run "$k" "$name" png --alpha-stop 1 "$@"
 }
 raw="$dir/pts.f32 --raw-particles 3000 --radius 0.05"
-P=--canonical-order R=--rbf-canonical-order
+P=--canonical-order
 inside="--eye 0.1,0.05,0.0 --at 1,0.6,-0.4 --fov 70"
 ortho="--eye -6,2,3 --at 0,0,0 --ortho 3"
 if [ "$mode" = bits ]; then
     # bit for bit: K = 1..4 against one process with the canonical order
-    bits mol-mip $P "1 2 3 4" "$dir/mol.pdb" --mode mip
-    bits raw-iso-inside $P "1 2 3 4" $raw --mode iso --iso 0.4 $inside
-    bits raw-mip-ortho $P "1 2 3 4" $raw --mode mip $ortho
-    bits gadget-m4-slice $P "1 2 3 4" "$dir/snap.gadget" --kernel m4 --mode slice --plane 0,0,0.1,0.1,0.2,1 $ortho
-    bits rbf-iso $R "1 2 3 4" "$dir/terms.rbf" --mode iso --iso 0.3 $ortho
-    bits rbf-slice-inside $R "2 4" "$dir/terms.rbf" --mode slice --plane 0.1,0,0,1,0.3,0.2 $inside
+    bits mol-mip "1 2 3 4" "$dir/mol.pdb" --mode mip
+    bits raw-iso-inside "1 2 3 4" $raw --mode iso --iso 0.4 $inside
+    bits raw-mip-ortho "1 2 3 4" $raw --mode mip $ortho
+    bits gadget-m4-slice "1 2 3 4" "$dir/snap.gadget" --kernel m4 --mode slice --plane 0,0,0.1,0.1,0.2,1 $ortho
+    bits rbf-iso "1 2 3 4" "$dir/terms.rbf" --mode iso --iso 0.3 $ortho
+    bits rbf-slice-inside "2 4" "$dir/terms.rbf" --mode slice --plane 0.1,0,0,1,0.3,0.2 $inside
     # dvr by the chain (the default): the same floats too
-    bits raw-dvr $P "2 3 4" $raw
-    bits rbf-dvr-inside $R "3" "$dir/terms.rbf" $inside
-    bits mol-dvr-bands $P "4" "$dir/mol.pdb" --bands 7 $ortho
+    bits raw-dvr "2 3 4" $raw
+    bits rbf-dvr-inside "3" "$dir/terms.rbf" $inside
+    bits mol-dvr-bands "4" "$dir/mol.pdb" --bands 7 $ortho
     near=0.0051 # dvr by binary swap: within the over's round-off (2e-5)
-    bits raw-dvr-swap $P "2 4" $raw --composite swap
+    bits raw-dvr-swap "2 4" $raw --composite swap
     near=
     # the canonical order off under mpirun: some image of three differs from one process's
     differ=0
     for c in "mip $ortho" "slice --plane 0,0,0.1,0.1,0.2,1" "iso --iso 0.4 $inside"; do
         set -- --size 40x30 $raw --mode $c
-        "$exe" render "$@" $P 1 --threads 1 --quiet -o "$dir/off-one.exr" 2> "$dir/err1" || true
+        "$exe" render "$@" --threads 1 --quiet -o "$dir/off-one.exr" 2> "$dir/err1" || true
         timeout 60 "$mpiexec" --oversubscribe -np 3 "$exe" render "$@" $P 0 --threads 1 --quiet \
             -o "$dir/off-np3.exr" 2> "$dir/err" || true
         "$imgcmp" "$dir/off-np3.exr" "$dir/off-one.exr" exact > /dev/null 2>&1 || differ=$((differ + 1))
@@ -152,10 +152,10 @@ PY
     # --normalise under mpirun: the norm weights m / rho go with each particle to the
     # ranks it reaches; the float image of K = 1..3 ranks is the one process's
     # (--canonical-order 1) exactly: the direct method's gathers sum in one order
-    bits norm-m4-slice $P "1 2 3" "$dir/gas.hdf5" --kernel m4 --value InternalEnergy --normalise --mode slice \
+    bits norm-m4-slice "1 2 3" "$dir/gas.hdf5" --kernel m4 --value InternalEnergy --normalise --mode slice \
         --plane 0.3,0.3,0.3,0.2,0.3,1 --size 48x40
     # an SPH snapshot with varying smoothing lengths
-    bits hdf5-m4-iso $P "2 4" "$dir/snap.hdf5" --kernel m4 --mode iso --iso 0.3 $inside
+    bits hdf5-m4-iso "2 4" "$dir/snap.hdf5" --kernel m4 --mode iso --iso 0.3 $inside
 else
     echo "skip hdf5 snapshot (needs python3-h5py and a build with HDF5)"
 fi

@@ -4,7 +4,7 @@
 # (SmoothingLength / HSML radii, the value, masses and densities) each rank
 # reads rows [a, b) of the whole read's order itself.
 # - Float images (EXR, view_imgcmp exact) of K = 1..4 equal one process's
-#   with --canonical-order 1: an HDF5 snapshot of two PartTypes (a share
+#   (its defaults: the canonical BVH): an HDF5 snapshot of two PartTypes (a share
 #   spans both groups) and GADGET format 1 and 2 gas, varying smoothing
 #   lengths, SPH interpolation (k = m / rho * u) and --normalise.
 # - No rank reads the whole file: with LANECAST_TEST_FAULT=whole (rank 0's
@@ -82,19 +82,19 @@ gadget(d + "/gas.gadget", 1, n)
 gadget(d + "/gas2.gadget", 2, n)
 gadget(d + "/lying.gadget", 1, n + 40)  # the header counts 40 gas particles more than the blocks hold
 PY
-P=--canonical-order
+
 inside="--eye 0.3,0.25,0.2 --at 1,0.8,0.6 --fov 70"
 ortho="--eye -3,1.5,2 --at 0.3,0.3,0.3 --ortho 1.5"
 plane="--plane 0.3,0.3,0.3,0.2,0.3,1"
 
 # bit for bit: the shares' images are one process's
-bits h5-two-m4-iso $P "1 2 3 4" "$dir/two.hdf5" --kernel m4 --mode iso --iso 0.3 $ortho
-bits h5-two-u-slice $P "1 2 3 4" "$dir/two.hdf5" --kernel m4 --value u --mode slice $plane $ortho
-bits h5-two-mip-inside $P "2 3" "$dir/two.hdf5" --mode mip $inside
-bits h5-norm-slice $P "2 4" "$dir/two.hdf5" --kernel wendland-c2 --value u --normalise --mode slice $plane
-bits gadget-m4-iso $P "1 2 3 4" "$dir/gas.gadget" --kernel m4 --mode iso --iso 0.3 $ortho
-bits gadget-u-slice $P "1 2 3 4" "$dir/gas.gadget" --kernel m4 --value u --mode slice $plane $ortho
-bits gadget2-norm-slice $P "2 3" "$dir/gas2.gadget" --kernel m4 --value u --normalise --mode slice $plane
+bits h5-two-m4-iso "1 2 3 4" "$dir/two.hdf5" --kernel m4 --mode iso --iso 0.3 $ortho
+bits h5-two-u-slice "1 2 3 4" "$dir/two.hdf5" --kernel m4 --value u --mode slice $plane $ortho
+bits h5-two-mip-inside "2 3" "$dir/two.hdf5" --mode mip $inside
+bits h5-norm-slice "2 4" "$dir/two.hdf5" --kernel wendland-c2 --value u --normalise --mode slice $plane
+bits gadget-m4-iso "1 2 3 4" "$dir/gas.gadget" --kernel m4 --mode iso --iso 0.3 $ortho
+bits gadget-u-slice "1 2 3 4" "$dir/gas.gadget" --kernel m4 --value u --mode slice $plane $ortho
+bits gadget2-norm-slice "2 3" "$dir/gas2.gadget" --kernel m4 --value u --normalise --mode slice $plane
 
 # no rank reads the whole file: rank 0's whole read fails under the fault, the shares do not
 whole() { # NAME EXPECT(ok|fault) FILE ARGS...

@@ -12,8 +12,9 @@
  * (d) a kernel chosen by lc_particles_set_params before the deferred build
  *     reaches the render (iso, direct method, and dvr; values 1 here);
  * (e) an invalid particle dropped (drop_invalid) in both, src order kept;
- * (f) with canonical_order (main's canonical tree, its ties from the kept
- *     arrays): the same BVH and render as an immediate canonical set's. */
+ * (a)-(e) with Embree's build (canonical_order -1); (f) with the canonical
+ *     tree (main's, its ties from the kept arrays): the same BVH and render
+ *     as an immediate canonical set's. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,7 +37,7 @@ static lc_volume *make_c(lc_device *dev, int defer, lc_kernel k, const float *va
 
 static lc_volume *make_v(lc_device *dev, int defer, lc_kernel k, const float *values)
 {
-    return make_c(dev, defer, k, values, 0);
+    return make_c(dev, defer, k, values, -1);
 }
 
 static lc_volume *make(lc_device *dev, int defer, lc_kernel k) { return make_v(dev, defer, k, val); }

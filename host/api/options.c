@@ -99,3 +99,10 @@ long lci_env_long(const char *name, long lo, long hi, long unset)
     long v = strtol(e, &end, 10);
     return *end || v < lo || v > hi ? unset : v;
 }
+
+lc_status lci_option_order(lc_device *dev, const char *file, const lc_option *o, int *out)
+{
+    lc_status s = lci_option_int(dev, file, o, 0, 1, out);
+    if (s == LC_OK && *out == 0) *out = -1;
+    return s;
+}

@@ -468,19 +468,17 @@ static lc_status leaf_order(lc_device *dev, const lc_particles_desc *d, const ke
     return LC_OK;
 }
 
-/* The BVH over the particles in their kept order: Embree's, or with
- * canonical_order the canonical one (bvh/particle_bvh_canon.c) over order_box
- * (all zero: the kept centres' bounds at creation), ties by value, norm weight
- * and field (tie arrays indexed by src[j], or j when src is NULL).
- * LANECAST_PBVH_BUILDER=canonical takes it for every set (A/B runs: lanecast
- * bench). */
+/* The BVH over the particles in their kept order: the canonical one
+ * (bvh/particle_bvh_canon.c) over order_box (all zero: the kept centres'
+ * bounds at creation), ties by value, norm weight and field (tie arrays
+ * indexed by src[j], or j when src is NULL); Embree's with canonical_order
+ * -1 (lci_pbvh_canonical: LANECAST_PBVH_BUILDER for A/B runs). */
 static lc_status build_bvh(lc_device *dev, const float *xyz, const float *rad, float radius, size_t n,
                            const float *const tie[2], const uint8_t *tag, const size_t *src, particles *p)
 {
     char err[256];
-    const char *env = getenv("LANECAST_PBVH_BUILDER");
     int r;
-    if (!p->canonical && !(env && !strcmp(env, "canonical"))) {
+    if (!lci_pbvh_canonical(p->canonical)) {
         void *e = lci_embree_device(dev);
         if (!e) return LC_ERROR_INTERNAL;
         r = lci_pbvh_build(e, xyz, rad, radius, n, p->info.leaf_size, &p->bvh, err, sizeof err);
@@ -844,7 +842,7 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
                          file, o->value);
     if (!strcmp(o->key, "kernel")) return LC_OK;
     if (!strcmp(o->key, "normalise")) return lci_option_int(dev, file, o, 0, 1, &d->params.normalise);
-    if (!strcmp(o->key, "canonical_order")) return lci_option_int(dev, file, o, 0, 1, &d->canonical_order);
+    if (!strcmp(o->key, "canonical_order")) return lci_option_order(dev, file, o, &d->canonical_order);
     return lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "%s: option '%s' does not apply to particles", file, o->key);
 }
 

@@ -275,7 +275,7 @@ static lc_status set_option(lc_device *dev, void *desc, const lc_option *o, cons
     if (!strcmp(o->key, "eps")) return lci_option_float(dev, file, o, 0.0f, 1e30f, &d->eps);
     if (!strcmp(o->key, "cell_max")) return lci_option_int(dev, file, o, 1, LC_RBF_MAX_CELL, &d->cell_max);
     if (!strcmp(o->key, "significant")) return lci_option_int(dev, file, o, 0, 1, &d->significant);
-    if (!strcmp(o->key, "canonical_order")) return lci_option_int(dev, file, o, 0, 1, &d->canonical_order);
+    if (!strcmp(o->key, "canonical_order")) return lci_option_order(dev, file, o, &d->canonical_order);
     if (!strcmp(o->key, "accel")) {
         if (!strcmp(o->value, "bvh")) d->accel = LC_RBF_ACCEL_BVH;
         else if (!strcmp(o->value, "octree")) d->accel = LC_RBF_ACCEL_OCTREE;

@@ -47,8 +47,8 @@ lc_status lci_mpi_load_rbf(lc_device *dev, MPI_Comm comm, const char *path, cons
 lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, size_t n, float **items, int nf,
                            const float *reach, float **recv, size_t *nrecv);
 
-/* The parts' canonical_order (lc_particles_desc, lc_rbf_desc): 1 unless
- * the load options set canonical_order = 0. With it a part sums each sample
+/* The parts' canonical_order (lc_particles_desc, lc_rbf_desc): 1, or -1
+ * (Embree's build) when the load options set canonical_order = 0. With 1 a part sums each sample
  * in the whole set's order (docs/mpi.md "Bit for bit"). */
 static inline int lci_mpi_canonical(const lc_load_desc *ld)
 {
@@ -56,7 +56,7 @@ static inline int lci_mpi_canonical(const lc_load_desc *ld)
     for (int i = 0; i < ld->noptions; i++)
         if (ld->options[i].key && ld->options[i].value && !strcmp(ld->options[i].key, "canonical_order"))
             on = strcmp(ld->options[i].value, "0") != 0;
-    return on;
+    return on ? 1 : -1;
 }
 
 /* The peers of a kd-tree build over comm (mpi_pload.c): the sums and the

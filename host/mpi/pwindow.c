@@ -73,10 +73,11 @@ lc_status lci_dp_particles_attach(lc_device *dev, lc_volume *v, const lci_partic
 lc_status lci_dp_particles_create(lc_device *dev, const lc_particles_desc *d, const lci_particles_global *g,
                                   lci_dp_ppart *pp, lc_volume **out)
 {
-    /* canonical: every part orders over the whole set's centre bounds, as the whole set does */
+    /* every part orders over the whole set's centre bounds, as the whole set does (Embree's
+       build ignores the box) */
     lc_particles_desc c = *d;
     static const lc_box3 none;
-    if (c.canonical_order && !memcmp(&c.order_box, &none, sizeof none)) c.order_box = g->bounds;
+    if (!memcmp(&c.order_box, &none, sizeof none)) c.order_box = g->bounds;
     lc_status s = lc_particles_create(dev, &c, out);
     if (s == LC_OK) s = lci_dp_particles_attach(dev, *out, g, pp);
     else lci_kd_release(&pp->tree);

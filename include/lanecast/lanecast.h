@@ -331,12 +331,13 @@ typedef struct lc_particles_desc {
                                   copied into lc_particles_info.radius_note */
     const float *norm_weights; /* optional: count weights w_i > 0 (m_i / rho_i) of the normalised SPH
                                   interpolant's denominator (params.normalise) */
-    /* 1: the BVH's leaves in a canonical order (a Morton code of the centre over order_box, ties by
-       each particle's data), so every sample adds its terms in one order in any set holding them: a
-       data-parallel part renders the whole set's regions bit for bit (lanecast_mpi.h; docs/mpi.md).
-       0: Embree's build (images differ from 1 by float rounding). */
+    /* 1 or 0 (the default): the BVH's leaves in a canonical order (a Morton code of the centre over
+       order_box, ties by each particle's data), so every sample adds its terms in one order in any set
+       holding them: a data-parallel part renders the whole set's regions bit for bit (lanecast_mpi.h;
+       docs/mpi.md). -1: Embree's binned SAH build (frames alike, the build twice the CPU; images
+       differ from the canonical tree's by float rounding). */
     int canonical_order;
-    lc_box3 order_box; /* with canonical_order: the Morton code's box; all zero = the kept centres' bounds */
+    lc_box3 order_box; /* the Morton code's box; all zero = the kept centres' bounds */
     int defer_bvh;             /* 1: build the BVH when a render or lc_volume_sample first needs it, not
                                   here (lc_particles_project never does); 0 = now */
 } lc_particles_desc;
@@ -502,9 +503,9 @@ typedef struct lc_rbf_desc {
        corners (Jang 2004 §5); lc_rbf_info.truncation_bound bounds the error.
        0 = every RBF whose support reaches the cell (the exact field). */
     int significant;
-    /* 1: the BVH's leaves in a canonical order (a Morton code of the centre over the domain, ties by
-       each term's data), as lc_particles_desc.canonical_order: a data-parallel part's sums are the
-       whole set's bit for bit. 0: Embree's build. */
+    /* 1 or 0 (the default): the BVH's leaves in a canonical order (a Morton code of the centre over
+       the domain, ties by each term's data), as lc_particles_desc.canonical_order: a data-parallel
+       part's sums are the whole set's bit for bit. -1: Embree's build. */
     int canonical_order;
 } lc_rbf_desc;
 

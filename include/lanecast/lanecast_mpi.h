@@ -98,10 +98,10 @@ LC_API lc_status lc_mpi_render(lc_device *device, MPI_Comm comm, int root, const
  * or a longer step is refused). RBF sets: rank 0 reads the file, each rank
  * keeps the terms whose support R_i grown by two steps reaches its region
  * (the whole set's eps, domain and default range). Particle and RBF parts
- * build their BVH in the canonical order (load option canonical_order,
- * default 1 here): each sample then sums its terms as one process loading
- * with canonical_order = 1 does, so mip, iso and slice images are that
- * process's bit for bit and dvr within the compositing's round-off. */
+ * build their BVH in the canonical order (the default; load option
+ * canonical_order = 0 for Embree's): each sample then sums its terms as one
+ * process does, so every mode's image is one process's bit for bit (dvr by
+ * LC_MPI_CHAIN; by LC_MPI_SWAP within the compositing's round-off). */
 LC_API lc_status lc_mpi_volume_load(lc_device *device, MPI_Comm comm, const char *path, const lc_load_desc *desc,
                                     float dt, lc_volume **out);
 
