@@ -2,7 +2,8 @@
 # mpiexec -np K lanecast render: the PNG rank 0 writes equals the
 # one-process PNG byte for byte (mip, iso, slice and, by the chain, dvr with
 # alpha_stop 1 are the same floats; EXR and TIFF files carry a time stamp), HDF5 grids read by
-# hyperslab per rank included; --stats prints a line per rank; a bad input on some ranks
+# hyperslab per rank included; --stats prints a line per rank, naming the nodes
+# each read (a gzip file: its part of rank 0's read, and why); a bad input on some ranks
 # (MPMD: other ranks get a missing file) makes every rank exit non-zero
 # with that rank's message, within a timeout. usage: test_cli_mpi.sh LANECAST MPIEXEC
 set -eu
@@ -58,11 +59,23 @@ fi
 if timeout 60 "$mpiexec" --oversubscribe -np 3 "$exe" render $vol --size 40x30 --threads 1 --stats \
     -o "$dir/stats.png" > "$dir/out" 2> "$dir/err" &&
     grep -q "^mpi .*3 ranks, the chain .*render imbalance" "$dir/out" && grep -q "peak_MB" "$dir/out" &&
-    [ "$(grep -c '^ *[0-2] ' "$dir/out")" -ge 3 ]; then
-    echo "ok   --stats per rank"
+    [ "$(grep -c '^ *[0-2] ' "$dir/out")" -ge 3 ] &&
+    [ "$(grep -c '^ *[0-2] .* nodes [0-9]*\.\.[0-9]* x [0-9]*\.\.[0-9]* x [0-9]*\.\.[0-9]* of the file$' "$dir/out")" = 3 ]; then
+    echo "ok   --stats per rank (each read its nodes of the file)"
 else
     echo "FAIL --stats per rank: $(cat "$dir/out" "$dir/err")"
     fail=1
+fi
+# --stats of a gzip grid: every rank's row says it got its part of rank 0's read, and why
+if "$exe" formats 2>/dev/null | grep -q "^ *zlib  *yes"; then
+    if timeout 60 "$mpiexec" --oversubscribe -np 2 "$exe" render "$dir/ballz.nhdr" --size 40x30 --threads 1 --stats \
+        -o "$dir/statsz.png" > "$dir/out" 2> "$dir/err" &&
+        [ "$(grep -c "^ *[01] .* its part of rank 0's whole read (compressed voxels are read whole)$" "$dir/out")" = 2 ]; then
+        echo "ok   --stats of a gzip grid: the parts came from rank 0, the reason named"
+    else
+        echo "FAIL --stats of a gzip grid: $(cat "$dir/out" "$dir/err")"
+        fail=1
+    fi
 fi
 
 # a bad input on ranks 1 and 2 (a missing file): all three exit non-zero, naming rank 1's file

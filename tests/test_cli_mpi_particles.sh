@@ -20,7 +20,8 @@
 # bits: an HDF5 SPH snapshot with varying smoothing lengths (iso, K = 2, 4)
 # and --normalise (slice, K = 1..3) the same way.
 # More ranks than particles; --sigma under mpirun (the ghosts reach as far);
-# --stats rows whose region weights sum to the particle count; a file cut
+# --stats rows whose region weights sum to the particle count, and whose read
+# column names each rank's share (raw) or rank 0's whole read (PDB); a file cut
 # short, seen by the last rank only: every rank exits non-zero with its
 # message and no image. usage: test_cli_mpi_particles.sh LANECAST MPIEXEC VIEW_IMGCMP [bits]
 # (bits: only the float images against one process, test cli_mpi_bits)
@@ -164,10 +165,21 @@ fi
 if timeout 60 "$mpiexec" --oversubscribe -np 3 "$exe" render $raw --size 40x30 --threads 1 --stats \
     -o "$dir/stats.png" > "$dir/out" 2> "$dir/err" &&
     grep -q "peak_MB" "$dir/out" &&
-    [ "$(awk '$1 ~ /^[0-2]$/ && NF >= 10 { s += $3 } END { print s }' "$dir/out")" = 3000 ]; then
-    echo "ok   --stats: region weights sum to 3000"
+    [ "$(awk '$1 ~ /^[0-2]$/ && NF >= 10 { s += $3 } END { print s }' "$dir/out")" = 3000 ] &&
+    [ "$(sed -n 's/^ *[0-2] .* its share of the file, \([0-9]*\) particles; keeps [0-9]*$/\1/p' "$dir/out" |
+        awk '{ s += $1; n++ } END { print n, s }')" = "3 3000" ]; then
+    echo "ok   --stats: region weights sum to 3000, the ranks' shares of the file too"
 else
     echo "FAIL --stats: $(cat "$dir/out" "$dir/err")"
+    fail=1
+fi
+# --stats of a PDB (read by rank 0): every row says so
+if timeout 60 "$mpiexec" --oversubscribe -np 2 "$exe" render "$dir/mol.pdb" --size 40x30 --threads 1 --stats \
+    -o "$dir/statsp.png" > "$dir/out" 2> "$dir/err" &&
+    [ "$(grep -c "^ *[01] .* keeps [0-9]* of rank 0's whole read (the format is read by one rank)$" "$dir/out")" = 2 ]; then
+    echo "ok   --stats of a PDB: both ranks' particles from rank 0's read"
+else
+    echo "FAIL --stats of a PDB: $(cat "$dir/out" "$dir/err")"
     fail=1
 fi
 

@@ -106,20 +106,27 @@ static void print_ranks(const lc_mpi_stats *m)
 {
     double mine[NSTAT] = {(double)m->region, (double)m->region_weight, m->render_seconds, m->composite_seconds,
                           (double)m->bytes_sent, (double)m->messages_sent, (double)m->rounds, (double)m->render.samples, peak_mb()};
+    enum { NREAD = (int)sizeof m->read };
     double *all = myrank == 0 ? malloc(sizeof(double) * NSTAT * (size_t)nranks) : NULL;
+    char *reads = myrank == 0 ? calloc((size_t)nranks, NREAD) : NULL;
     MPI_Gather(mine, NSTAT, MPI_DOUBLE, all, NSTAT, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    MPI_Gather(m->read, NREAD, MPI_CHAR, reads, NREAD, MPI_CHAR, 0, MPI_COMM_WORLD);
     if (myrank != 0) return;
-    if (!all) return;
+    if (!all || !reads) {
+        free(all), free(reads);
+        return;
+    }
     printf("mpi           %d ranks, %s, render imbalance %.3f (max / mean render time %.4f / %.4f s)\n", nranks,
            m->chain ? "the chain (dvr to the bit; rounds = bands)" : "binary swap",
            m->render_mean > 0.0 ? m->render_max / m->render_mean : 1.0, m->render_max, m->render_mean);
-    printf("rank region     weight   render_s  composite_s      bytes  messages  rounds    samples  peak_MB\n");
+    printf("rank region     weight   render_s  composite_s      bytes  messages  rounds    samples  peak_MB  read\n");
     for (int r = 0; r < nranks; r++) {
         const double *v = all + (size_t)r * NSTAT;
-        printf("%4d %6.0f %10.0f %10.4f %12.4f %10.0f %9.0f %7.0f %10.0f %8.1f\n", r, v[0], v[1], v[2], v[3], v[4],
-               v[5], v[6], v[7], v[8]);
+        const char *rd = reads + (size_t)r * NREAD;
+        printf("%4d %6.0f %10.0f %10.4f %12.4f %10.0f %9.0f %7.0f %10.0f %8.1f  %.*s\n", r, v[0], v[1], v[2], v[3],
+               v[4], v[5], v[6], v[7], v[8], NREAD, rd[0] ? rd : "-");
     }
-    free(all);
+    free(all), free(reads);
 }
 #endif
 

@@ -51,6 +51,7 @@ typedef struct lci_kind_ops {
 struct lc_volume {
     const lci_kind_ops *ops;
     lc_device *device;
+    char read_note[128]; /* lc_mpi_volume_load: what this rank read ("" otherwise; lc_mpi_stats.read) */
 };
 
 /* host/kinds/kinds.c: the rows, indexed by lc_kind (NULL for none). */

@@ -289,6 +289,7 @@ lc_status lc_mpi_render_with(lc_device *dev, MPI_Comm comm, int root, const lc_r
     MPI_Comm_rank(r.comm, &r.rank);
     MPI_Comm_size(r.comm, &r.P);
     r.st.rank = r.rank, r.st.ranks = r.P;
+    if (desc && desc->volume) snprintf(r.st.read, sizeof r.st.read, "%s", desc->volume->read_note);
     lc_status s = LC_OK;
     if (root < 0 || root >= r.P)
         s = lci_error(dev, LC_ERROR_INVALID_ARGUMENT, "lc_mpi_render: root %d, the communicator has ranks 0 .. %d",

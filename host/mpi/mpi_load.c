@@ -9,6 +9,7 @@
  * RBF sets: mpi_pload.c and mpi_rload.c. Every step ends in an agreement
  * (lc_mpi_agree), so a rank that fails stops all with its message. */
 #include <mpi.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/formats/format.h"
@@ -178,12 +179,18 @@ static lc_status load_grid(lc_device *dev, MPI_Comm comm, const char *path, cons
     memset(&shape, 0, sizeof shape);
     lc_status s = lay ? kind_options(dev, path, ld, format, &shape) : lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "out of memory");
     int whole = 0;
+    char why[96] = "";
     if (s == LC_OK) {
         int brick = shape.brick;
         lc_grid_layout layout = shape.layout;
         s = ld->frame == 0 || !strcmp(format, "nifti") ? lci_dp_grid_layout(dev, path, ld, format, lay)
                                                       : LC_ERROR_UNSUPPORTED;
-        if (s == LC_ERROR_UNSUPPORTED) whole = 1, s = LC_OK;
+        if (s == LC_ERROR_UNSUPPORTED) {
+            const char *e = lc_device_last_error(dev);
+            size_t np = strlen(path); /* the message names the file: the note need not */
+            snprintf(why, sizeof why, "%s", !strncmp(e, path, np) && !strncmp(e + np, ": ", 2) ? e + np + 2 : e);
+            whole = 1, s = LC_OK;
+        }
         if (s == LC_OK && !whole) shape = lay->grid, shape.brick = brick, shape.layout = layout;
     }
     /* every rank takes the same way (a file read whole on one rank is read whole by all) */
@@ -198,6 +205,9 @@ static lc_status load_grid(lc_device *dev, MPI_Comm comm, const char *path, cons
            containers of several kinds (HDF5) are read whole by every rank */
         if (ld->frame != 0 || format_kind(format) != LC_KIND_GRID) {
             s = lc_volume_load(dev, path, ld, out);
+            if (s == LC_OK)
+                snprintf((*out)->read_note, sizeof (*out)->read_note, "the whole file (%s): every rank",
+                         ld->frame != 0 ? "a frame past the first" : "a container of several kinds");
             return lc_mpi_agree(dev, comm, s);
         }
         s = scatter_grid(dev, comm, rank, P, path, ld, dt, &shape, &w, &data);
@@ -224,6 +234,13 @@ static lc_status load_grid(lc_device *dev, MPI_Comm comm, const char *path, cons
         } else {
             s = lci_dp_grid_create(dev, &shape, &w, data, bmin, bmax, P, rank, sum_counts, c, free_comm, out);
             if (s != LC_OK) free_comm(c);
+            else if (any) /* why: rank 0's reason; a rank that had one reads its own */
+                snprintf((*out)->read_note, sizeof (*out)->read_note, "its part of rank 0's whole read (%s)",
+                         why[0] ? why : "another rank's file is read whole");
+            else
+                snprintf((*out)->read_note, sizeof (*out)->read_note, "nodes %d..%d x %d..%d x %d..%d of the file",
+                         w.start[0], w.start[0] + w.count[0] - 1, w.start[1], w.start[1] + w.count[1] - 1,
+                         w.start[2], w.start[2] + w.count[2] - 1);
         }
     }
     free(bmin), free(bmax), free(data);

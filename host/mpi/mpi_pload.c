@@ -188,7 +188,7 @@ static lc_status read_share(lc_device *dev, const char *path, const lc_load_desc
  * some rank's says the load needs the whole set; then rank 0 reads it
  * (the reason logged). 1 when the shares were read. Collective. */
 static int by_shares(lc_device *dev, MPI_Comm comm, const char *path, const lc_load_desc *ld, share *sh, shape *sp,
-                     lc_status *s)
+                     lc_status *s, char *why, size_t whylen)
 {
     int rank, P;
     MPI_Comm_rank(comm, &rank);
@@ -199,7 +199,10 @@ static int by_shares(lc_device *dev, MPI_Comm comm, const char *path, const lc_l
     *s = lc_mpi_agree(dev, comm, *s);
     MPI_Allreduce(MPI_IN_PLACE, &whole, 1, MPI_INT, MPI_MAX, comm);
     if (*s == LC_OK && whole) {
-        if (part.whole) lci_log(dev, LC_LOG_INFO, "%s: read whole by rank 0: the load needs %s", path, part.whole);
+        if (part.whole) {
+            lci_log(dev, LC_LOG_INFO, "%s: read whole by rank 0: the load needs %s", path, part.whole);
+            snprintf(why, whylen, "the load needs %s", part.whole);
+        }
         share_free(sh), memset(sp, 0, sizeof *sp);
         return 0;
     }
@@ -462,11 +465,13 @@ lc_status lci_mpi_load_particles(lc_device *dev, MPI_Comm comm, const char *path
     int raw = s == LC_OK && raw_plain(path, format, &l2);
     MPI_Allreduce(MPI_IN_PLACE, &raw, 1, MPI_INT, MPI_MIN, comm); /* one way for all */
     int parts = raw; /* every rank read its own share */
+    char why[96] = "";
     s = lc_mpi_agree(dev, comm, s);
     if (s == LC_OK && raw) s = raw_share(dev, path, &l2, rank, P, &sh, &sp);
     else if (s == LC_OK && (!strcmp(format, "hdf5") || !strcmp(format, "gadget")))
-        parts = by_shares(dev, comm, path, &l2, &sh, &sp, &s);
+        parts = by_shares(dev, comm, path, &l2, &sh, &sp, &s, why, sizeof why);
     if (s == LC_OK && !parts && rank == 0) s = read_share(dev, path, &l2, NULL, &sh, &sp);
+    size_t nread = sh.n;
     free(keep);
     s = lc_mpi_agree(dev, comm, s);
     if (s == LC_OK && !parts) MPI_Bcast(&sp, (int)sizeof sp, MPI_BYTE, 0, comm);
@@ -493,6 +498,12 @@ lc_status lci_mpi_load_particles(lc_device *dev, MPI_Comm comm, const char *path
     share_free(&sh);
     if (s == LC_OK) s = make_part(dev, &comm, &sp, &rec, n, &g, lci_mpi_canonical(ld), &pp, out);
     else lci_kd_release(&pp.tree);
+    if (s == LC_OK && parts)
+        snprintf((*out)->read_note, sizeof (*out)->read_note, "its share of the file, %zu particles; keeps %zu", nread,
+                 n);
+    else if (s == LC_OK)
+        snprintf((*out)->read_note, sizeof (*out)->read_note, "keeps %zu of rank 0's whole read (%s)", n,
+                 why[0] ? why : "the format is read by one rank");
     free(rec);
     return lc_mpi_agree(dev, comm, s);
 }

@@ -8,6 +8,7 @@
  * steps, reaches. Each rank's part is an RBF set over those terms with the
  * whole set's eps and domain (so the same supports and lattice clip box)
  * and its globals (lci_rbf_set_global). */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "host/formats/format.h"
@@ -145,7 +146,8 @@ lc_status lci_mpi_load_rbf(lc_device *dev, MPI_Comm comm, const char *path, cons
     free(items), free(R);
     if (s == LC_OK) s = make_part(dev, &h, rec, nrec, &pp, out);
     else lci_kd_release(&pp.tree);
-    free(rec);
+    if (s == LC_OK) /* RBF files have no format read in parts */
+        snprintf((*out)->read_note, sizeof (*out)->read_note, "keeps %zu terms of rank 0's whole read (RBF files)", nrec);
     s = lc_mpi_agree(dev, comm, s);
     if (s != LC_OK && *out) lc_volume_destroy(*out), *out = NULL;
     return s;

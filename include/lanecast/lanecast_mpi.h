@@ -43,6 +43,9 @@ typedef struct lc_mpi_stats {
     int chain;               /* 1: dvr went by the chain (LC_MPI_CHAIN), 0: by binary swap */
     double render_max, render_mean; /* over ranks; imbalance = render_max / render_mean */
     lc_render_stats render;  /* the region render's counters */
+    char read[128];          /* how lc_mpi_volume_load read this rank's part (its window of the
+                                file, its share of rows, or rank 0's whole read and why); "" for
+                                a volume made otherwise */
 } lc_mpi_stats;
 
 /* How the regions' dvr images become one. */
