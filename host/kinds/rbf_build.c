@@ -273,8 +273,9 @@ lc_status lci_rbf_build(lc_device *dev, rbf *p, const lc_rbf_desc *d, const floa
         const lc_box3 *b = &in->bounds;
         lci_pbvh_keys q = {{b->lo.x, b->lo.y, b->lo.z}, {b->hi.x, b->hi.y, b->hi.z}, {d->widths, d->weights, NULL},
                            NULL, src};
-        if (lci_pbvh_canonical(d->canonical_order) ? lci_pbvh_build_canonical(xyz, R, 0.0f, n, in->leaf_size, &q, &p->bvh, err, sizeof err)
-                               : lci_pbvh_build(e, xyz, R, 0.0f, n, in->leaf_size, &p->bvh, err, sizeof err))
+        int canon = lci_pbvh_canonical(d->canonical_order);
+        if (canon ? lci_pbvh_build_canonical(xyz, R, 0.0f, n, in->leaf_size, &q, &p->bvh, err, sizeof err)
+                  : lci_pbvh_build(e, xyz, R, 0.0f, n, in->leaf_size, &p->bvh, err, sizeof err))
             return lci_error(dev, LC_ERROR_OUT_OF_MEMORY, "lc_rbf_create: BVH build failed: %s", err);
     }
     size_t m = n ? n : 1;

@@ -48,8 +48,9 @@ lc_status lci_mpi_exchange(lc_device *dev, MPI_Comm comm, const lci_kdtree *t, s
                            const float *reach, float **recv, size_t *nrecv);
 
 /* The parts' canonical_order (lc_particles_desc, lc_rbf_desc): 1, or -1
- * (Embree's build) when the load options set canonical_order = 0. With 1 a part sums each sample
- * in the whole set's order (docs/mpi.md "Bit for bit"). */
+ * (Embree's build) when the load options set canonical_order = 0. With 1 a
+ * part sums each sample in the whole set's order (docs/mpi.md "Bit for
+ * bit"). */
 static inline int lci_mpi_canonical(const lc_load_desc *ld)
 {
     int on = 1;

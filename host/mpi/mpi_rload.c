@@ -148,6 +148,7 @@ lc_status lci_mpi_load_rbf(lc_device *dev, MPI_Comm comm, const char *path, cons
     else lci_kd_release(&pp.tree);
     if (s == LC_OK) /* RBF files have no format read in parts */
         snprintf((*out)->read_note, sizeof (*out)->read_note, "keeps %zu terms of rank 0's whole read (RBF files)", nrec);
+    free(rec);
     s = lc_mpi_agree(dev, comm, s);
     if (s != LC_OK && *out) lc_volume_destroy(*out), *out = NULL;
     return s;
